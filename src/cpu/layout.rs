@@ -1,0 +1,132 @@
+//! The strand-major "AoSoA" layout: strands are grouped `W` at a time into blocks; a block is
+//! `P` rows (the longest strand's point count), and row `i` holds point `i` of the block's `W`
+//! strands as lanes. One spring law then runs on `W` strands per instruction, a block's whole
+//! strand state is a few KiB that stays in cache across substeps, and blocks are independent
+//! work items for threads.
+//!
+//! Shorter strands are padded with pinned points whose springs have k = 0; a last partial block
+//! is padded with pinned dummy strands. Padded points are never written to the host.
+
+use crate::groom::Groom;
+use crate::params::SimParams;
+use crate::physics::lanes::{Lane, L3, W};
+use crate::physics::spring::SpringLanes;
+
+/// Mutable per-row state: positions (m) and velocities (m/s) of `W` points.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(32))]
+pub struct StateRow {
+    /// Positions, world space.
+    pub x: L3,
+    /// Velocities.
+    pub v: L3,
+}
+
+/// Constant per-row parameters: inverse masses and the springs that start at this row.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(32))]
+pub struct ParamRow {
+    /// Inverse mass, 1/kg; 0 for pinned points.
+    pub inv_mass: Lane,
+    /// Stretch spring from point i to i+1.
+    pub stretch: SpringLanes,
+    /// Bend spring from point i to i+2.
+    pub bend: SpringLanes,
+}
+
+/// How host strands map to blocks, and the constant per-row data.
+#[derive(Debug)]
+pub struct Layout {
+    /// Rows per block (the longest strand's point count).
+    pub rows: usize,
+    /// Number of blocks.
+    pub blocks: usize,
+    /// Number of host strands.
+    pub strands: usize,
+    /// Host point offsets per strand (len strands + 1).
+    pub strand_first: Vec<u32>,
+    /// Points per lane (0 for dummy lanes), len `blocks * W`.
+    pub lane_points: Vec<u32>,
+    /// Per row: the constant parameters.
+    pub params: Vec<ParamRow>,
+    /// Per row: rest positions in head space (pinned points' targets; the reset pose).
+    pub rest_local: Vec<L3>,
+    /// Per row: whether any lane is pinned (only those rows compute head targets).
+    pub pinned_row: Vec<bool>,
+    /// Per host point: mass in kg (diagnostics: momentum and energy).
+    pub mass: Vec<f32>,
+}
+
+impl Layout {
+    /// Lays out `groom` with the spring constants of `params`.
+    pub fn new(groom: &Groom, params: &SimParams) -> Layout {
+        let strands = groom.strand_count();
+        let rows = groom.max_strand_points();
+        let blocks = strands.div_ceil(W);
+        let n_rows = blocks * rows;
+        let mut lay = Layout {
+            rows,
+            blocks,
+            strands,
+            strand_first: groom.strand_first.clone(),
+            lane_points: vec![0; blocks * W],
+            params: vec![ParamRow::default(); n_rows],
+            rest_local: vec![L3::ZERO; n_rows],
+            pinned_row: vec![false; n_rows],
+            mass: groom.mass.clone(),
+        };
+        let (ks, cs) = (params.stretch.stiffness, params.stretch.damping);
+        let (kb, cb) = (params.bend.stiffness, params.bend.damping);
+        for b in 0..blocks {
+            for l in 0..W {
+                let s = b * W + l;
+                let pts = if s < strands { &groom.positions[groom.strand_range(s)] } else { &[][..] };
+                let first = if s < strands { groom.strand_first[s] as usize } else { 0 };
+                lay.lane_points[s] = pts.len() as u32;
+                for i in 0..rows {
+                    let r = b * rows + i;
+                    let row = &mut lay.params[r];
+                    // Padding sits on the strand's last point (or the origin), pinned.
+                    let p = pts.get(i).or(pts.last()).copied().unwrap_or_default();
+                    lay.rest_local[r].set(l, p);
+                    let free = i < pts.len() && !groom.pinned[first + i];
+                    row.inv_mass[l] = if free { 1.0 / groom.mass[first + i] } else { 0.0 };
+                    if !free {
+                        lay.pinned_row[r] = true;
+                    }
+                    if i + 1 < pts.len() {
+                        row.stretch.rest[l] = (pts[i + 1] - pts[i]).length();
+                        row.stretch.k[l] = ks;
+                        row.stretch.c[l] = cs;
+                    }
+                    if i + 2 < pts.len() {
+                        row.bend.rest[l] = (pts[i + 2] - pts[i]).length();
+                        row.bend.k[l] = kb;
+                        row.bend.c[l] = cb;
+                    }
+                }
+            }
+        }
+        lay
+    }
+
+    /// Block and lane of host strand `s`.
+    #[inline]
+    pub fn lane_of(&self, s: usize) -> (usize, usize) {
+        (s / W, s % W)
+    }
+
+    /// The rest state (positions placed by `head`, zero velocity).
+    pub fn rest_state(&self, head: &glam::Affine3A) -> Vec<StateRow> {
+        self.rest_local
+            .iter()
+            .map(|r| {
+                let mut x = L3::ZERO;
+                for l in 0..W {
+                    x.set(l, head.transform_point3(r.get(l)));
+                }
+                StateRow { x, v: L3::ZERO }
+            })
+            .collect()
+    }
+}

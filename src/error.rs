@@ -1,0 +1,78 @@
+//! Typed errors shared by the Rust API and the C ABI.
+//!
+//! Every fallible operation returns [`Error`]; the C boundary turns it into a
+//! [`crate::ffi::WetHairResult`] code plus a message kept per thread.
+
+use std::fmt;
+
+/// What went wrong, with enough detail for a message a host can log.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Error {
+    /// A parameter is out of its documented range (NaN, inf, negative, zero where not allowed).
+    InvalidArgument(String),
+    /// A count or size exceeds a documented capacity.
+    Capacity(String),
+    /// A file could not be opened or read.
+    Io(String),
+    /// A groom file is truncated or malformed.
+    Parse(String),
+    /// A step produced a non-finite value; the simulation must be reset.
+    Unstable {
+        /// Index (in the host's order) of the first strand found non-finite.
+        strand: u32,
+        /// Human-readable detail.
+        detail: String,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::InvalidArgument(m) => write!(f, "invalid argument: {m}"),
+            Error::Capacity(m) => write!(f, "capacity exceeded: {m}"),
+            Error::Io(m) => write!(f, "i/o error: {m}"),
+            Error::Parse(m) => write!(f, "malformed groom: {m}"),
+            Error::Unstable { strand, detail } => {
+                write!(f, "unstable: strand {strand} became non-finite ({detail})")
+            }
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Result alias used across the crate.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Shorthand for an [`Error::InvalidArgument`] with a formatted message.
+macro_rules! invalid {
+    ($($arg:tt)*) => { $crate::error::Error::InvalidArgument(format!($($arg)*)) };
+}
+pub(crate) use invalid;
+
+/// Checks that a float parameter is finite and `>= 0`, naming it in the error.
+pub(crate) fn check_non_negative(name: &str, v: f32) -> Result<()> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid!("{name} must be finite and >= 0, got {v}"))
+    }
+}
+
+/// Checks that a float parameter is finite and `> 0`, naming it in the error.
+pub(crate) fn check_positive(name: &str, v: f32) -> Result<()> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid!("{name} must be finite and > 0, got {v}"))
+    }
+}
+
+/// Checks that every component of a vector is finite.
+pub(crate) fn check_finite3(name: &str, v: [f32; 3]) -> Result<()> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(())
+    } else {
+        Err(invalid!("{name} must be finite, got {v:?}"))
+    }
+}

@@ -1,0 +1,74 @@
+//! TressFX 4 `.tfx` loader.
+//!
+//! Layout (little endian): f32 version, u32 strand count, u32 vertices per strand, u32 byte
+//! offsets to vertex positions, strand UVs, vertex UVs, strand thickness and vertex colours
+//! (0 = absent), 32 reserved u32. Positions are float4 per vertex; `w == 0` marks a vertex
+//! fixed to the head. Every offset and size is checked against the file before it is read.
+
+use super::{read_f32, read_u32, Groom, MAX_POINTS, MAX_POINTS_PER_STRAND};
+use crate::error::{Error, Result};
+use glam::Vec3;
+
+const HEADER_BYTES: usize = 4 * 8 + 32 * 4;
+
+/// Parses a `.tfx` file's bytes; every point gets `mass` kg.
+pub fn load_tfx(bytes: &[u8], mass: f32) -> Result<Groom> {
+    if bytes.len() < HEADER_BYTES {
+        return Err(Error::Parse(format!(
+            "tfx header needs {HEADER_BYTES} bytes, file has {}",
+            bytes.len()
+        )));
+    }
+    let version = read_f32(bytes, 0, "version")?;
+    if !(version.is_finite() && (1.0..=16.0).contains(&version)) {
+        return Err(Error::Parse(format!("tfx version {version} is not a TressFX version")));
+    }
+    let strands = read_u32(bytes, 4, "strand count")? as usize;
+    let per_strand = read_u32(bytes, 8, "vertices per strand")? as usize;
+    let offset = read_u32(bytes, 12, "position offset")? as usize;
+    if strands == 0 {
+        return Err(Error::Parse("tfx has 0 strands".into()));
+    }
+    if !(2..=MAX_POINTS_PER_STRAND).contains(&per_strand) {
+        return Err(Error::Parse(format!(
+            "tfx has {per_strand} vertices per strand; wethair takes 2..={MAX_POINTS_PER_STRAND}"
+        )));
+    }
+    let total = strands
+        .checked_mul(per_strand)
+        .filter(|&t| t <= MAX_POINTS)
+        .ok_or_else(|| Error::Capacity(format!("{strands} x {per_strand} points")))?;
+    if offset < HEADER_BYTES {
+        return Err(Error::Parse(format!("tfx position offset {offset} points into the header")));
+    }
+    let end = offset
+        .checked_add(total * 16)
+        .filter(|&e| e <= bytes.len())
+        .ok_or_else(|| {
+            Error::Parse(format!(
+                "tfx positions ({total} float4 at offset {offset}) run past the end ({} bytes)",
+                bytes.len()
+            ))
+        })?;
+    let data = &bytes[offset..end];
+    let mut positions = Vec::with_capacity(total);
+    let mut pinned = Vec::with_capacity(total);
+    for (i, v) in data.chunks_exact(16).enumerate() {
+        let f = |k: usize| f32::from_le_bytes([v[4 * k], v[4 * k + 1], v[4 * k + 2], v[4 * k + 3]]);
+        let p = Vec3::new(f(0), f(1), f(2));
+        if !p.is_finite() {
+            return Err(Error::Parse(format!("tfx vertex {i} is not finite")));
+        }
+        positions.push(p);
+        pinned.push(f(3) == 0.0);
+    }
+    // A strand with no fixed vertex would fall away from the head: pin its root.
+    for s in 0..strands {
+        let r = s * per_strand..(s + 1) * per_strand;
+        if !pinned[r.clone()].iter().any(|&p| p) {
+            pinned[r.start] = true;
+        }
+    }
+    Groom::new(positions, &vec![per_strand as u32; strands], Some(pinned), None, mass)
+        .map_err(|e| Error::Parse(format!("tfx: {e}")))
+}

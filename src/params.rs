@@ -1,0 +1,198 @@
+//! The simulation description: every physical parameter with its unit, its default (the paper
+//! scene's values), and its validation. The C ABI's `WetHairSimDesc` is converted into this.
+
+use crate::error::{check_finite3, check_non_negative, check_positive, invalid, Error, Result};
+use crate::physics::collide::Shape;
+use crate::physics::spring::DampingModel;
+use glam::Vec3;
+
+/// Most substeps per step.
+pub const MAX_SUBSTEPS: u32 = 1024;
+/// Most worker threads per simulation.
+pub const MAX_THREADS: u32 = 256;
+/// Most colliders per simulation.
+pub const MAX_COLLIDERS: usize = 64;
+/// Most water particles one simulation may hold.
+pub const MAX_WATER_CAPACITY: u32 = 1 << 22;
+
+/// Stiffness and damping of one spring family.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpringParams {
+    /// Stiffness k, N/m. 0 removes the family (and its pass).
+    pub stiffness: f32,
+    /// Damping c, N·s/m.
+    pub damping: f32,
+}
+
+/// Water particles and their pull on hair (METHOD.md eq. 2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WaterParams {
+    /// Particle radius `r_min`, m: hair settles on this shell.
+    pub r_min: f32,
+    /// Influence radius `r_max`, m (> `r_min`): no pull beyond it.
+    pub r_max: f32,
+    /// Adhesion strength `s`, N: the peak pull between one particle and one hair point.
+    pub adhesion: f32,
+    /// Mass of one particle, kg.
+    pub particle_mass: f32,
+    /// Linear drag on particles, N·s/m.
+    pub drag: f32,
+    /// Most particles the simulation holds; adding more is an error. Buffers for them are
+    /// allocated at the first add, never in the step.
+    pub capacity: u32,
+    /// How fast a hair point near water becomes wet (1/s): wetness w in [0, 1] follows
+    /// `w += (1 - w) min(1, rate h)` while a particle is within `r_max`.
+    pub wetting_rate: f32,
+    /// Particles farther than this (m) from the groom's centre (moved with the head) are
+    /// removed at the end of a step. 0 picks half the groom's diagonal plus its longest strand.
+    pub domain_radius: f32,
+}
+
+/// Which per-vertex attributes the host wants, as bits; each present one is written, in this
+/// order, interleaved per vertex as f32.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VertexAttributes(pub u32);
+
+impl VertexAttributes {
+    /// Position, 3 floats, m.
+    pub const POSITION: u32 = 1;
+    /// Unit tangent along the strand, 3 floats.
+    pub const TANGENT: u32 = 2;
+    /// Wetness in [0, 1], 1 float.
+    pub const WETNESS: u32 = 4;
+    /// Every attribute this version knows.
+    pub const ALL: u32 = 7;
+
+    /// Floats per vertex.
+    pub fn stride(self) -> usize {
+        let b = self.0;
+        3 * (b & 1) as usize + 3 * ((b >> 1) & 1) as usize + ((b >> 2) & 1) as usize
+    }
+
+    /// Float offset of an attribute bit within a vertex, if present.
+    pub fn offset(self, bit: u32) -> Option<usize> {
+        if self.0 & bit == 0 {
+            return None;
+        }
+        let below = self.0 & (bit - 1);
+        Some(VertexAttributes(below).stride())
+    }
+}
+
+/// Everything that defines a simulation apart from the groom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimParams {
+    /// Stretch springs (i, i+1).
+    pub stretch: SpringParams,
+    /// Bend springs (i, i+2).
+    pub bend: SpringParams,
+    /// Which velocity the spring dampers act on.
+    pub damping_model: DampingModel,
+    /// Gravity, m/s².
+    pub gravity: Vec3,
+    /// Linear air drag on hair points, N·s/m.
+    pub air_drag: f32,
+    /// Substeps per [`crate::Simulation::step`] (the paper: 4).
+    pub substeps: u32,
+    /// Worker threads; 0 uses every core.
+    pub threads: u32,
+    /// Water particles.
+    pub water: WaterParams,
+    /// Colliders in head space (follow the head transform).
+    pub colliders: Vec<Shape>,
+    /// Tangential velocity lost on collider contact, 0..=1.
+    pub friction: f32,
+    /// Vertex attributes written for the host.
+    pub attributes: VertexAttributes,
+}
+
+impl Default for SimParams {
+    /// The paper scene's parameters, no collider.
+    fn default() -> Self {
+        SimParams {
+            stretch: SpringParams { stiffness: 40.0, damping: 0.02 },
+            bend: SpringParams { stiffness: 10.0, damping: 0.005 },
+            damping_model: DampingModel::Axial,
+            gravity: Vec3::new(0.0, 0.0, -9.81),
+            air_drag: 0.0,
+            substeps: 4,
+            threads: 0,
+            water: WaterParams {
+                r_min: 0.003,
+                r_max: 0.012,
+                adhesion: 0.004,
+                particle_mass: 1.0e-3,
+                drag: 2.0e-3,
+                capacity: 65_536,
+                wetting_rate: 20.0,
+                domain_radius: 0.0,
+            },
+            colliders: Vec::new(),
+            friction: 0.2,
+            attributes: VertexAttributes(VertexAttributes::POSITION | VertexAttributes::TANGENT | VertexAttributes::WETNESS),
+        }
+    }
+}
+
+impl SimParams {
+    /// The paper scene with its head as a sphere collider (radius 0.1 m at the origin).
+    pub fn paper_scene_with_head() -> Self {
+        SimParams {
+            colliders: vec![Shape::Sphere { center: Vec3::ZERO, radius: 0.1 }],
+            ..Default::default()
+        }
+    }
+
+    /// Checks every field; the error names the first bad one.
+    pub fn validate(&self) -> Result<()> {
+        check_non_negative("stretch stiffness", self.stretch.stiffness)?;
+        check_non_negative("stretch damping", self.stretch.damping)?;
+        check_non_negative("bend stiffness", self.bend.stiffness)?;
+        check_non_negative("bend damping", self.bend.damping)?;
+        check_finite3("gravity", self.gravity.to_array())?;
+        check_non_negative("air drag", self.air_drag)?;
+        if self.substeps == 0 || self.substeps > MAX_SUBSTEPS {
+            return Err(invalid!("substeps must be 1..={MAX_SUBSTEPS}, got {}", self.substeps));
+        }
+        if self.threads > MAX_THREADS {
+            return Err(invalid!("threads must be 0..={MAX_THREADS}, got {}", self.threads));
+        }
+        let w = &self.water;
+        check_non_negative("water r_min", w.r_min)?;
+        check_positive("water r_max", w.r_max)?;
+        if w.r_max <= w.r_min {
+            return Err(invalid!("water r_max ({}) must exceed r_min ({})", w.r_max, w.r_min));
+        }
+        check_non_negative("water adhesion", w.adhesion)?;
+        check_positive("water particle mass", w.particle_mass)?;
+        check_non_negative("water drag", w.drag)?;
+        check_non_negative("water wetting rate", w.wetting_rate)?;
+        check_non_negative("water domain radius", w.domain_radius)?;
+        if w.capacity > MAX_WATER_CAPACITY {
+            return Err(Error::Capacity(format!(
+                "water capacity {} exceeds {MAX_WATER_CAPACITY}",
+                w.capacity
+            )));
+        }
+        if self.colliders.len() > MAX_COLLIDERS {
+            return Err(Error::Capacity(format!("{} colliders, at most {MAX_COLLIDERS}", self.colliders.len())));
+        }
+        for (i, c) in self.colliders.iter().enumerate() {
+            let (pts, r) = match *c {
+                Shape::Sphere { center, radius } => ([center, center], radius),
+                Shape::Capsule { a, b, radius } => ([a, b], radius),
+            };
+            check_finite3(&format!("collider {i} point"), pts[0].to_array())?;
+            check_finite3(&format!("collider {i} point"), pts[1].to_array())?;
+            check_positive(&format!("collider {i} radius"), r)?;
+        }
+        if !(self.friction.is_finite() && (0.0..=1.0).contains(&self.friction)) {
+            return Err(invalid!("friction must be in [0, 1], got {}", self.friction));
+        }
+        let a = self.attributes.0;
+        if a == 0 || a & !VertexAttributes::ALL != 0 {
+            return Err(invalid!("vertex attributes 0x{a:x}: need a non-empty subset of 0x7"));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,108 @@
+//! Sphere and capsule colliders. A point found inside is moved to the surface, loses the
+//! velocity component into the surface, and its tangential velocity is scaled by
+//! `1 - friction`. Colliders are given in head space and follow the head transform.
+
+use super::lanes::{Lane, L3, W};
+use glam::{Affine3A, Vec3};
+
+/// A collider shape in head space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    /// A sphere: centre and radius (m).
+    Sphere {
+        /// Centre, head space.
+        center: Vec3,
+        /// Radius, m.
+        radius: f32,
+    },
+    /// A capsule: the points within `radius` of the segment `a`–`b`.
+    Capsule {
+        /// First end of the axis, head space.
+        a: Vec3,
+        /// Second end of the axis, head space.
+        b: Vec3,
+        /// Radius, m.
+        radius: f32,
+    },
+}
+
+/// A collider placed in world space for one substep: a capsule (a sphere has `a == b`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Placed {
+    /// Axis start.
+    pub a: Vec3,
+    /// Axis end minus start.
+    pub ab: Vec3,
+    /// `1 / |ab|²`, or 0 for a sphere.
+    pub inv_len2: f32,
+    /// Radius in world units.
+    pub radius: f32,
+}
+
+impl Shape {
+    /// Places the shape with the head transform; radii scale by the transform's mean scale.
+    pub fn place(&self, head: &Affine3A) -> Placed {
+        let scale = head.matrix3.determinant().abs().cbrt();
+        let (a, b, r) = match *self {
+            Shape::Sphere { center, radius } => (center, center, radius),
+            Shape::Capsule { a, b, radius } => (a, b, radius),
+        };
+        let (a, b) = (head.transform_point3(a), head.transform_point3(b));
+        let ab = b - a;
+        let l2 = ab.length_squared();
+        Placed { a, ab, inv_len2: if l2 > 0.0 { 1.0 / l2 } else { 0.0 }, radius: r * scale }
+    }
+}
+
+/// Pushes the free lanes of one row (inverse mass > 0) out of a placed collider.
+#[inline(always)]
+pub fn collide_row(x: &mut L3, v: &mut L3, inv_mass: &Lane, c: &Placed, friction: f32) {
+    for l in 0..W {
+        let p = Vec3::new(x.x[l], x.y[l], x.z[l]);
+        let (inside, q, n) = closest(c, p);
+        if inside && inv_mass[l] > 0.0 {
+            x.x[l] = q.x;
+            x.y[l] = q.y;
+            x.z[l] = q.z;
+            let vel = Vec3::new(v.x[l], v.y[l], v.z[l]);
+            let nv = respond(vel, n, friction);
+            v.x[l] = nv.x;
+            v.y[l] = nv.y;
+            v.z[l] = nv.z;
+        }
+    }
+}
+
+/// Pushes one point (a water particle) out of a placed collider.
+#[inline(always)]
+pub fn collide_point(x: &mut Vec3, v: &mut Vec3, c: &Placed, friction: f32) {
+    let (inside, q, n) = closest(c, *x);
+    if inside {
+        *x = q;
+        *v = respond(*v, n, friction);
+    }
+}
+
+/// Whether `p` is inside, the surface point to move it to, and the outward normal.
+#[inline(always)]
+fn closest(c: &Placed, p: Vec3) -> (bool, Vec3, Vec3) {
+    let t = ((p - c.a).dot(c.ab) * c.inv_len2).clamp(0.0, 1.0);
+    let axis = c.a + c.ab * t;
+    let d = p - axis;
+    let d2 = d.length_squared();
+    if d2 >= c.radius * c.radius {
+        return (false, p, Vec3::ZERO);
+    }
+    // A point exactly on the axis has no direction out: push it along +z (up), a fixed choice.
+    let n = if d2 > 1e-24 { d / d2.sqrt() } else { Vec3::Z };
+    (true, axis + n * c.radius, n)
+}
+
+/// Removes the velocity into the surface and applies friction to the rest.
+#[inline(always)]
+fn respond(v: Vec3, n: Vec3, friction: f32) -> Vec3 {
+    let vn = v.dot(n);
+    let normal = if vn < 0.0 { n * vn } else { Vec3::ZERO };
+    let tangential = v - n * vn;
+    (v - normal) - tangential * friction
+}

@@ -1,0 +1,47 @@
+//! SIMD-friendly lane types: `W` strands side by side, so that point `i` of `W` strands is one
+//! vector operation. Plain arrays with fixed-length loops; LLVM turns them into SSE/AVX code.
+
+/// Strands per lane group (one AVX register of f32).
+pub const W: usize = 8;
+
+/// One scalar per strand of a lane group.
+pub type Lane = [f32; W];
+
+/// One 3-vector per strand of a lane group, stored as three lanes (x, y, z).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(32))]
+pub struct L3 {
+    /// x components.
+    pub x: Lane,
+    /// y components.
+    pub y: Lane,
+    /// z components.
+    pub z: Lane,
+}
+
+impl L3 {
+    /// All components zero.
+    pub const ZERO: L3 = L3 { x: [0.0; W], y: [0.0; W], z: [0.0; W] };
+
+    /// The vector of lane `l`.
+    #[inline(always)]
+    pub fn get(&self, l: usize) -> glam::Vec3 {
+        glam::Vec3::new(self.x[l], self.y[l], self.z[l])
+    }
+
+    /// Sets the vector of lane `l`.
+    #[inline(always)]
+    pub fn set(&mut self, l: usize, v: glam::Vec3) {
+        self.x[l] = v.x;
+        self.y[l] = v.y;
+        self.z[l] = v.z;
+    }
+
+    /// Adds `v` to lane `l`.
+    #[inline(always)]
+    pub fn add_at(&mut self, l: usize, v: glam::Vec3) {
+        self.x[l] += v.x;
+        self.y[l] += v.y;
+        self.z[l] += v.z;
+    }
+}

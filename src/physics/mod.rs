@@ -1,0 +1,11 @@
+//! The laws, each written once: springs (eq. 1), adhesion (eq. 2), the uniform grid (eqs. 4-5),
+//! colliders, the integrator, and the clumping measure. The CPU backend runs them over strand
+//! blocks; nothing here knows about threads or the C ABI.
+
+pub mod adhesion;
+pub mod clumping;
+pub mod collide;
+pub mod grid;
+pub mod integrate;
+pub mod lanes;
+pub mod spring;
