@@ -118,9 +118,9 @@ impl Default for SimParams {
             substeps: 4,
             threads: 0,
             water: WaterParams {
-                r_min: 0.003,
-                r_max: 0.012,
-                adhesion: 0.004,
+                r_min: 0.002,
+                r_max: 0.008,
+                adhesion: 0.008,
                 particle_mass: 1.0e-3,
                 drag: 2.0e-3,
                 capacity: 65_536,

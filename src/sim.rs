@@ -163,6 +163,11 @@ impl Simulation {
         self.cpu.lay.mass.len()
     }
 
+    /// Strand and point counts.
+    pub fn stats_counts(&self) -> (u32, u32) {
+        (self.cpu.lay.strands as u32, self.vertex_count() as u32)
+    }
+
     /// The attributes written per vertex.
     pub fn attributes(&self) -> VertexAttributes {
         self.params.attributes
@@ -203,7 +208,7 @@ impl Simulation {
         let mut out = Vec::with_capacity(self.vertex_count());
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
-            for i in 0..lay.lane_points[s] as usize {
+            for i in 0..lay.strand_points(s) {
                 out.push(f(&self.cpu.state[b * lay.rows + i], l));
             }
         }
@@ -226,7 +231,7 @@ impl Simulation {
         (0..lay.strands)
             .map(|s| {
                 let (b, l) = lay.lane_of(s);
-                self.cpu.state[b * lay.rows + lay.lane_points[s] as usize - 1].x.get(l)
+                self.cpu.state[b * lay.rows + lay.strand_points(s) - 1].x.get(l)
             })
             .collect()
     }
@@ -267,7 +272,7 @@ impl Simulation {
         let mut out = Vec::with_capacity(self.vertex_count());
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
-            for i in 0..lay.lane_points[s] as usize {
+            for i in 0..lay.strand_points(s) {
                 out.push(lay.params[b * lay.rows + i].inv_mass[l] == 0.0);
             }
         }
@@ -281,7 +286,7 @@ impl Simulation {
         let mut e = Energy::default();
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
-            let n = lay.lane_points[s] as usize;
+            let n = lay.strand_points(s);
             let first = lay.strand_first[s] as usize;
             for i in 0..n {
                 let r = &self.cpu.state[b * lay.rows + i];

@@ -4,6 +4,11 @@
 //! strand state is a few KiB that stays in cache across substeps, and blocks are independent
 //! work items for threads.
 //!
+//! Strands are placed in blocks in Morton (Z-curve) order of their roots, so that a block's
+//! strands are neighbours in space: a row's `W` points then share their water-grid cells, and
+//! one grid query serves the whole row. The host's strand order is kept everywhere outside
+//! (`slot_of_strand` / `strand_of_slot`).
+//!
 //! Shorter strands are padded with pinned points whose springs have k = 0; a last partial block
 //! is padded with pinned dummy strands. Padded points are never written to the host.
 
@@ -45,8 +50,12 @@ pub struct Layout {
     pub strands: usize,
     /// Host point offsets per strand (len strands + 1).
     pub strand_first: Vec<u32>,
-    /// Points per lane (0 for dummy lanes), len `blocks * W`.
+    /// Points per slot (slot = block * W + lane; 0 for dummy slots), len `blocks * W`.
     pub lane_points: Vec<u32>,
+    /// Host strand -> slot.
+    pub slot_of_strand: Vec<u32>,
+    /// Slot -> host strand (`u32::MAX` for dummy slots).
+    pub strand_of_slot: Vec<u32>,
     /// Per row: the constant parameters.
     pub params: Vec<ParamRow>,
     /// Per row: rest positions in head space (pinned points' targets; the reset pose).
@@ -64,12 +73,21 @@ impl Layout {
         let rows = groom.max_strand_points();
         let blocks = strands.div_ceil(W);
         let n_rows = blocks * rows;
+        let strand_of_slot = morton_order(groom, blocks * W);
+        let mut slot_of_strand = vec![0u32; strands];
+        for (slot, &s) in strand_of_slot.iter().enumerate() {
+            if (s as usize) < strands {
+                slot_of_strand[s as usize] = slot as u32;
+            }
+        }
         let mut lay = Layout {
             rows,
             blocks,
             strands,
             strand_first: groom.strand_first.clone(),
             lane_points: vec![0; blocks * W],
+            slot_of_strand,
+            strand_of_slot,
             params: vec![ParamRow::default(); n_rows],
             rest_local: vec![L3::ZERO; n_rows],
             pinned_row: vec![false; n_rows],
@@ -79,10 +97,11 @@ impl Layout {
         let (kb, cb) = (params.bend.stiffness, params.bend.damping);
         for b in 0..blocks {
             for l in 0..W {
-                let s = b * W + l;
+                let slot = b * W + l;
+                let s = lay.strand_of_slot[slot] as usize;
                 let pts = if s < strands { &groom.positions[groom.strand_range(s)] } else { &[][..] };
                 let first = if s < strands { groom.strand_first[s] as usize } else { 0 };
-                lay.lane_points[s] = pts.len() as u32;
+                lay.lane_points[slot] = pts.len() as u32;
                 for i in 0..rows {
                     let r = b * rows + i;
                     let row = &mut lay.params[r];
@@ -113,7 +132,14 @@ impl Layout {
     /// Block and lane of host strand `s`.
     #[inline]
     pub fn lane_of(&self, s: usize) -> (usize, usize) {
-        (s / W, s % W)
+        let slot = self.slot_of_strand[s] as usize;
+        (slot / W, slot % W)
+    }
+
+    /// Points of host strand `s`.
+    #[inline]
+    pub fn strand_points(&self, s: usize) -> usize {
+        (self.strand_first[s + 1] - self.strand_first[s]) as usize
     }
 
     /// The rest state (positions placed by `head`, zero velocity).
@@ -129,4 +155,29 @@ impl Layout {
             })
             .collect()
     }
+}
+
+/// Host strands sorted by the Morton code of their root (10 bits per axis over the groom's
+/// bounds), padded with `u32::MAX` to `slots`.
+fn morton_order(groom: &Groom, slots: usize) -> Vec<u32> {
+    let (lo, hi) = groom.bounds();
+    let scale = 1023.0 / (hi - lo).max(glam::Vec3::splat(1e-12));
+    let spread = |v: u32| -> u64 {
+        let mut x = v as u64 & 0x3ff;
+        x = (x | (x << 16)) & 0x0300_00ff;
+        x = (x | (x << 8)) & 0x0300_f00f;
+        x = (x | (x << 4)) & 0x030c_30c3;
+        (x | (x << 2)) & 0x0924_9249
+    };
+    let mut keyed: Vec<(u64, u32)> = (0..groom.strand_count())
+        .map(|s| {
+            let q = (groom.positions[groom.strand_first[s] as usize] - lo) * scale;
+            let key = spread(q.x as u32) | (spread(q.y as u32) << 1) | (spread(q.z as u32) << 2);
+            (key, s as u32)
+        })
+        .collect();
+    keyed.sort_unstable();
+    let mut order: Vec<u32> = keyed.into_iter().map(|(_, s)| s).collect();
+    order.resize(slots, u32::MAX);
+    order
 }

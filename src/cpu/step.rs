@@ -64,7 +64,8 @@ impl Pass {
 #[derive(Debug, Default)]
 pub struct Worker {
     f: Vec<L3>,
-    water_force: Vec<Vec3>,
+    /// Reaction forces on particles, in grid order, coordinates apart.
+    water_force: [Vec<f32>; 3],
     max_v2: f32,
     nonfinite: bool,
 }
@@ -94,8 +95,8 @@ struct Ctx<'a> {
 
 /// Water inputs of one substep (read-only while blocks run).
 struct WaterCtx<'a> {
-    grid: &'a crate::physics::grid::HashGrid,
-    pos: &'a [Vec3],
+    grid: &'a crate::physics::grid::Grid,
+    sorted: &'a [Vec<f32>; 3],
     r_min: f32,
     r_max: f32,
     s: f32,
@@ -212,7 +213,7 @@ impl CpuBackend {
             self.water = Some(Water::new(&self.params.water, self.water_center, self.water_radius));
             self.wet = vec![[0.0; W]; self.state.len()];
             for w in &mut self.workers {
-                w.water_force = Vec::with_capacity(cap);
+                w.water_force = [Vec::with_capacity(cap), Vec::with_capacity(cap), Vec::with_capacity(cap)];
             }
         }
         self.water.as_mut().expect("allocated above").add(pos, vel, cap)
@@ -259,11 +260,11 @@ impl CpuBackend {
         let mut report = StepReport::default();
         if wet {
             for s in 0..n_sub {
-                self.water.as_mut().expect("wet").grid_build();
+                self.water.as_mut().expect("wet").grid_build(); // pass water_grid
                 self.run_blocks(s..s + 1, h, true, axial);
                 let placed = &self.placed[s * nc..(s + 1) * nc];
                 let water = self.water.as_mut().expect("wet");
-                let forces = self.workers.iter().map(|w| &w.water_force[..]);
+                let forces = self.workers.iter().map(|w| &w.water_force);
                 water.integrate(forces, &self.params.water, self.params.gravity, h, placed, self.params.friction);
             }
             let water = self.water.as_mut().expect("wet");
@@ -298,7 +299,7 @@ impl CpuBackend {
             friction: p.friction,
             water: water.map(|w| WaterCtx {
                 grid: &w.grid,
-                pos: &w.pos,
+                sorted: &w.sorted,
                 r_min: p.water.r_min,
                 r_max: p.water.r_max,
                 s: p.water.adhesion,
@@ -310,8 +311,10 @@ impl CpuBackend {
         let per_chunk = self.lay.blocks.div_ceil(self.workers.len()).max(1);
         let run = |k: usize, state: &mut [StateRow], wet: &mut [Lane], worker: &mut Worker| {
             if ctx.water.is_some() {
-                worker.water_force.clear();
-                worker.water_force.resize(n_particles, Vec3::ZERO);
+                for c in &mut worker.water_force {
+                    c.clear();
+                    c.resize(n_particles, 0.0);
+                }
             }
             let first = k * per_chunk;
             for (j, rows_b) in state.chunks_mut(rows).enumerate() {
@@ -353,7 +356,7 @@ impl CpuBackend {
     fn first_nonfinite_strand(&self) -> u32 {
         for s in 0..self.lay.strands {
             let (b, l) = self.lay.lane_of(s);
-            let n = self.lay.lane_points[s] as usize;
+            let n = self.lay.strand_points(s);
             for r in &self.state[b * self.lay.rows..b * self.lay.rows + n] {
                 if !(r.x.get(l).is_finite() && r.v.get(l).is_finite()) {
                     return s as u32;
@@ -367,13 +370,6 @@ impl CpuBackend {
     /// (exactly `points * stride` floats).
     pub fn write_vertices(&self, attrs: VertexAttributes, dst: &mut [f32]) {
         super::output::write_vertices(&self.lay, &self.state, &self.wet, attrs, self.pool.as_ref(), dst);
-    }
-}
-
-impl Water {
-    /// Rebuilds the grid over the current particle positions.
-    fn grid_build(&mut self) {
-        self.grid.build(&self.pos);
     }
 }
 
@@ -415,28 +411,39 @@ fn block_substep<const AXIAL: bool>(
             spring::<AXIAL>(&ra.x, &rb.x, &ra.v, &rb.v, &params[i].bend, &mut fa[i], &mut fb[0]);
         }
     }
-    // Pass: adhesion (eq. 2), gathered per hair point; reactions go to this worker's buffer.
+    // Pass: adhesion (eq. 2), gathered per hair point; reactions go to this worker's
+    // particle force buffer (summed over workers before the particles move).
     if let Some(w) = &ctx.water {
+        let (glo, ghi) = w.grid.bounds();
+        let (glo, ghi) = (glo - Vec3::splat(w.r_max), ghi + Vec3::splat(w.r_max));
         for (i, r) in rows.iter().enumerate() {
+            // Whole-row reject, on all lanes at once: no lane inside the particles' box.
+            let mut any = 0.0f32;
+            for l in 0..W {
+                let inside = r.x.x[l] >= glo.x
+                    && r.x.x[l] <= ghi.x
+                    && r.x.y[l] >= glo.y
+                    && r.x.y[l] <= ghi.y
+                    && r.x.z[l] >= glo.z
+                    && r.x.z[l] <= ghi.z;
+                any += if inside { 1.0 } else { 0.0 };
+            }
+            if any == 0.0 {
+                continue;
+            }
             for l in 0..W {
                 if i >= lay.lane_points[b * W + l] as usize {
-                    continue; // padding: not a hair point
+                    continue; // padding, not a hair point
                 }
                 let x = r.x.get(l);
-                if !w.grid.may_have_near(x, w.r_max) {
-                    continue;
-                }
                 let mut total = Vec3::ZERO;
                 let mut near = false;
-                w.grid.for_each_candidate(x, w.r_max, |j| {
-                    let q = w.pos[j as usize];
-                    let d2 = (q - x).length_squared();
-                    if d2 <= w.r_max * w.r_max {
-                        near = true;
-                        let fh = adhesion::force_on_hair(x, q, d2, w.r_min, w.r_max, w.s);
-                        total += fh;
-                        worker.water_force[j as usize] -= fh;
-                    }
+                let [fx, fy, fz] = &mut worker.water_force;
+                w.grid.for_each_run(x, w.r_max, |s, e| {
+                    let run = adhesion::Run { x: &w.sorted[0][s..e], y: &w.sorted[1][s..e], z: &w.sorted[2][s..e] };
+                    let (f, n) = adhesion::gather_run(x, run, &mut fx[s..e], &mut fy[s..e], &mut fz[s..e], w.r_min, w.r_max, w.s);
+                    total += f;
+                    near |= n;
                 });
                 f[i].add_at(l, total);
                 if near {

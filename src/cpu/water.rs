@@ -5,7 +5,7 @@
 use crate::error::{invalid, Error, Result};
 use crate::params::WaterParams;
 use crate::physics::collide::{collide_point, Placed};
-use crate::physics::grid::HashGrid;
+use crate::physics::grid::Grid;
 use glam::{Affine3A, Vec3};
 
 /// The particles and their grid.
@@ -16,7 +16,9 @@ pub struct Water {
     /// Velocities, m/s.
     pub vel: Vec<Vec3>,
     /// Grid over `pos`, rebuilt every substep.
-    pub grid: HashGrid,
+    pub grid: Grid,
+    /// Positions in grid order (slot k is particle `grid.sorted()[k]`), coordinates apart.
+    pub sorted: [Vec<f32>; 3],
     /// Domain centre in head space.
     pub center_local: Vec3,
     /// Domain radius, m.
@@ -33,7 +35,8 @@ impl Water {
         Water {
             pos: Vec::with_capacity(cap),
             vel: Vec::with_capacity(cap),
-            grid: HashGrid::new(cap, 2.0 * p.r_max),
+            grid: Grid::new(cap, 2.0 * p.r_max),
+            sorted: [Vec::with_capacity(cap), Vec::with_capacity(cap), Vec::with_capacity(cap)],
             center_local,
             radius,
             removed: 0,
@@ -78,11 +81,20 @@ impl Water {
         self.pos.is_empty()
     }
 
-    /// Symplectic Euler for every particle with the summed reaction forces of all workers,
-    /// then the colliders.
+    /// Pass `water_grid`: rebuilds the grid and copies positions into grid order.
+    pub fn grid_build(&mut self) {
+        self.grid.build(&self.pos);
+        for (c, s) in self.sorted.iter_mut().enumerate() {
+            s.clear();
+            s.extend(self.grid.sorted().iter().map(|&j| self.pos[j as usize][c]));
+        }
+    }
+
+    /// Pass `water_integrate`: symplectic Euler for every particle with the summed reaction
+    /// forces of all workers (each in grid order), then the colliders.
     pub fn integrate<'a>(
         &mut self,
-        forces: impl Iterator<Item = &'a [Vec3]> + Clone,
+        forces: impl Iterator<Item = &'a [Vec<f32>; 3]> + Clone,
         p: &WaterParams,
         g: Vec3,
         h: f32,
@@ -90,8 +102,9 @@ impl Water {
         friction: f32,
     ) {
         let inv_m = 1.0 / p.particle_mass;
-        for j in 0..self.pos.len() {
-            let f = forces.clone().fold(-p.drag * self.vel[j], |acc, w| acc + w[j]);
+        for (k, &j) in self.grid.sorted().iter().enumerate() {
+            let j = j as usize;
+            let f = forces.clone().fold(-p.drag * self.vel[j], |acc, w| acc + Vec3::new(w[0][k], w[1][k], w[2][k]));
             let v = self.vel[j] + h * (f * inv_m + g);
             let mut x = self.pos[j] + h * v;
             let mut v = v;

@@ -20,13 +20,92 @@ pub fn profile(d: f32, r_min: f32, r_max: f32) -> f32 {
     1.0 - u * u
 }
 
-/// The force on a hair point at `hair` from a particle at `water`, given `d2 = |water-hair|²`.
-/// Returns zero beyond `r_max` and below [`MIN_DISTANCE`].
+/// The factor `m` such that the force on the hair point is `m (p_j - p_i)`, given
+/// `d2 = |p_j - p_i|²`: `s g(d) / d`, and 0 beyond `r_max` or below [`MIN_DISTANCE`].
 #[inline(always)]
-pub fn force_on_hair(hair: Vec3, water: Vec3, d2: f32, r_min: f32, r_max: f32, s: f32) -> Vec3 {
-    if d2 > r_max * r_max || d2 < MIN_DISTANCE * MIN_DISTANCE {
-        return Vec3::ZERO;
-    }
+pub fn force_scale(d2: f32, r_min: f32, r_max: f32, s: f32) -> f32 {
+    let inside = d2 <= r_max * r_max && d2 >= MIN_DISTANCE * MIN_DISTANCE;
     let d = d2.sqrt();
-    (water - hair) * (s * profile(d, r_min, r_max) / d)
+    let u = (2.0 * d - r_min - r_max) / (r_min - r_max);
+    if inside {
+        s * (1.0 - u * u) / d
+    } else {
+        0.0
+    }
+}
+
+/// The force on a hair point at `hair` from a particle at `water`.
+#[inline(always)]
+pub fn force_on_hair(hair: Vec3, water: Vec3, r_min: f32, r_max: f32, s: f32) -> Vec3 {
+    let d = water - hair;
+    d * force_scale(d.length_squared(), r_min, r_max, s)
+}
+
+/// Particles stored by grid cell, coordinates apart (structure of arrays), so that one run of
+/// cells is one contiguous slice the compiler can vectorise over.
+#[derive(Clone, Copy)]
+pub struct Run<'a> {
+    /// x coordinates.
+    pub x: &'a [f32],
+    /// y coordinates.
+    pub y: &'a [f32],
+    /// z coordinates.
+    pub z: &'a [f32],
+}
+
+/// Eq. 2 between one hair point at `p` and every particle of a run: returns the summed force on
+/// the hair point and whether any particle lies within `r_max`; subtracts each reaction from
+/// `(fx, fy, fz)` (same length as the run). Eight particles per step, then a scalar tail.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn gather_run(
+    p: Vec3,
+    run: Run,
+    fx: &mut [f32],
+    fy: &mut [f32],
+    fz: &mut [f32],
+    r_min: f32,
+    r_max: f32,
+    s: f32,
+) -> (Vec3, bool) {
+    const L: usize = 8;
+    let n = run.x.len().min(run.y.len()).min(run.z.len()).min(fx.len()).min(fy.len()).min(fz.len());
+    let r2 = r_max * r_max;
+    let mut acc = [[0.0f32; L]; 3];
+    let mut near = [0.0f32; L];
+    let full = n / L * L;
+    for k in (0..full).step_by(L) {
+        // Fixed-size views: no bounds checks inside, so the lane loop becomes SIMD.
+        let xs: &[f32; L] = run.x[k..k + L].try_into().expect("8 lanes");
+        let ys: &[f32; L] = run.y[k..k + L].try_into().expect("8 lanes");
+        let zs: &[f32; L] = run.z[k..k + L].try_into().expect("8 lanes");
+        let ox: &mut [f32; L] = (&mut fx[k..k + L]).try_into().expect("8 lanes");
+        let oy: &mut [f32; L] = (&mut fy[k..k + L]).try_into().expect("8 lanes");
+        let oz: &mut [f32; L] = (&mut fz[k..k + L]).try_into().expect("8 lanes");
+        for l in 0..L {
+            let (dx, dy, dz) = (xs[l] - p.x, ys[l] - p.y, zs[l] - p.z);
+            let d2 = dx * dx + dy * dy + dz * dz;
+            let m = force_scale(d2, r_min, r_max, s);
+            acc[0][l] += m * dx;
+            acc[1][l] += m * dy;
+            acc[2][l] += m * dz;
+            ox[l] -= m * dx;
+            oy[l] -= m * dy;
+            oz[l] -= m * dz;
+            near[l] = if d2 <= r2 { 1.0 } else { near[l] };
+        }
+    }
+    let mut total = Vec3::new(acc[0].iter().sum(), acc[1].iter().sum(), acc[2].iter().sum());
+    let mut any = near.iter().sum::<f32>() > 0.0;
+    for k in full..n {
+        let d = Vec3::new(run.x[k] - p.x, run.y[k] - p.y, run.z[k] - p.z);
+        let d2 = d.length_squared();
+        let f = d * force_scale(d2, r_min, r_max, s);
+        total += f;
+        fx[k] -= f.x;
+        fy[k] -= f.y;
+        fz[k] -= f.z;
+        any |= d2 <= r2;
+    }
+    (total, any)
 }

@@ -1,7 +1,7 @@
 //! The clumping measure: the mean distance (m) from each strand tip to the nearest other tip.
 //! Dry strands spread out; wet strands gather into bundles, so the measure drops.
 
-use super::grid::HashGrid;
+use super::grid::Grid;
 use glam::Vec3;
 
 /// Mean nearest-other-tip distance over `tips`; 0 for fewer than two tips.
@@ -14,7 +14,7 @@ pub fn mean_nearest_tip_distance(tips: &[Vec3]) -> f32 {
     // Tips lie on a surface: spacing ~ extent / sqrt(n); two spacings per cell finds most
     // nearest neighbours within one query.
     let cell = ((hi - lo).max_element() / (n as f32).sqrt() * 2.0).max(1e-6);
-    let mut grid = HashGrid::new(n, cell);
+    let mut grid = Grid::new(n, cell);
     grid.build(tips);
     let mut sum = 0.0f64;
     for (i, &p) in tips.iter().enumerate() {

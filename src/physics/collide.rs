@@ -54,22 +54,31 @@ impl Shape {
     }
 }
 
-/// Pushes the free lanes of one row (inverse mass > 0) out of a placed collider.
+/// Pushes the free lanes of one row (inverse mass > 0) out of a placed collider. The inside
+/// test runs on all lanes at once; only rows with a lane inside take the scalar fix-up.
 #[inline(always)]
 pub fn collide_row(x: &mut L3, v: &mut L3, inv_mass: &Lane, c: &Placed, friction: f32) {
+    let r2 = c.radius * c.radius;
+    let mut inside = [0.0f32; W];
     for l in 0..W {
-        let p = Vec3::new(x.x[l], x.y[l], x.z[l]);
-        let (inside, q, n) = closest(c, p);
-        if inside && inv_mass[l] > 0.0 {
-            x.x[l] = q.x;
-            x.y[l] = q.y;
-            x.z[l] = q.z;
-            let vel = Vec3::new(v.x[l], v.y[l], v.z[l]);
-            let nv = respond(vel, n, friction);
-            v.x[l] = nv.x;
-            v.y[l] = nv.y;
-            v.z[l] = nv.z;
+        let (px, py, pz) = (x.x[l] - c.a.x, x.y[l] - c.a.y, x.z[l] - c.a.z);
+        let t = ((px * c.ab.x + py * c.ab.y + pz * c.ab.z) * c.inv_len2).clamp(0.0, 1.0);
+        let (dx, dy, dz) = (px - c.ab.x * t, py - c.ab.y * t, pz - c.ab.z * t);
+        let d2 = dx * dx + dy * dy + dz * dz;
+        inside[l] = if d2 < r2 && inv_mass[l] > 0.0 { 1.0 } else { 0.0 };
+    }
+    if inside.iter().sum::<f32>() == 0.0 {
+        return;
+    }
+    for l in 0..W {
+        if inside[l] == 0.0 {
+            continue;
         }
+        let mut p = x.get(l);
+        let mut vel = v.get(l);
+        collide_point(&mut p, &mut vel, c, friction);
+        x.set(l, p);
+        v.set(l, vel);
     }
 }
 

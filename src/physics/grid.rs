@@ -1,106 +1,121 @@
 //! The uniform grid that finds the water particles near a hair point (METHOD.md §4), rebuilt
-//! by a counting sort every substep.
+//! by a counting sort (count, prefix sum, scatter) every substep.
 //!
-//! Cells are cubes of side `cell >= r_max`, indexed by `floor(p / cell)` over all of space and
-//! hashed into a table twice the particle count (a power of two). Hashing instead of the paper's
-//! clamped box means there is no box to outgrow: a point anywhere is found, with no lost
-//! neighbour and no out-of-bounds index, and the table's size follows the particle count, not
-//! the domain. Two cells that share a bucket only add candidates, which the caller's distance
-//! test rejects; a query never visits one bucket twice.
+//! The grid box is the points' own bounds, rebuilt with them, cut into cubic cells of side
+//! `>= cell_min`; cells grow when the box would need more than [`MAX_CELLS`]. Indices follow
+//! eq. 4 (clamped) and eq. 5 (`A = C_z + N_z (C_y + N_y C_x)`). A query from anywhere is
+//! exact: a point farther than `r` from the box has no neighbour and returns at once, and
+//! clamping is monotonic, so a neighbour's cell always lies in the clamped query range. Cells
+//! adjacent in z are adjacent in memory, so a query walks one contiguous run per (x, y).
 
 use glam::{IVec3, Vec3};
 
-/// A hashed uniform grid over a set of points (the water particles).
+/// Most cells a grid uses; a larger box gets larger cells instead.
+pub const MAX_CELLS: usize = 1 << 18;
+
+/// A uniform grid over a set of points (the water particles, or strand tips).
 #[derive(Debug, Clone)]
-pub struct HashGrid {
+pub struct Grid {
+    cell_min: f32,
     cell: f32,
     inv_cell: f32,
-    mask: u32,
-    /// Bucket `b` holds `sorted[start[b]..start[b + 1]]`.
+    lo: Vec3,
+    hi: Vec3,
+    dims: IVec3,
+    /// Cell `c` holds `sorted[start[c]..start[c + 1]]`.
     start: Vec<u32>,
     cursor: Vec<u32>,
     sorted: Vec<u32>,
-    bucket_of: Vec<u32>,
-    lo: Vec3,
-    hi: Vec3,
+    cell_of_point: Vec<u32>,
 }
 
-/// Cell coordinates saturate at ±2^20 so that far-away points hash without overflow.
-const COORD_LIMIT: f32 = (1 << 20) as f32;
-
-impl HashGrid {
-    /// A grid for up to `capacity` points with cubic cells of side `cell` (m); allocates
-    /// everything it will ever need so that [`HashGrid::build`] does not allocate.
-    pub fn new(capacity: usize, cell: f32) -> Self {
-        let table = Self::table_size(capacity);
-        HashGrid {
-            cell,
-            inv_cell: 1.0 / cell,
-            mask: 0,
-            start: Vec::with_capacity(table + 1),
-            cursor: Vec::with_capacity(table),
-            sorted: Vec::with_capacity(capacity),
-            bucket_of: Vec::with_capacity(capacity),
+impl Grid {
+    /// A grid for up to `capacity` points with cells of side at least `cell_min` (m); it
+    /// allocates all it will need, so [`Grid::build`] does not allocate.
+    pub fn new(capacity: usize, cell_min: f32) -> Self {
+        Grid {
+            cell_min,
+            cell: cell_min,
+            inv_cell: 1.0 / cell_min,
             lo: Vec3::ZERO,
             hi: Vec3::ZERO,
+            dims: IVec3::ONE,
+            start: Vec::with_capacity(MAX_CELLS + 1),
+            cursor: Vec::with_capacity(MAX_CELLS),
+            sorted: Vec::with_capacity(capacity),
+            cell_of_point: Vec::with_capacity(capacity),
         }
     }
 
-    fn table_size(n: usize) -> usize {
-        (2 * n).next_power_of_two().max(16)
-    }
-
-    /// Cell side, m.
+    /// Cell side now in use, m.
     pub fn cell(&self) -> f32 {
         self.cell
     }
 
-    /// Integer cell of a position (eq. 4 without the clamp).
+    /// Cells per axis now in use.
+    pub fn dims(&self) -> IVec3 {
+        self.dims
+    }
+
+    /// Clamped cell coordinates of a position (eq. 4). NaN maps to cell 0.
     #[inline(always)]
     pub fn cell_of(&self, p: Vec3) -> IVec3 {
-        let c = (p * self.inv_cell).floor().clamp(Vec3::splat(-COORD_LIMIT), Vec3::splat(COORD_LIMIT));
-        // NaN maps to cell 0 (`as` saturates); callers reject non-finite state elsewhere.
+        let c = ((p - self.lo) * self.inv_cell).clamp(Vec3::ZERO, (self.dims - IVec3::ONE).as_vec3());
+        // Truncation is floor for non-negative values, and avoids a libm call on baseline x86-64.
         IVec3::new(c.x as i32, c.y as i32, c.z as i32)
     }
 
-    /// Bucket of a cell (eq. 5's linear index, hashed).
+    /// Linear index of a cell (eq. 5).
     #[inline(always)]
-    fn bucket(&self, c: IVec3) -> u32 {
-        let h = (c.x as u32).wrapping_mul(73_856_093)
-            ^ (c.y as u32).wrapping_mul(19_349_663)
-            ^ (c.z as u32).wrapping_mul(83_492_791);
-        h & self.mask
+    fn index(&self, c: IVec3) -> usize {
+        ((c.x * self.dims.y + c.y) * self.dims.z + c.z) as usize
     }
 
-    /// Rebuilds the grid over `points` by counting sort: count per bucket, prefix sum, scatter.
+    /// Rebuilds the grid over `points`: box, cell size, count, prefix sum, scatter.
     pub fn build(&mut self, points: &[Vec3]) {
-        let n = points.len();
-        let table = Self::table_size(n);
-        self.mask = table as u32 - 1;
-        self.start.clear();
-        self.start.resize(table + 1, 0);
-        self.bucket_of.clear();
         let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
         for &p in points {
-            let b = self.bucket(self.cell_of(p));
-            self.bucket_of.push(b);
-            self.start[b as usize + 1] += 1;
             lo = lo.min(p);
             hi = hi.max(p);
         }
-        for b in 0..table {
-            self.start[b + 1] += self.start[b];
+        if points.is_empty() {
+            (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
+        }
+        let extent = hi - lo;
+        let mut cell = self.cell_min;
+        let dims_for = |cell: f32| (extent / cell).as_ivec3().max(IVec3::ZERO) + IVec3::ONE;
+        let mut dims = dims_for(cell);
+        while dims.as_i64vec3().element_product() > MAX_CELLS as i64 {
+            cell *= 1.26; // about 2x fewer cells per round
+            dims = dims_for(cell);
+        }
+        (self.lo, self.hi, self.cell, self.inv_cell, self.dims) = (lo, hi, cell, 1.0 / cell, dims);
+        let cells = dims.element_product() as usize;
+        self.start.clear();
+        self.start.resize(cells + 1, 0);
+        self.cell_of_point.clear();
+        for &p in points {
+            let c = self.index(self.cell_of(p)) as u32;
+            self.cell_of_point.push(c);
+            self.start[c as usize + 1] += 1;
+        }
+        for c in 0..cells {
+            self.start[c + 1] += self.start[c];
         }
         self.cursor.clear();
-        self.cursor.extend_from_slice(&self.start[..table]);
+        self.cursor.extend_from_slice(&self.start[..cells]);
         self.sorted.clear();
-        self.sorted.resize(n, 0);
-        for (i, &b) in self.bucket_of.iter().enumerate() {
-            let slot = &mut self.cursor[b as usize];
+        self.sorted.resize(points.len(), 0);
+        for (i, &c) in self.cell_of_point.iter().enumerate() {
+            let slot = &mut self.cursor[c as usize];
             self.sorted[*slot as usize] = i as u32;
             *slot += 1;
         }
-        (self.lo, self.hi) = (lo, hi);
+    }
+
+    /// Bounds of the points (the grid's box).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        (self.lo, self.hi)
     }
 
     /// Number of points in the grid.
@@ -113,40 +128,42 @@ impl HashGrid {
         self.sorted.is_empty()
     }
 
-    /// Whether a point within `r` of `p` can exist: `p` lies in the points' bounds grown by `r`.
+    /// Calls `f(start, end)` for each run of sorted slots whose cells overlap the cube `p ± r`
+    /// (one run per (x, y) column; z-neighbours are contiguous). Together the runs hold a
+    /// superset of the points within `r` of `p`, each once.
     #[inline(always)]
-    pub fn may_have_near(&self, p: Vec3, r: f32) -> bool {
-        p.cmpge(self.lo - r).all() && p.cmple(self.hi + r).all()
-    }
-
-    /// Calls `f(index)` for every point in the cells that overlap the cube `p ± r`: a superset of
-    /// the points within `r` when `r <= cell`. Each point is visited at most once.
-    #[inline]
-    pub fn for_each_candidate(&self, p: Vec3, r: f32, mut f: impl FnMut(u32)) {
-        let a = self.cell_of(p - r);
-        let b = self.cell_of(p + r);
-        let mut seen = [u32::MAX; 27];
-        let mut n_seen = 0;
-        for cx in a.x..=b.x.min(a.x + 2) {
-            for cy in a.y..=b.y.min(a.y + 2) {
-                for cz in a.z..=b.z.min(a.z + 2) {
-                    let bucket = self.bucket(IVec3::new(cx, cy, cz));
-                    let (s, e) = (self.start[bucket as usize], self.start[bucket as usize + 1]);
-                    if s == e || seen[..n_seen].contains(&bucket) {
-                        continue;
-                    }
-                    seen[n_seen] = bucket;
-                    n_seen += 1;
-                    for &i in &self.sorted[s as usize..e as usize] {
-                        f(i);
-                    }
+    pub fn for_each_run(&self, p: Vec3, r: f32, mut f: impl FnMut(usize, usize)) {
+        let (qlo, qhi) = (p - r, p + r);
+        if !(qlo.cmple(self.hi).all() && qhi.cmpge(self.lo).all()) || self.sorted.is_empty() {
+            return;
+        }
+        let a = self.cell_of(qlo);
+        let b = self.cell_of(qhi);
+        for cx in a.x..=b.x {
+            for cy in a.y..=b.y {
+                let s = self.start[self.index(IVec3::new(cx, cy, a.z))];
+                let e = self.start[self.index(IVec3::new(cx, cy, b.z)) + 1];
+                if s < e {
+                    f(s as usize, e as usize);
                 }
             }
         }
     }
 
-    /// Number of points per bucket (for tests and parity checks).
-    pub fn bucket_counts(&self) -> Vec<u32> {
+    /// Calls `f(index)` for every point in the cells that overlap the cube `p ± r`: a superset of
+    /// the points within `r` of `p`, each visited once.
+    #[inline(always)]
+    pub fn for_each_candidate(&self, p: Vec3, r: f32, mut f: impl FnMut(u32)) {
+        self.for_each_run(p, r, |s, e| self.sorted[s..e].iter().for_each(|&i| f(i)));
+    }
+
+    /// Point index at each sorted slot (points grouped by cell).
+    pub fn sorted(&self) -> &[u32] {
+        &self.sorted
+    }
+
+    /// Number of points per cell (tests and GPU parity).
+    pub fn cell_counts(&self) -> Vec<u32> {
         self.start.windows(2).map(|w| w[1] - w[0]).collect()
     }
 }

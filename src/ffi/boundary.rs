@@ -1,0 +1,194 @@
+//! The panic and error boundary every `extern "C"` body goes through: result codes, the
+//! per-thread error message, and the guard macros.
+
+use crate::error::Error;
+use std::cell::RefCell;
+use std::ffi::CString;
+
+/// Result of every fallible C call.
+#[repr(C)]
+#[allow(non_camel_case_types)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WetHairResult {
+    /// Success.
+    WETHAIR_OK = 0,
+    /// A required pointer was NULL.
+    WETHAIR_ERROR_NULL_POINTER = 1,
+    /// A value was out of range: NaN, inf, negative, zero, or an unknown enum value.
+    WETHAIR_ERROR_INVALID_ARGUMENT = 2,
+    /// A struct's `struct_size` is not one this library knows.
+    WETHAIR_ERROR_STRUCT_SIZE = 3,
+    /// A count exceeds a documented capacity.
+    WETHAIR_ERROR_CAPACITY = 4,
+    /// The output buffer is too small; nothing was written.
+    WETHAIR_ERROR_BUFFER_TOO_SMALL = 5,
+    /// A file could not be read.
+    WETHAIR_ERROR_IO = 6,
+    /// A groom file is truncated or malformed.
+    WETHAIR_ERROR_PARSE = 7,
+    /// A step produced a non-finite value; the simulation keeps failing until reset.
+    WETHAIR_ERROR_UNSTABLE = 8,
+    /// An internal panic was caught at the boundary; destroy the object involved.
+    WETHAIR_ERROR_PANIC = 9,
+    /// Keeps the enum 32 bits wide in every C compiler; never returned.
+    WETHAIR_RESULT_FORCE32 = 0x7fff_ffff,
+}
+
+impl WetHairResult {
+    /// Every code with its name, for `wethair_result_string`.
+    pub(crate) const ALL: [(WetHairResult, &'static str); 10] = [
+        (WetHairResult::WETHAIR_OK, "WETHAIR_OK\0"),
+        (WetHairResult::WETHAIR_ERROR_NULL_POINTER, "WETHAIR_ERROR_NULL_POINTER\0"),
+        (WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT, "WETHAIR_ERROR_INVALID_ARGUMENT\0"),
+        (WetHairResult::WETHAIR_ERROR_STRUCT_SIZE, "WETHAIR_ERROR_STRUCT_SIZE\0"),
+        (WetHairResult::WETHAIR_ERROR_CAPACITY, "WETHAIR_ERROR_CAPACITY\0"),
+        (WetHairResult::WETHAIR_ERROR_BUFFER_TOO_SMALL, "WETHAIR_ERROR_BUFFER_TOO_SMALL\0"),
+        (WetHairResult::WETHAIR_ERROR_IO, "WETHAIR_ERROR_IO\0"),
+        (WetHairResult::WETHAIR_ERROR_PARSE, "WETHAIR_ERROR_PARSE\0"),
+        (WetHairResult::WETHAIR_ERROR_UNSTABLE, "WETHAIR_ERROR_UNSTABLE\0"),
+        (WetHairResult::WETHAIR_ERROR_PANIC, "WETHAIR_ERROR_PANIC\0"),
+    ];
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+/// Stores `msg` as this thread's last error message.
+pub(crate) fn set_last_error(msg: &str) {
+    let c = CString::new(msg.replace('\0', " ")).unwrap_or_default();
+    LAST_ERROR.with(|e| *e.borrow_mut() = c);
+}
+
+/// Pointer to this thread's last error message (valid until the next failing call here).
+pub(crate) fn last_error_ptr() -> *const std::ffi::c_char {
+    LAST_ERROR.with(|e| e.borrow().as_ptr())
+}
+
+/// A failure on its way out: the code and the message to store.
+pub(crate) struct Fail(pub WetHairResult, pub String);
+
+impl From<Error> for Fail {
+    fn from(e: Error) -> Fail {
+        let code = match &e {
+            Error::InvalidArgument(_) => WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
+            Error::Capacity(m) if m.starts_with("vertex buffer") => WetHairResult::WETHAIR_ERROR_BUFFER_TOO_SMALL,
+            Error::Capacity(_) => WetHairResult::WETHAIR_ERROR_CAPACITY,
+            Error::Io(_) => WetHairResult::WETHAIR_ERROR_IO,
+            Error::Parse(_) => WetHairResult::WETHAIR_ERROR_PARSE,
+            Error::Unstable { .. } => WetHairResult::WETHAIR_ERROR_UNSTABLE,
+        };
+        Fail(code, e.to_string())
+    }
+}
+
+/// Runs `body` under `catch_unwind`; maps its error or panic to a code and a message.
+pub(crate) fn guard(name: &str, body: impl FnOnce() -> Result<(), Fail>) -> WetHairResult {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(body)) {
+        Ok(Ok(())) => WetHairResult::WETHAIR_OK,
+        Ok(Err(Fail(code, msg))) => {
+            set_last_error(&format!("{name}: {msg}"));
+            code
+        }
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            set_last_error(&format!("{name}: internal panic: {what}"));
+            WetHairResult::WETHAIR_ERROR_PANIC
+        }
+    }
+}
+
+/// Turns a nullable pointer into a reference, or fails with `WETHAIR_ERROR_NULL_POINTER`.
+macro_rules! nonnull {
+    ($p:expr, $name:literal) => {
+        match unsafe { $p.as_ref() } {
+            Some(r) => r,
+            None => {
+                return Err($crate::ffi::boundary::Fail(
+                    $crate::ffi::WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+                    concat!($name, " is NULL").into(),
+                ))
+            }
+        }
+    };
+}
+
+/// Like `nonnull!` for a mutable pointer.
+macro_rules! nonnull_mut {
+    ($p:expr, $name:literal) => {
+        match unsafe { $p.as_mut() } {
+            Some(r) => r,
+            None => {
+                return Err($crate::ffi::boundary::Fail(
+                    $crate::ffi::WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+                    concat!($name, " is NULL").into(),
+                ))
+            }
+        }
+    };
+}
+
+/// Reads a def struct behind a pointer after checking NULL and its leading `struct_size`
+/// (read alone first, so a smaller struct from an older host is never over-read).
+macro_rules! read_def {
+    ($p:expr, $ty:ty, $name:literal) => {{
+        let p: *const $ty = $p;
+        if p.is_null() {
+            return Err($crate::ffi::boundary::Fail(
+                $crate::ffi::WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+                concat!($name, " is NULL").into(),
+            ));
+        }
+        let size = unsafe { std::ptr::read_unaligned(p as *const u32) };
+        if size as usize != std::mem::size_of::<$ty>() {
+            return Err($crate::ffi::boundary::Fail(
+                $crate::ffi::WetHairResult::WETHAIR_ERROR_STRUCT_SIZE,
+                format!(
+                    concat!($name, "->struct_size is {}, this library expects {} (call ", stringify!($ty), "'s _default())"),
+                    size,
+                    std::mem::size_of::<$ty>()
+                ),
+            ));
+        }
+        unsafe { &*p }
+    }};
+}
+
+/// Checks an output struct's `struct_size` (the host sets it; we write only on success).
+macro_rules! check_out_size {
+    ($p:expr, $ty:ty, $name:literal) => {{
+        let p: *mut $ty = $p;
+        if p.is_null() {
+            return Err($crate::ffi::boundary::Fail(
+                $crate::ffi::WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+                concat!($name, " is NULL").into(),
+            ));
+        }
+        let size = unsafe { std::ptr::read_unaligned(p as *const u32) };
+        if size as usize != std::mem::size_of::<$ty>() {
+            return Err($crate::ffi::boundary::Fail(
+                $crate::ffi::WetHairResult::WETHAIR_ERROR_STRUCT_SIZE,
+                format!(
+                    concat!($name, "->struct_size is {}, this library expects {}"),
+                    size,
+                    std::mem::size_of::<$ty>()
+                ),
+            ));
+        }
+        p
+    }};
+}
+
+/// Returns an invalid-argument failure with a formatted message.
+macro_rules! fail_invalid {
+    ($($arg:tt)*) => {
+        return Err($crate::ffi::boundary::Fail(
+            $crate::ffi::WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
+            format!($($arg)*),
+        ))
+    };
+}

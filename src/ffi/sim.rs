@@ -1,0 +1,225 @@
+//! `WetHairSim`: create, drive (head, water, step, reset), and read out (vertices, stats).
+
+use super::boundary::{guard, Fail, WetHairResult};
+use super::groom::WetHairGroom;
+use super::types::{WetHairSimDesc, WetHairStats, WetHairVertexLayout};
+use crate::params::{VertexAttributes, MAX_WATER_CAPACITY};
+use crate::sim::Simulation;
+use glam::{Mat4, Vec3};
+
+/// Opaque simulation; create with `wethair_sim_create`, free with `wethair_sim_destroy`.
+pub struct WetHairSim(pub(crate) Simulation);
+
+/// Creates a simulation from `desc` (its groom is copied).
+///
+/// # Safety
+/// `desc` points to a `WetHairSimDesc` filled by `wethair_sim_desc_default`; `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_create(desc: *const WetHairSimDesc, out: *mut *mut WetHairSim) -> WetHairResult {
+    guard("wethair_sim_create", || {
+        let d = read_def!(desc, WetHairSimDesc, "desc");
+        if out.is_null() {
+            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "out is NULL".into()));
+        }
+        let groom: &WetHairGroom = nonnull!(d.groom, "desc->groom");
+        let params = d.to_params()?;
+        let sim = Simulation::new(&groom.0, params)?;
+        out.write(Box::into_raw(Box::new(WetHairSim(sim))));
+        Ok(())
+    })
+}
+
+/// Frees a simulation and joins its worker threads. NULL is ignored.
+///
+/// # Safety
+/// `sim` came from `wethair_sim_create` and is not used again.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_destroy(sim: *mut WetHairSim) {
+    if !sim.is_null() {
+        let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| drop(Box::from_raw(sim))));
+    }
+}
+
+/// Sets the head transform reached at the end of the next step: a column-major 4×4 affine
+/// matrix without reflection (16 floats). Pinned points and colliders follow it.
+///
+/// # Safety
+/// `sim` is valid; `matrix` is NULL or points to 16 floats.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_set_head_transform(sim: *mut WetHairSim, matrix: *const f32) -> WetHairResult {
+    guard("wethair_sim_set_head_transform", || {
+        let s = nonnull_mut!(sim, "sim");
+        if matrix.is_null() {
+            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "matrix is NULL".into()));
+        }
+        let m: [f32; 16] = std::ptr::read_unaligned(matrix as *const [f32; 16]);
+        s.0.set_head_transform(Mat4::from_cols_array(&m))?;
+        Ok(())
+    })
+}
+
+/// Adds `count` water particles at `positions` (x y z each, m, world space) with
+/// `velocities` (x y z each, m/s; NULL = at rest). All or nothing: on error none is added.
+///
+/// # Safety
+/// `sim` is valid; the arrays hold `count * 3` floats.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_add_water(sim: *mut WetHairSim, positions: *const f32, velocities: *const f32, count: u32) -> WetHairResult {
+    guard("wethair_sim_add_water", || {
+        let s = nonnull_mut!(sim, "sim");
+        if count == 0 {
+            return Ok(());
+        }
+        if positions.is_null() {
+            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "positions is NULL".into()));
+        }
+        if count > MAX_WATER_CAPACITY {
+            return Err(Fail(WetHairResult::WETHAIR_ERROR_CAPACITY, format!("count {count} exceeds {MAX_WATER_CAPACITY}")));
+        }
+        let n = count as usize;
+        let to_vec3 = |p: *const f32| -> Vec<Vec3> {
+            std::slice::from_raw_parts(p, n * 3).chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect()
+        };
+        let pos = to_vec3(positions);
+        let vel = if velocities.is_null() { Vec::new() } else { to_vec3(velocities) };
+        s.0.add_water(&pos, &vel)?;
+        Ok(())
+    })
+}
+
+/// Removes every water particle; hair keeps its wetness.
+///
+/// # Safety
+/// `sim` is valid.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_clear_water(sim: *mut WetHairSim) -> WetHairResult {
+    guard("wethair_sim_clear_water", || {
+        nonnull_mut!(sim, "sim").0.clear_water();
+        Ok(())
+    })
+}
+
+/// Advances by `dt` seconds (0 < dt <= 1) in the desc's substeps. A step that produces a
+/// non-finite value returns `WETHAIR_ERROR_UNSTABLE` (the message names the strand) and the
+/// simulation keeps returning it, with no vertex output, until `wethair_sim_reset`.
+///
+/// # Safety
+/// `sim` is valid.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_step(sim: *mut WetHairSim, dt: f32) -> WetHairResult {
+    guard("wethair_sim_step", || {
+        nonnull_mut!(sim, "sim").0.step(dt)?;
+        Ok(())
+    })
+}
+
+/// Returns to the rest pose at the current head transform: still, dry, no water.
+///
+/// # Safety
+/// `sim` is valid.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_reset(sim: *mut WetHairSim) -> WetHairResult {
+    guard("wethair_sim_reset", || {
+        nonnull_mut!(sim, "sim").0.reset();
+        Ok(())
+    })
+}
+
+/// Describes the vertex buffer: count, stride and byte offsets of the requested attributes.
+/// The host sets `out->struct_size = sizeof(WetHairVertexLayout)` first.
+///
+/// # Safety
+/// `sim` is valid; `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_get_vertex_layout(sim: *const WetHairSim, out: *mut WetHairVertexLayout) -> WetHairResult {
+    guard("wethair_sim_get_vertex_layout", || {
+        let s = nonnull!(sim, "sim");
+        let out = check_out_size!(out, WetHairVertexLayout, "out");
+        let a = s.0.attributes();
+        let off = |bit| a.offset(bit).map_or(-1, |o| (o * 4) as i32);
+        out.write(WetHairVertexLayout {
+            struct_size: std::mem::size_of::<WetHairVertexLayout>() as u32,
+            vertex_count: s.0.vertex_count() as u32,
+            strand_count: s.0.stats_counts().0,
+            stride_floats: a.stride() as u32,
+            position_offset: off(VertexAttributes::POSITION),
+            tangent_offset: off(VertexAttributes::TANGENT),
+            wetness_offset: off(VertexAttributes::WETNESS),
+        });
+        Ok(())
+    })
+}
+
+/// Copies the requested attributes of every vertex into `dst` (`capacity` floats; it needs
+/// `vertex_count * stride_floats`) and stores the floats written in `written`. On any error
+/// nothing is written, `written` included.
+///
+/// # Safety
+/// `sim` is valid; `dst` holds `capacity` floats; `written` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_get_vertex_buffer(sim: *const WetHairSim, dst: *mut f32, capacity: usize, written: *mut usize) -> WetHairResult {
+    guard("wethair_sim_get_vertex_buffer", || {
+        let s = nonnull!(sim, "sim");
+        if dst.is_null() || written.is_null() {
+            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "dst or written is NULL".into()));
+        }
+        let need = s.0.vertex_count() * s.0.attributes().stride();
+        if capacity < need {
+            return Err(Fail(WetHairResult::WETHAIR_ERROR_BUFFER_TOO_SMALL, format!("capacity {capacity} floats, {need} needed")));
+        }
+        if let Some(e) = s.0.failed() {
+            return Err(e.clone().into());
+        }
+        let n = s.0.write_vertices(std::slice::from_raw_parts_mut(dst, need))?;
+        written.write(n);
+        Ok(())
+    })
+}
+
+/// Copies up to `capacity` water particle positions (x y z each) into `dst` and stores the
+/// count in `written`.
+///
+/// # Safety
+/// `sim` is valid; `dst` holds `capacity * 3` floats; `written` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_get_water(sim: *const WetHairSim, dst: *mut f32, capacity: u32, written: *mut u32) -> WetHairResult {
+    guard("wethair_sim_get_water", || {
+        let s = nonnull!(sim, "sim");
+        if written.is_null() || (dst.is_null() && capacity > 0) {
+            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "dst or written is NULL".into()));
+        }
+        let w = s.0.water_positions();
+        let n = w.len().min(capacity as usize);
+        if n > 0 {
+            std::slice::from_raw_parts_mut(dst, n * 3).copy_from_slice(bytemuck::cast_slice(&w[..n]));
+        }
+        written.write(n as u32);
+        Ok(())
+    })
+}
+
+/// Fills `out` with counters and measures. The host sets `out->struct_size` first.
+///
+/// # Safety
+/// `sim` is valid; `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut WetHairStats) -> WetHairResult {
+    guard("wethair_sim_get_stats", || {
+        let s = nonnull!(sim, "sim");
+        let out = check_out_size!(out, WetHairStats, "out");
+        let st = s.0.stats();
+        out.write(WetHairStats {
+            struct_size: std::mem::size_of::<WetHairStats>() as u32,
+            strands: st.strands,
+            points: st.points,
+            particles: st.particles,
+            particles_removed: st.particles_removed,
+            steps: st.steps,
+            last_step_ms: st.last_step_ms,
+            max_speed: st.max_speed,
+            clumping: st.clumping,
+            threads: st.threads,
+        });
+        Ok(())
+    })
+}

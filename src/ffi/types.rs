@@ -1,0 +1,288 @@
+//! The C-visible structs and enums, and their conversion into the Rust API's types.
+
+use super::boundary::Fail;
+use crate::params::{SimParams, SpringParams, VertexAttributes, WaterParams};
+use crate::physics::collide::Shape;
+use crate::physics::spring::DampingModel;
+use glam::Vec3;
+
+/// Which relative velocity a spring damper acts on (`WetHairSimDesc::damping_model`).
+#[repr(C)]
+#[allow(non_camel_case_types)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WetHairDampingModel {
+    /// The paper's form: `c (v_b - v_a)`.
+    WETHAIR_DAMPING_RELATIVE = 0,
+    /// Along the spring only: `c ((v_b - v_a)·d̂) d̂`.
+    WETHAIR_DAMPING_AXIAL = 1,
+    /// Keeps the enum 32 bits wide.
+    WETHAIR_DAMPING_FORCE32 = 0x7fff_ffff,
+}
+
+/// Collider shape (`WetHairCollider::shape`).
+#[repr(C)]
+#[allow(non_camel_case_types)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WetHairColliderType {
+    /// Sphere: `a` is the centre, `b` is ignored.
+    WETHAIR_COLLIDER_SPHERE = 0,
+    /// Capsule: the points within `radius` of the segment `a`–`b`.
+    WETHAIR_COLLIDER_CAPSULE = 1,
+    /// Keeps the enum 32 bits wide.
+    WETHAIR_COLLIDER_FORCE32 = 0x7fff_ffff,
+}
+
+/// Vertex attribute bits (`WetHairSimDesc::vertex_attributes`). Present attributes are written
+/// interleaved per vertex in this order: position (3 floats), tangent (3), wetness (1).
+#[repr(C)]
+#[allow(non_camel_case_types)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WetHairVertexAttribute {
+    /// Position, world space, metres.
+    WETHAIR_ATTRIBUTE_POSITION = 1,
+    /// Unit tangent along the strand (central difference; one-sided at the ends).
+    WETHAIR_ATTRIBUTE_TANGENT = 2,
+    /// Wetness in [0, 1].
+    WETHAIR_ATTRIBUTE_WETNESS = 4,
+    /// Keeps the enum 32 bits wide.
+    WETHAIR_ATTRIBUTE_FORCE32 = 0x7fff_ffff,
+}
+
+/// Stiffness (N/m) and damping (N·s/m) of one spring family; 0 stiffness and damping
+/// removes the family's pass.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairSpring {
+    /// Stiffness k, N/m, >= 0.
+    pub stiffness: f32,
+    /// Damping c, N·s/m, >= 0.
+    pub damping: f32,
+}
+
+/// Water particles and their pull on hair (METHOD.md eq. 2).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairWaterDesc {
+    /// Particle radius r_min, m, >= 0: hair settles on this shell.
+    pub r_min: f32,
+    /// Influence radius r_max, m, > r_min.
+    pub r_max: f32,
+    /// Adhesion strength s, N, >= 0: peak pull between one particle and one hair point.
+    pub adhesion: f32,
+    /// Mass of one particle, kg, > 0.
+    pub particle_mass: f32,
+    /// Linear drag on particles, N·s/m, >= 0.
+    pub drag: f32,
+    /// Most particles held at once (<= 4,194,304); 0 means the scene never has water.
+    pub capacity: u32,
+    /// Wetting rate, 1/s, >= 0.
+    pub wetting_rate: f32,
+    /// Particles farther than this (m) from the groom's centre are removed at the end of a
+    /// step; 0 = half the groom's diagonal plus its longest strand.
+    pub domain_radius: f32,
+}
+
+/// A collider in head space; it follows the head transform.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairCollider {
+    /// A `WetHairColliderType` value.
+    pub shape: u32,
+    /// Sphere centre, or capsule axis start (head space, m).
+    pub a: [f32; 3],
+    /// Capsule axis end (ignored for spheres).
+    pub b: [f32; 3],
+    /// Radius, m, > 0.
+    pub radius: f32,
+}
+
+/// Everything a simulation is made from. Fill with `wethair_sim_desc_default()` (the paper
+/// scene's parameters), then set `groom` and what differs.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairSimDesc {
+    /// `sizeof(WetHairSimDesc)`, set by `wethair_sim_desc_default`.
+    pub struct_size: u32,
+    /// A `WetHairDampingModel` value.
+    pub damping_model: u32,
+    /// The strands (required; copied at create, may be destroyed after).
+    pub groom: *const super::WetHairGroom,
+    /// Stretch springs (i, i+1). Default 40 N/m, 0.02 N·s/m.
+    pub stretch: WetHairSpring,
+    /// Bend springs (i, i+2). Default 10 N/m, 0.005 N·s/m.
+    pub bend: WetHairSpring,
+    /// Gravity, m/s². Default (0, 0, -9.81).
+    pub gravity: [f32; 3],
+    /// Linear air drag on hair points, N·s/m. Default 0.
+    pub air_drag: f32,
+    /// Substeps per step, 1..=1024. Default 4.
+    pub substeps: u32,
+    /// Worker threads, 0 = one per core, at most 256.
+    pub threads: u32,
+    /// Water parameters.
+    pub water: WetHairWaterDesc,
+    /// Colliders (may be NULL when `collider_count` is 0), at most 64; copied at create.
+    pub colliders: *const WetHairCollider,
+    /// Number of colliders.
+    pub collider_count: u32,
+    /// Tangential velocity lost on collider contact, 0..=1. Default 0.2.
+    pub friction: f32,
+    /// OR of `WetHairVertexAttribute` bits. Default all three.
+    pub vertex_attributes: u32,
+}
+
+/// The host's own strands. Fill with `wethair_groom_desc_default()`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairGroomDesc {
+    /// `sizeof(WetHairGroomDesc)`.
+    pub struct_size: u32,
+    /// Number of strands, >= 1.
+    pub strand_count: u32,
+    /// Points per strand (`strand_count` entries, each 2..=256).
+    pub strand_point_counts: *const u32,
+    /// Rest positions, x y z per point, strand after strand, head space (m).
+    pub positions: *const f32,
+    /// Number of points (the sum of `strand_point_counts`).
+    pub point_count: u32,
+    /// Per point, non-zero = pinned to the head. NULL pins each strand's first point.
+    pub pinned: *const u8,
+    /// Per point mass, kg. NULL gives every point `default_mass`.
+    pub masses: *const f32,
+    /// Mass of every point when `masses` is NULL, kg, > 0. Default 1e-3.
+    pub default_mass: f32,
+}
+
+/// Where each attribute sits in the interleaved vertex buffer.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WetHairVertexLayout {
+    /// `sizeof(WetHairVertexLayout)`, set by the host before the call.
+    pub struct_size: u32,
+    /// Vertices written (all points of all strands, strand after strand).
+    pub vertex_count: u32,
+    /// Strands.
+    pub strand_count: u32,
+    /// Floats per vertex.
+    pub stride_floats: u32,
+    /// Byte offset of the position (3 × f32), or -1 when not requested.
+    pub position_offset: i32,
+    /// Byte offset of the tangent (3 × f32), or -1.
+    pub tangent_offset: i32,
+    /// Byte offset of the wetness (1 × f32), or -1.
+    pub wetness_offset: i32,
+}
+
+/// Counters and measures of a simulation.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WetHairStats {
+    /// `sizeof(WetHairStats)`, set by the host before the call.
+    pub struct_size: u32,
+    /// Strands.
+    pub strands: u32,
+    /// Hair points.
+    pub points: u32,
+    /// Water particles now.
+    pub particles: u32,
+    /// Particles removed for leaving the domain since create or reset.
+    pub particles_removed: u64,
+    /// Steps since create or reset.
+    pub steps: u64,
+    /// Wall time of the last step, ms.
+    pub last_step_ms: f32,
+    /// Largest point speed in the last step, m/s.
+    pub max_speed: f32,
+    /// Mean distance from each strand tip to the nearest other tip, m (computed on request).
+    pub clumping: f32,
+    /// Worker threads.
+    pub threads: u32,
+}
+
+impl WetHairSimDesc {
+    /// The defaults: the paper scene's parameters, no groom, no collider.
+    pub fn default_values() -> Self {
+        let p = SimParams::default();
+        let w = p.water;
+        WetHairSimDesc {
+            struct_size: std::mem::size_of::<Self>() as u32,
+            damping_model: p.damping_model as u32,
+            groom: std::ptr::null(),
+            stretch: WetHairSpring { stiffness: p.stretch.stiffness, damping: p.stretch.damping },
+            bend: WetHairSpring { stiffness: p.bend.stiffness, damping: p.bend.damping },
+            gravity: p.gravity.to_array(),
+            air_drag: p.air_drag,
+            substeps: p.substeps,
+            threads: p.threads,
+            water: WetHairWaterDesc {
+                r_min: w.r_min,
+                r_max: w.r_max,
+                adhesion: w.adhesion,
+                particle_mass: w.particle_mass,
+                drag: w.drag,
+                capacity: w.capacity,
+                wetting_rate: w.wetting_rate,
+                domain_radius: w.domain_radius,
+            },
+            colliders: std::ptr::null(),
+            collider_count: 0,
+            friction: p.friction,
+            vertex_attributes: p.attributes.0,
+        }
+    }
+
+    /// Converts to [`SimParams`], checking the enums and the collider array (floats are
+    /// checked by [`SimParams::validate`]).
+    pub(crate) fn to_params(&self) -> Result<SimParams, Fail> {
+        let damping_model = match self.damping_model {
+            0 => DampingModel::Relative,
+            1 => DampingModel::Axial,
+            v => fail_invalid!("damping_model {v} is not a WetHairDampingModel"),
+        };
+        let n = self.collider_count as usize;
+        if n > crate::params::MAX_COLLIDERS {
+            return Err(Fail(
+                super::WetHairResult::WETHAIR_ERROR_CAPACITY,
+                format!("collider_count {n} exceeds {}", crate::params::MAX_COLLIDERS),
+            ));
+        }
+        let raw: &[WetHairCollider] = if n == 0 {
+            &[]
+        } else if self.colliders.is_null() {
+            return Err(Fail(super::WetHairResult::WETHAIR_ERROR_NULL_POINTER, "colliders is NULL".into()));
+        } else {
+            unsafe { std::slice::from_raw_parts(self.colliders, n) }
+        };
+        let mut colliders = Vec::with_capacity(n);
+        for (i, c) in raw.iter().enumerate() {
+            colliders.push(match c.shape {
+                0 => Shape::Sphere { center: Vec3::from(c.a), radius: c.radius },
+                1 => Shape::Capsule { a: Vec3::from(c.a), b: Vec3::from(c.b), radius: c.radius },
+                t => fail_invalid!("collider {i} has type {t}, not a WetHairColliderType"),
+            });
+        }
+        let w = &self.water;
+        Ok(SimParams {
+            stretch: SpringParams { stiffness: self.stretch.stiffness, damping: self.stretch.damping },
+            bend: SpringParams { stiffness: self.bend.stiffness, damping: self.bend.damping },
+            damping_model,
+            gravity: Vec3::from(self.gravity),
+            air_drag: self.air_drag,
+            substeps: self.substeps,
+            threads: self.threads,
+            water: WaterParams {
+                r_min: w.r_min,
+                r_max: w.r_max,
+                adhesion: w.adhesion,
+                particle_mass: w.particle_mass,
+                drag: w.drag,
+                capacity: w.capacity,
+                wetting_rate: w.wetting_rate,
+                domain_radius: w.domain_radius,
+            },
+            colliders,
+            friction: self.friction,
+            attributes: VertexAttributes(self.vertex_attributes),
+        })
+    }
+}
