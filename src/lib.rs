@@ -25,6 +25,7 @@ pub mod ffi;
 pub mod groom;
 pub mod params;
 pub mod physics;
+pub mod scenes;
 pub mod sim;
 
 pub use error::{Error, Result};

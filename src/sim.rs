@@ -193,6 +193,11 @@ impl Simulation {
         self.cpu.passes()
     }
 
+    /// Every buffer the simulation holds and its size in bytes.
+    pub fn buffers(&self) -> Vec<(&'static str, usize)> {
+        self.cpu.buffers()
+    }
+
     /// Every point's position, strand after strand.
     pub fn positions(&self) -> Vec<Vec3> {
         self.per_point(|r, l| r.x.get(l))

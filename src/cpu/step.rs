@@ -203,6 +203,29 @@ impl CpuBackend {
         v
     }
 
+    /// Every buffer the backend holds, with its size in bytes (capacity, not length): what a
+    /// scene costs in memory, and proof that unused features allocate nothing.
+    pub fn buffers(&self) -> Vec<(&'static str, usize)> {
+        fn bytes<T>(v: &Vec<T>) -> usize {
+            v.capacity() * std::mem::size_of::<T>()
+        }
+        let mut out = vec![
+            ("state", bytes(&self.state)),
+            ("row_params", bytes(&self.lay.params)),
+            ("rest_local", bytes(&self.lay.rest_local)),
+            ("worker_forces", self.workers.iter().map(|w| bytes(&w.f)).sum()),
+        ];
+        if !self.wet.is_empty() {
+            out.push(("wetness", bytes(&self.wet)));
+        }
+        if let Some(w) = &self.water {
+            out.push(("water_particles", bytes(&w.pos) + bytes(&w.vel)));
+            out.push(("water_grid", w.grid.bytes() + w.sorted.iter().map(bytes).sum::<usize>()));
+            out.push(("water_reactions", self.workers.iter().flat_map(|k| k.water_force.iter()).map(bytes).sum()));
+        }
+        out
+    }
+
     /// Adds particles, allocating water storage at the first call.
     pub fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
         let cap = self.params.water.capacity as usize;

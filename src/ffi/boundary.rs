@@ -72,7 +72,6 @@ impl From<Error> for Fail {
     fn from(e: Error) -> Fail {
         let code = match &e {
             Error::InvalidArgument(_) => WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
-            Error::Capacity(m) if m.starts_with("vertex buffer") => WetHairResult::WETHAIR_ERROR_BUFFER_TOO_SMALL,
             Error::Capacity(_) => WetHairResult::WETHAIR_ERROR_CAPACITY,
             Error::Io(_) => WetHairResult::WETHAIR_ERROR_IO,
             Error::Parse(_) => WetHairResult::WETHAIR_ERROR_PARSE,

@@ -50,6 +50,22 @@ pub fn load_tfx(bytes: &[u8], mass: f32) -> Result<Groom> {
                 bytes.len()
             ))
         })?;
+    // The optional arrays are not used, but a file that cannot hold them is truncated.
+    let optional = [
+        (16, "strand UVs", strands * 8),
+        (20, "vertex UVs", total * 8),
+        (24, "strand thickness", strands * 4),
+        (28, "vertex colours", total * 16),
+    ];
+    for (at, what, size) in optional {
+        let off = read_u32(bytes, at, what)? as usize;
+        if off != 0 && (off < HEADER_BYTES || off + size > bytes.len()) {
+            return Err(Error::Parse(format!(
+                "tfx {what} ({size} bytes at offset {off}) do not fit in the file ({} bytes)",
+                bytes.len()
+            )));
+        }
+    }
     let data = &bytes[offset..end];
     let mut positions = Vec::with_capacity(total);
     let mut pinned = Vec::with_capacity(total);

@@ -118,6 +118,11 @@ impl Grid {
         (self.lo, self.hi)
     }
 
+    /// Bytes allocated.
+    pub fn bytes(&self) -> usize {
+        4 * (self.start.capacity() + self.cursor.capacity() + self.sorted.capacity() + self.cell_of_point.capacity())
+    }
+
     /// Number of points in the grid.
     pub fn len(&self) -> usize {
         self.sorted.len()

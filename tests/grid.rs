@@ -1,0 +1,68 @@
+//! The grid's neighbour query equals brute force, for points inside and far outside its box.
+
+use glam::Vec3;
+use wethair::physics::grid::{Grid, MAX_CELLS};
+use wethair::scenes::Lcg;
+
+fn cloud(rng: &mut Lcg, n: usize, lo: Vec3, hi: Vec3) -> Vec<Vec3> {
+    (0..n).map(|_| lo + (hi - lo) * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32())).collect()
+}
+
+fn check(points: &[Vec3], queries: &[Vec3], r: f32, cell: f32) {
+    let mut grid = Grid::new(points.len(), cell);
+    grid.build(points);
+    for q in queries {
+        let mut found: Vec<u32> = vec![];
+        grid.for_each_candidate(*q, r, |i| {
+            if (points[i as usize] - *q).length_squared() <= r * r {
+                found.push(i);
+            }
+        });
+        let n = found.len();
+        found.sort_unstable();
+        found.dedup();
+        assert_eq!(found.len(), n, "a candidate was visited twice");
+        let brute: Vec<u32> = (0..points.len() as u32).filter(|&i| (points[i as usize] - *q).length_squared() <= r * r).collect();
+        assert_eq!(found, brute, "query at {q:?}");
+    }
+}
+
+#[test]
+fn grid_query_equals_brute_force_on_random_clouds() {
+    let mut rng = Lcg(99);
+    for (n, r) in [(1usize, 0.01f32), (50, 0.02), (2000, 0.01), (5000, 0.005)] {
+        let pts = cloud(&mut rng, n, Vec3::splat(-0.1), Vec3::splat(0.1));
+        // Queries inside, on the border, and far outside the points' box.
+        let mut queries = cloud(&mut rng, 300, Vec3::splat(-0.15), Vec3::splat(0.15));
+        queries.extend([Vec3::splat(1e3), Vec3::splat(-1e3), Vec3::new(0.1 + r * 0.5, 0.0, 0.0), Vec3::new(f32::MAX, 0.0, 0.0)]);
+        check(&pts, &queries, r, r);
+        check(&pts, &queries, r, 2.0 * r);
+    }
+}
+
+#[test]
+fn grid_handles_far_apart_points_by_growing_cells() {
+    // Two clusters 1 km apart would need ~10^15 cells of 1 cm: the grid grows its cells
+    // instead, and every query stays exact.
+    let mut rng = Lcg(5);
+    let mut pts = cloud(&mut rng, 200, Vec3::ZERO, Vec3::splat(0.05));
+    pts.extend(cloud(&mut rng, 200, Vec3::splat(1000.0), Vec3::splat(1000.05)));
+    let queries: Vec<Vec3> = pts.iter().step_by(7).map(|p| *p + Vec3::splat(0.003)).collect();
+    check(&pts, &queries, 0.01, 0.01);
+    let mut g = Grid::new(pts.len(), 0.01);
+    g.build(&pts);
+    assert!(g.dims().as_i64vec3().element_product() <= MAX_CELLS as i64);
+    assert!(g.cell() > 0.01);
+}
+
+#[test]
+fn grid_counting_sort_counts_every_point_once() {
+    let mut rng = Lcg(11);
+    let pts = cloud(&mut rng, 3000, Vec3::splat(-0.2), Vec3::splat(0.2));
+    let mut g = Grid::new(pts.len(), 0.016);
+    g.build(&pts);
+    assert_eq!(g.cell_counts().iter().sum::<u32>() as usize, pts.len());
+    let mut seen = g.sorted().to_vec();
+    seen.sort_unstable();
+    assert_eq!(seen, (0..pts.len() as u32).collect::<Vec<_>>());
+}

@@ -1,0 +1,121 @@
+//! Groom loaders: the real TressFX mohawk loads; every kind of malformed file is an error
+//! (never a panic or an out-of-bounds read).
+
+use std::path::PathBuf;
+use wethair::groom::{load_cyhair, load_file, load_tfx};
+use wethair::Error;
+
+fn mohawk() -> Vec<u8> {
+    std::fs::read(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/Ratboy_mohawk.tfx")).unwrap()
+}
+
+#[test]
+fn mohawk_loads_as_2228_by_32() {
+    let g = load_tfx(&mohawk(), 1e-3).unwrap();
+    assert_eq!(g.strand_count(), 2228);
+    assert_eq!(g.point_count(), 2228 * 32);
+    assert_eq!(g.max_strand_points(), 32);
+    // The first two vertices of every strand are fixed (w = 0) in this asset.
+    for s in 0..2228 {
+        let r = g.strand_range(s);
+        assert!(g.pinned()[r.start] && g.pinned()[r.start + 1] && !g.pinned()[r.start + 2]);
+    }
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/Ratboy_mohawk.tfx");
+    assert_eq!(load_file(&path, 1e-3).unwrap(), g);
+}
+
+fn is_parse_error<T: std::fmt::Debug>(r: Result<T, Error>) -> bool {
+    matches!(r, Err(Error::Parse(_)) | Err(Error::Capacity(_)))
+}
+
+#[test]
+fn truncated_tfx_is_an_error_at_every_length() {
+    let bytes = mohawk();
+    // Every cut inside the header and the first strands, then coarser steps to the end.
+    let mut cuts: Vec<usize> = (0..2000).collect();
+    cuts.extend((2000..bytes.len()).step_by(997));
+    cuts.push(bytes.len() - 1);
+    for n in cuts {
+        assert!(is_parse_error(load_tfx(&bytes[..n], 1e-3)), "truncated to {n} bytes was accepted");
+    }
+}
+
+#[test]
+fn malformed_tfx_headers_are_errors() {
+    let good = mohawk();
+    let patch = |off: usize, v: u32| {
+        let mut b = good.clone();
+        b[off..off + 4].copy_from_slice(&v.to_le_bytes());
+        b
+    };
+    let cases = [
+        ("version NaN", patch(0, f32::NAN.to_bits())),
+        ("version 0", patch(0, 0f32.to_bits())),
+        ("zero strands", patch(4, 0)),
+        ("huge strand count", patch(4, u32::MAX)),
+        ("one vertex per strand", patch(8, 1)),
+        ("too many vertices per strand", patch(8, 100_000)),
+        ("offset into header", patch(12, 16)),
+        ("offset past the end", patch(12, u32::MAX - 8)),
+    ];
+    for (what, bytes) in cases {
+        assert!(is_parse_error(load_tfx(&bytes, 1e-3)), "{what} was accepted");
+    }
+    let mut nan = good.clone();
+    nan[0xa0..0xa4].copy_from_slice(&f32::NAN.to_le_bytes());
+    assert!(is_parse_error(load_tfx(&nan, 1e-3)), "NaN vertex accepted");
+}
+
+/// A small `.hair` file: 2 strands (3 and 4 points), segments array present.
+fn hair_file(segments: &[u16], points: &[[f32; 3]], flags: u32) -> Vec<u8> {
+    let mut b = Vec::new();
+    b.extend_from_slice(b"HAIR");
+    b.extend_from_slice(&(segments.len() as u32).to_le_bytes());
+    b.extend_from_slice(&(points.len() as u32).to_le_bytes());
+    b.extend_from_slice(&flags.to_le_bytes());
+    b.extend_from_slice(&3u32.to_le_bytes()); // default segments
+    b.resize(128, 0);
+    if flags & 1 != 0 {
+        segments.iter().for_each(|s| b.extend_from_slice(&s.to_le_bytes()));
+    }
+    points.iter().flatten().for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+    b
+}
+
+#[test]
+fn cyhair_loads_and_rejects_malformed_files() {
+    let pts: Vec<[f32; 3]> = (0..7).map(|i| [i as f32 * 0.01, 0.0, 0.0]).collect();
+    let good = hair_file(&[2, 3], &pts, 0b11);
+    let g = load_cyhair(&good, 1e-3).unwrap();
+    assert_eq!((g.strand_count(), g.point_count()), (2, 7));
+    assert_eq!(g.strand_range(1), 3..7);
+    assert!(g.pinned()[0] && g.pinned()[3] && !g.pinned()[1]);
+    // Default segment count (3) for every strand when the segments array is absent.
+    let uniform = hair_file(&[3, 3], &(0..8).map(|i| [i as f32, 0.0, 0.0]).collect::<Vec<_>>(), 0b10);
+    assert_eq!(load_cyhair(&uniform, 1e-3).unwrap().point_count(), 8);
+
+    for n in 0..good.len() {
+        assert!(is_parse_error(load_cyhair(&good[..n], 1e-3)), "truncated to {n} bytes was accepted");
+    }
+    let mut bad_sig = good.clone();
+    bad_sig[0] = b'X';
+    assert!(is_parse_error(load_cyhair(&bad_sig, 1e-3)));
+    assert!(is_parse_error(load_cyhair(&hair_file(&[2, 3], &pts, 0b01), 1e-3)), "no point array accepted");
+    assert!(is_parse_error(load_cyhair(&hair_file(&[2, 4], &pts, 0b11), 1e-3)), "segment sum mismatch accepted");
+    assert!(is_parse_error(load_cyhair(&hair_file(&[0, 5], &pts, 0b11), 1e-3)), "1-point strand accepted");
+    let mut nan = pts.clone();
+    nan[4][1] = f32::INFINITY;
+    assert!(is_parse_error(load_cyhair(&hair_file(&[2, 3], &nan, 0b11), 1e-3)), "inf point accepted");
+    let mut huge = good.clone();
+    huge[8..12].copy_from_slice(&u32::MAX.to_le_bytes());
+    assert!(is_parse_error(load_cyhair(&huge, 1e-3)));
+}
+
+#[test]
+fn missing_file_and_unknown_format_are_errors() {
+    assert!(matches!(load_file(std::path::Path::new("/nonexistent/x.tfx"), 1e-3), Err(Error::Io(_))));
+    let tmp = std::env::temp_dir().join(format!("wethair-{}.bin", std::process::id()));
+    std::fs::write(&tmp, b"not a groom").unwrap();
+    assert!(matches!(load_file(&tmp, 1e-3), Err(Error::Parse(_))));
+    std::fs::remove_file(tmp).ok();
+}
