@@ -8,7 +8,14 @@ fn main() {
     let frames: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(110);
     let threads: u32 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0);
     let groom = paper_scene(10_000, 6).unwrap();
-    let mut sim = Simulation::new(&groom, SimParams { threads, ..Default::default() }).unwrap();
+    let mut sim = Simulation::new(
+        &groom,
+        SimParams {
+            threads,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let t0 = std::time::Instant::now();
     for _ in 0..frames {
         sim.step(1.0 / 60.0).unwrap();

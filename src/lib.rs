@@ -18,6 +18,8 @@
 //! ```
 
 #![warn(missing_docs)]
+// Lane loops index several arrays with one `l in 0..W`: that is the shape LLVM vectorises.
+#![allow(clippy::needless_range_loop)]
 
 pub mod cpu;
 pub mod error;

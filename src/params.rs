@@ -110,8 +110,14 @@ impl Default for SimParams {
     /// The paper scene's parameters, no collider.
     fn default() -> Self {
         SimParams {
-            stretch: SpringParams { stiffness: 40.0, damping: 0.02 },
-            bend: SpringParams { stiffness: 10.0, damping: 0.005 },
+            stretch: SpringParams {
+                stiffness: 40.0,
+                damping: 0.02,
+            },
+            bend: SpringParams {
+                stiffness: 10.0,
+                damping: 0.005,
+            },
             damping_model: DampingModel::Axial,
             gravity: Vec3::new(0.0, 0.0, -9.81),
             air_drag: 0.0,
@@ -129,7 +135,9 @@ impl Default for SimParams {
             },
             colliders: Vec::new(),
             friction: 0.2,
-            attributes: VertexAttributes(VertexAttributes::POSITION | VertexAttributes::TANGENT | VertexAttributes::WETNESS),
+            attributes: VertexAttributes(
+                VertexAttributes::POSITION | VertexAttributes::TANGENT | VertexAttributes::WETNESS,
+            ),
         }
     }
 }
@@ -138,7 +146,10 @@ impl SimParams {
     /// The paper scene with its head as a sphere collider (radius 0.1 m at the origin).
     pub fn paper_scene_with_head() -> Self {
         SimParams {
-            colliders: vec![Shape::Sphere { center: Vec3::ZERO, radius: 0.1 }],
+            colliders: vec![Shape::Sphere {
+                center: Vec3::ZERO,
+                radius: 0.1,
+            }],
             ..Default::default()
         }
     }
@@ -175,7 +186,10 @@ impl SimParams {
             )));
         }
         if self.colliders.len() > MAX_COLLIDERS {
-            return Err(Error::Capacity(format!("{} colliders, at most {MAX_COLLIDERS}", self.colliders.len())));
+            return Err(Error::Capacity(format!(
+                "{} colliders, at most {MAX_COLLIDERS}",
+                self.colliders.len()
+            )));
         }
         for (i, c) in self.colliders.iter().enumerate() {
             let (pts, r) = match *c {

@@ -75,7 +75,16 @@ impl Simulation {
         params.validate()?;
         let head = Affine3A::IDENTITY;
         let cpu = CpuBackend::new(groom, &params, &head)?;
-        Ok(Simulation { params, cpu, head, head_prev: head, last_step_ms: 0.0, max_speed: 0.0, steps: 0, failed: None })
+        Ok(Simulation {
+            params,
+            cpu,
+            head,
+            head_prev: head,
+            last_step_ms: 0.0,
+            max_speed: 0.0,
+            steps: 0,
+            failed: None,
+        })
     }
 
     /// The parameters the simulation was created with.
@@ -97,7 +106,7 @@ impl Simulation {
         }
         let t = Affine3A::from_mat4(m);
         let det = t.matrix3.determinant();
-        if !(det > 1e-12) {
+        if det.is_nan() || det <= 1e-12 {
             return Err(invalid!("head transform is singular or mirrored (determinant {det})"));
         }
         self.head = t;
@@ -182,7 +191,10 @@ impl Simulation {
         }
         let n = self.vertex_count() * self.params.attributes.stride();
         if dst.len() < n {
-            return Err(Error::Capacity(format!("vertex buffer holds {} floats, {n} needed", dst.len())));
+            return Err(Error::Capacity(format!(
+                "vertex buffer holds {} floats, {n} needed",
+                dst.len()
+            )));
         }
         self.cpu.write_vertices(self.params.attributes, &mut dst[..n]);
         Ok(n)
@@ -269,7 +281,11 @@ impl Simulation {
             .map(|((v, &m), _)| v.as_dvec3() * m as f64)
             .sum();
         let m_w = self.params.water.particle_mass as f64;
-        hair + self.water_velocities().iter().map(|v| v.as_dvec3() * m_w).sum::<DVec3>()
+        hair + self
+            .water_velocities()
+            .iter()
+            .map(|v| v.as_dvec3() * m_w)
+            .sum::<DVec3>()
     }
 
     fn pinned_mask(&self) -> Vec<bool> {

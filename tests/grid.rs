@@ -5,7 +5,9 @@ use wethair::physics::grid::{Grid, MAX_CELLS};
 use wethair::scenes::Lcg;
 
 fn cloud(rng: &mut Lcg, n: usize, lo: Vec3, hi: Vec3) -> Vec<Vec3> {
-    (0..n).map(|_| lo + (hi - lo) * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32())).collect()
+    (0..n)
+        .map(|_| lo + (hi - lo) * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()))
+        .collect()
 }
 
 fn check(points: &[Vec3], queries: &[Vec3], r: f32, cell: f32) {
@@ -22,7 +24,9 @@ fn check(points: &[Vec3], queries: &[Vec3], r: f32, cell: f32) {
         found.sort_unstable();
         found.dedup();
         assert_eq!(found.len(), n, "a candidate was visited twice");
-        let brute: Vec<u32> = (0..points.len() as u32).filter(|&i| (points[i as usize] - *q).length_squared() <= r * r).collect();
+        let brute: Vec<u32> = (0..points.len() as u32)
+            .filter(|&i| (points[i as usize] - *q).length_squared() <= r * r)
+            .collect();
         assert_eq!(found, brute, "query at {q:?}");
     }
 }
@@ -34,7 +38,12 @@ fn grid_query_equals_brute_force_on_random_clouds() {
         let pts = cloud(&mut rng, n, Vec3::splat(-0.1), Vec3::splat(0.1));
         // Queries inside, on the border, and far outside the points' box.
         let mut queries = cloud(&mut rng, 300, Vec3::splat(-0.15), Vec3::splat(0.15));
-        queries.extend([Vec3::splat(1e3), Vec3::splat(-1e3), Vec3::new(0.1 + r * 0.5, 0.0, 0.0), Vec3::new(f32::MAX, 0.0, 0.0)]);
+        queries.extend([
+            Vec3::splat(1e3),
+            Vec3::splat(-1e3),
+            Vec3::new(0.1 + r * 0.5, 0.0, 0.0),
+            Vec3::new(f32::MAX, 0.0, 0.0),
+        ]);
         check(&pts, &queries, r, r);
         check(&pts, &queries, r, 2.0 * r);
     }

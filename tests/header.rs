@@ -6,7 +6,11 @@ use std::path::Path;
 fn generate() -> String {
     let dir = env!("CARGO_MANIFEST_DIR");
     let mut config = cbindgen::Config::from_file(Path::new(dir).join("cbindgen.toml")).expect("cbindgen.toml");
-    let (ma, mi, pa) = (env!("CARGO_PKG_VERSION_MAJOR"), env!("CARGO_PKG_VERSION_MINOR"), env!("CARGO_PKG_VERSION_PATCH"));
+    let (ma, mi, pa) = (
+        env!("CARGO_PKG_VERSION_MAJOR"),
+        env!("CARGO_PKG_VERSION_MINOR"),
+        env!("CARGO_PKG_VERSION_PATCH"),
+    );
     config.after_includes = Some(format!(
         "\n/* Version of this header; compare WETHAIR_VERSION with wethair_version() at run time. */\n\
          #define WETHAIR_VERSION_MAJOR {ma}\n#define WETHAIR_VERSION_MINOR {mi}\n#define WETHAIR_VERSION_PATCH {pa}\n\

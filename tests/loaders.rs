@@ -36,7 +36,10 @@ fn truncated_tfx_is_an_error_at_every_length() {
     cuts.extend((2000..bytes.len()).step_by(997));
     cuts.push(bytes.len() - 1);
     for n in cuts {
-        assert!(is_parse_error(load_tfx(&bytes[..n], 1e-3)), "truncated to {n} bytes was accepted");
+        assert!(
+            is_parse_error(load_tfx(&bytes[..n], 1e-3)),
+            "truncated to {n} bytes was accepted"
+        );
     }
 }
 
@@ -78,7 +81,10 @@ fn hair_file(segments: &[u16], points: &[[f32; 3]], flags: u32) -> Vec<u8> {
     if flags & 1 != 0 {
         segments.iter().for_each(|s| b.extend_from_slice(&s.to_le_bytes()));
     }
-    points.iter().flatten().for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+    points
+        .iter()
+        .flatten()
+        .for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
     b
 }
 
@@ -95,17 +101,32 @@ fn cyhair_loads_and_rejects_malformed_files() {
     assert_eq!(load_cyhair(&uniform, 1e-3).unwrap().point_count(), 8);
 
     for n in 0..good.len() {
-        assert!(is_parse_error(load_cyhair(&good[..n], 1e-3)), "truncated to {n} bytes was accepted");
+        assert!(
+            is_parse_error(load_cyhair(&good[..n], 1e-3)),
+            "truncated to {n} bytes was accepted"
+        );
     }
     let mut bad_sig = good.clone();
     bad_sig[0] = b'X';
     assert!(is_parse_error(load_cyhair(&bad_sig, 1e-3)));
-    assert!(is_parse_error(load_cyhair(&hair_file(&[2, 3], &pts, 0b01), 1e-3)), "no point array accepted");
-    assert!(is_parse_error(load_cyhair(&hair_file(&[2, 4], &pts, 0b11), 1e-3)), "segment sum mismatch accepted");
-    assert!(is_parse_error(load_cyhair(&hair_file(&[0, 5], &pts, 0b11), 1e-3)), "1-point strand accepted");
+    assert!(
+        is_parse_error(load_cyhair(&hair_file(&[2, 3], &pts, 0b01), 1e-3)),
+        "no point array accepted"
+    );
+    assert!(
+        is_parse_error(load_cyhair(&hair_file(&[2, 4], &pts, 0b11), 1e-3)),
+        "segment sum mismatch accepted"
+    );
+    assert!(
+        is_parse_error(load_cyhair(&hair_file(&[0, 5], &pts, 0b11), 1e-3)),
+        "1-point strand accepted"
+    );
     let mut nan = pts.clone();
     nan[4][1] = f32::INFINITY;
-    assert!(is_parse_error(load_cyhair(&hair_file(&[2, 3], &nan, 0b11), 1e-3)), "inf point accepted");
+    assert!(
+        is_parse_error(load_cyhair(&hair_file(&[2, 3], &nan, 0b11), 1e-3)),
+        "inf point accepted"
+    );
     let mut huge = good.clone();
     huge[8..12].copy_from_slice(&u32::MAX.to_le_bytes());
     assert!(is_parse_error(load_cyhair(&huge, 1e-3)));
@@ -113,7 +134,10 @@ fn cyhair_loads_and_rejects_malformed_files() {
 
 #[test]
 fn missing_file_and_unknown_format_are_errors() {
-    assert!(matches!(load_file(std::path::Path::new("/nonexistent/x.tfx"), 1e-3), Err(Error::Io(_))));
+    assert!(matches!(
+        load_file(std::path::Path::new("/nonexistent/x.tfx"), 1e-3),
+        Err(Error::Io(_))
+    ));
     let tmp = std::env::temp_dir().join(format!("wethair-{}.bin", std::process::id()));
     std::fs::write(&tmp, b"not a groom").unwrap();
     assert!(matches!(load_file(&tmp, 1e-3), Err(Error::Parse(_))));

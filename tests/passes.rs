@@ -3,28 +3,44 @@
 use glam::Vec3;
 use wethair::cpu::step::Pass;
 use wethair::groom::paper_scene;
-use wethair::{Shape, SimParams, SpringParams, Simulation};
+use wethair::{Shape, SimParams, Simulation, SpringParams};
 
 #[test]
 fn dry_scene_has_no_water_passes_or_buffers() {
     let groom = paper_scene(100, 6).unwrap();
     let sim = Simulation::new(&groom, SimParams::default()).unwrap();
-    assert_eq!(sim.passes(), vec![Pass::StretchSprings, Pass::BendSprings, Pass::Integrate]);
+    assert_eq!(
+        sim.passes(),
+        vec![Pass::StretchSprings, Pass::BendSprings, Pass::Integrate]
+    );
     let names: Vec<_> = sim.buffers().iter().map(|b| b.0).collect();
-    assert!(!names.iter().any(|n| n.starts_with("water") || *n == "wetness"), "{names:?}");
+    assert!(
+        !names.iter().any(|n| n.starts_with("water") || *n == "wetness"),
+        "{names:?}"
+    );
 }
 
 #[test]
 fn passes_appear_only_with_their_feature() {
     let groom = paper_scene(100, 6).unwrap();
     let params = SimParams {
-        bend: SpringParams { stiffness: 0.0, damping: 0.0 },
+        bend: SpringParams {
+            stiffness: 0.0,
+            damping: 0.0,
+        },
         air_drag: 0.01,
-        colliders: vec![Shape::Capsule { a: Vec3::ZERO, b: Vec3::Z * 0.1, radius: 0.05 }],
+        colliders: vec![Shape::Capsule {
+            a: Vec3::ZERO,
+            b: Vec3::Z * 0.1,
+            radius: 0.05,
+        }],
         ..Default::default()
     };
     let mut sim = Simulation::new(&groom, params).unwrap();
-    assert_eq!(sim.passes(), vec![Pass::Drag, Pass::StretchSprings, Pass::Integrate, Pass::Collide]);
+    assert_eq!(
+        sim.passes(),
+        vec![Pass::Drag, Pass::StretchSprings, Pass::Integrate, Pass::Collide]
+    );
     sim.add_water(&[Vec3::new(0.0, 0.0, 0.25)], &[]).unwrap();
     assert_eq!(
         sim.passes(),
@@ -51,7 +67,11 @@ fn particles_leaving_the_domain_are_removed() {
     let groom = paper_scene(100, 6).unwrap();
     let mut sim = Simulation::new(&groom, SimParams::default()).unwrap();
     // Domain radius defaults to half the groom's diagonal plus its longest strand (~0.4 m).
-    sim.add_water(&[Vec3::new(0.0, 0.0, 0.25), Vec3::new(0.0, 0.0, -0.45)], &[Vec3::ZERO, Vec3::new(0.0, 0.0, -5.0)]).unwrap();
+    sim.add_water(
+        &[Vec3::new(0.0, 0.0, 0.25), Vec3::new(0.0, 0.0, -0.45)],
+        &[Vec3::ZERO, Vec3::new(0.0, 0.0, -5.0)],
+    )
+    .unwrap();
     sim.step(1.0 / 60.0).unwrap();
     let st = sim.stats();
     assert_eq!((st.particles, st.particles_removed), (1, 1));
@@ -60,8 +80,22 @@ fn particles_leaving_the_domain_are_removed() {
 #[test]
 fn single_and_multi_threaded_steps_agree_exactly_when_dry() {
     let groom = paper_scene(1000, 6).unwrap();
-    let mut a = Simulation::new(&groom, SimParams { threads: 1, ..Default::default() }).unwrap();
-    let mut b = Simulation::new(&groom, SimParams { threads: 2, ..Default::default() }).unwrap();
+    let mut a = Simulation::new(
+        &groom,
+        SimParams {
+            threads: 1,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let mut b = Simulation::new(
+        &groom,
+        SimParams {
+            threads: 2,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     for _ in 0..30 {
         a.step(1.0 / 60.0).unwrap();
         b.step(1.0 / 60.0).unwrap();

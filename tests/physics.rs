@@ -4,7 +4,7 @@ use glam::Vec3;
 use wethair::groom::{paper_scene, Groom};
 use wethair::physics::adhesion;
 use wethair::scenes::{shower, Lcg};
-use wethair::{SimParams, SpringParams, Simulation};
+use wethair::{SimParams, Simulation, SpringParams};
 
 fn chain(points: usize, seg: f32, pinned_root: bool) -> Groom {
     let pos: Vec<Vec3> = (0..points).map(|i| Vec3::new(0.0, 0.0, -(i as f32) * seg)).collect();
@@ -19,8 +19,14 @@ fn chain(points: usize, seg: f32, pinned_root: bool) -> Groom {
 fn hanging_chain_settles_at_static_stretch() {
     let (n, seg, m, k, g) = (6usize, 0.02f32, 1e-3f32, 40.0f32, 9.81f32);
     let params = SimParams {
-        stretch: SpringParams { stiffness: k, damping: 0.02 },
-        bend: SpringParams { stiffness: 0.0, damping: 0.0 },
+        stretch: SpringParams {
+            stiffness: k,
+            damping: 0.02,
+        },
+        bend: SpringParams {
+            stiffness: 0.0,
+            damping: 0.0,
+        },
         air_drag: 0.01,
         threads: 1,
         ..Default::default()
@@ -33,7 +39,10 @@ fn hanging_chain_settles_at_static_stretch() {
     for j in 0..n - 1 {
         let ext = (x[j + 1] - x[j]).length() - seg;
         let expect = (n - 1 - j) as f32 * m * g / k;
-        assert!((ext - expect).abs() <= 0.01 * expect, "spring {j}: extension {ext} vs analytic {expect}");
+        assert!(
+            (ext - expect).abs() <= 0.01 * expect,
+            "spring {j}: extension {ext} vs analytic {expect}"
+        );
     }
 }
 
@@ -44,8 +53,14 @@ fn hanging_chain_settles_at_static_stretch() {
 fn one_spring_period_matches_analytic() {
     let (m, k, seg, g) = (1e-3f32, 10.0f32, 0.02f32, 9.81f32);
     let params = SimParams {
-        stretch: SpringParams { stiffness: k, damping: 0.0 },
-        bend: SpringParams { stiffness: 0.0, damping: 0.0 },
+        stretch: SpringParams {
+            stiffness: k,
+            damping: 0.0,
+        },
+        bend: SpringParams {
+            stiffness: 0.0,
+            damping: 0.0,
+        },
         substeps: 1,
         threads: 1,
         ..Default::default()
@@ -66,20 +81,30 @@ fn one_spring_period_matches_analytic() {
     assert!(crossings.len() >= 20, "only {} periods seen", crossings.len());
     let period = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f32;
     let analytic = std::f32::consts::TAU * (m / k).sqrt();
-    assert!((period / analytic - 1.0).abs() < 0.01, "period {period} vs analytic {analytic}");
+    assert!(
+        (period / analytic - 1.0).abs() < 0.01,
+        "period {period} vs analytic {analytic}"
+    );
 }
 
 /// Without gravity a groom at rest stays put to 1e-6 m.
 #[test]
 fn strand_at_rest_stays_at_rest() {
     let groom = paper_scene(500, 6).unwrap();
-    let params = SimParams { gravity: Vec3::ZERO, ..Default::default() };
+    let params = SimParams {
+        gravity: Vec3::ZERO,
+        ..Default::default()
+    };
     let mut sim = Simulation::new(&groom, params).unwrap();
     let x0 = sim.positions();
     for _ in 0..100 {
         sim.step(1.0 / 60.0).unwrap();
     }
-    let worst = x0.iter().zip(sim.positions()).map(|(a, b)| (*a - b).length()).fold(0.0, f32::max);
+    let worst = x0
+        .iter()
+        .zip(sim.positions())
+        .map(|(a, b)| (*a - b).length())
+        .fold(0.0, f32::max);
     assert!(worst <= 1e-6, "moved {worst} m");
 }
 
@@ -91,7 +116,11 @@ fn strand_at_rest_stays_at_rest() {
 fn damped_energy_never_increases() {
     for model in [wethair::DampingModel::Axial, wethair::DampingModel::Relative] {
         let groom = paper_scene(200, 6).unwrap();
-        let params = SimParams { damping_model: model, threads: 1, ..Default::default() };
+        let params = SimParams {
+            damping_model: model,
+            threads: 1,
+            ..Default::default()
+        };
         let mut sim = Simulation::new(&groom, params).unwrap();
         let e0 = sim.energy().total();
         let tol = 1e-6 * e0.abs().max(1e-3);
@@ -107,9 +136,19 @@ fn damped_energy_never_increases() {
             *w = w.max(e);
         }
         for (i, pair) in window_max.windows(2).enumerate() {
-            assert!(pair[1] <= pair[0] + tol, "{model:?}: window {} max {} above window {} max {}", i + 1, pair[1], i, pair[0]);
+            assert!(
+                pair[1] <= pair[0] + tol,
+                "{model:?}: window {} max {} above window {} max {}",
+                i + 1,
+                pair[1],
+                i,
+                pair[0]
+            );
         }
-        assert!(window_max.last().unwrap() < &(e0 - 1e-3 * e0.abs()), "{model:?}: damping removed no energy");
+        assert!(
+            window_max.last().unwrap() < &(e0 - 1e-3 * e0.abs()),
+            "{model:?}: damping removed no energy"
+        );
     }
 }
 
@@ -118,8 +157,18 @@ fn damped_energy_never_increases() {
 #[test]
 fn adhesion_conserves_momentum() {
     let base = paper_scene(400, 6).unwrap();
-    let groom = Groom::new(base.positions().to_vec(), &vec![6; 400], Some(vec![false; 2400]), None, 1e-3).unwrap();
-    let mut params = SimParams { gravity: Vec3::ZERO, ..Default::default() };
+    let groom = Groom::new(
+        base.positions().to_vec(),
+        &vec![6; 400],
+        Some(vec![false; 2400]),
+        None,
+        1e-3,
+    )
+    .unwrap();
+    let mut params = SimParams {
+        gravity: Vec3::ZERO,
+        ..Default::default()
+    };
     params.water.drag = 0.0;
     let mut sim = Simulation::new(&groom, params.clone()).unwrap();
     let water = wethair::scenes::on_hair(base.positions(), 200, &mut Lcg(7));
@@ -129,9 +178,16 @@ fn adhesion_conserves_momentum() {
         sim.step(1.0 / 60.0).unwrap();
         let p = sim.momentum();
         let scale: f64 = sim.velocities().iter().map(|v| v.length() as f64 * 1e-3).sum::<f64>()
-            + sim.water_velocities().iter().map(|v| v.length() as f64 * 1e-3).sum::<f64>();
+            + sim
+                .water_velocities()
+                .iter()
+                .map(|v| v.length() as f64 * 1e-3)
+                .sum::<f64>();
         moved = moved.max(scale);
-        assert!(p.length() <= 1e-5 * scale.max(1e-9), "momentum {p:?} against scale {scale}");
+        assert!(
+            p.length() <= 1e-5 * scale.max(1e-9),
+            "momentum {p:?} against scale {scale}"
+        );
     }
     assert!(moved > 1e-4, "water did not move the hair (momentum scale {moved})");
 
@@ -145,7 +201,11 @@ fn adhesion_conserves_momentum() {
     let mass = 2400.0 * 1e-3 + sim.water_positions().len() as f64 * 1e-3;
     let expect = mass * -9.81 * 0.5;
     let p = sim.momentum();
-    assert!((p.z - expect).abs() <= 1e-4 * expect.abs(), "p_z {} vs M g t {expect}", p.z);
+    assert!(
+        (p.z - expect).abs() <= 1e-4 * expect.abs(),
+        "p_z {} vs M g t {expect}",
+        p.z
+    );
     assert!(p.x.abs() + p.y.abs() <= 1e-4 * expect.abs());
 }
 
@@ -166,8 +226,14 @@ fn adhesion_profile_matches_eq2() {
     let mid = adhesion::force_on_hair(Vec3::ZERO, Vec3::new(0.005, 0.0, 0.0), r0, r1, s);
     assert!((mid - Vec3::new(s, 0.0, 0.0)).length() < 1e-6, "{mid:?}");
     let inner = adhesion::force_on_hair(Vec3::ZERO, Vec3::new(0.001, 0.0, 0.0), r0, r1, s);
-    assert!(inner.x < 0.0, "inside r_min the particle pushes the hair away: {inner:?}");
-    assert_eq!(adhesion::force_on_hair(Vec3::ZERO, Vec3::new(0.009, 0.0, 0.0), r0, r1, s), Vec3::ZERO);
+    assert!(
+        inner.x < 0.0,
+        "inside r_min the particle pushes the hair away: {inner:?}"
+    );
+    assert_eq!(
+        adhesion::force_on_hair(Vec3::ZERO, Vec3::new(0.009, 0.0, 0.0), r0, r1, s),
+        Vec3::ZERO
+    );
 }
 
 /// Clumping happens: after a shower of 1,000 particles over the paper scene, the mean
@@ -206,8 +272,15 @@ fn head_collider_keeps_hair_outside() {
     for _ in 0..120 {
         free.step(1.0 / 60.0).unwrap();
     }
-    let inner = free.positions().iter().map(|p| p.length()).fold(f32::INFINITY, f32::min);
-    assert!(inner < 0.09, "without the collider hair should swing through the head ({inner})");
+    let inner = free
+        .positions()
+        .iter()
+        .map(|p| p.length())
+        .fold(f32::INFINITY, f32::min);
+    assert!(
+        inner < 0.09,
+        "without the collider hair should swing through the head ({inner})"
+    );
 }
 
 /// Roots follow the head transform exactly at the end of a step.

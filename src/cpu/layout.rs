@@ -99,7 +99,11 @@ impl Layout {
             for l in 0..W {
                 let slot = b * W + l;
                 let s = lay.strand_of_slot[slot] as usize;
-                let pts = if s < strands { &groom.positions[groom.strand_range(s)] } else { &[][..] };
+                let pts = if s < strands {
+                    &groom.positions[groom.strand_range(s)]
+                } else {
+                    &[][..]
+                };
                 let first = if s < strands { groom.strand_first[s] as usize } else { 0 };
                 lay.lane_points[slot] = pts.len() as u32;
                 for i in 0..rows {

@@ -3,5 +3,6 @@
 
 pub mod layout;
 pub mod output;
+pub mod pool;
 pub mod step;
 pub mod water;

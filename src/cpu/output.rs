@@ -15,7 +15,7 @@ pub fn write_vertices(
     state: &[StateRow],
     wet: &[Lane],
     attrs: VertexAttributes,
-    pool: Option<&rayon::ThreadPool>,
+    pool: Option<&super::pool::Pool>,
     dst: &mut [f32],
 ) {
     let mut job = || write_strands(lay, state, wet, attrs, 0..lay.strands, dst);

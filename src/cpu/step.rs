@@ -116,7 +116,7 @@ pub struct CpuBackend {
     pub water: Option<Water>,
     params: SimParams,
     workers: Vec<Worker>,
-    pool: Option<rayon::ThreadPool>,
+    pool: Option<super::pool::Pool>,
     heads: Vec<Affine3A>,
     placed: Vec<Placed>,
     water_center: Vec3,
@@ -134,17 +134,16 @@ impl CpuBackend {
         }
         .min(lay.blocks.max(1));
         let pool = if threads > 1 {
-            Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .thread_name(|i| format!("wethair-{i}"))
-                    .build()
-                    .map_err(|e| Error::Capacity(format!("could not start {threads} threads: {e}")))?,
-            )
+            Some(super::pool::Pool::new(threads)?)
         } else {
             None
         };
-        let workers = (0..threads).map(|_| Worker { f: vec![L3::ZERO; lay.rows], ..Default::default() }).collect();
+        let workers = (0..threads)
+            .map(|_| Worker {
+                f: vec![L3::ZERO; lay.rows],
+                ..Default::default()
+            })
+            .collect();
         let (lo, hi) = groom.bounds();
         let water_radius = if params.water.domain_radius > 0.0 {
             params.water.domain_radius
@@ -221,7 +220,10 @@ impl CpuBackend {
         if let Some(w) = &self.water {
             out.push(("water_particles", bytes(&w.pos) + bytes(&w.vel)));
             out.push(("water_grid", w.grid.bytes() + w.sorted.iter().map(bytes).sum::<usize>()));
-            out.push(("water_reactions", self.workers.iter().flat_map(|k| k.water_force.iter()).map(bytes).sum()));
+            out.push((
+                "water_reactions",
+                self.workers.iter().flat_map(|k| k.water_force.iter()).map(bytes).sum(),
+            ));
         }
         out
     }
@@ -231,12 +233,19 @@ impl CpuBackend {
         let cap = self.params.water.capacity as usize;
         if self.water.is_none() {
             if pos.len() > cap {
-                return Err(Error::Capacity(format!("{} particles exceed the water capacity {cap}", pos.len())));
+                return Err(Error::Capacity(format!(
+                    "{} particles exceed the water capacity {cap}",
+                    pos.len()
+                )));
             }
             self.water = Some(Water::new(&self.params.water, self.water_center, self.water_radius));
             self.wet = vec![[0.0; W]; self.state.len()];
             for w in &mut self.workers {
-                w.water_force = [Vec::with_capacity(cap), Vec::with_capacity(cap), Vec::with_capacity(cap)];
+                w.water_force = [
+                    Vec::with_capacity(cap),
+                    Vec::with_capacity(cap),
+                    Vec::with_capacity(cap),
+                ];
             }
         }
         self.water.as_mut().expect("allocated above").add(pos, vel, cap)
@@ -288,11 +297,21 @@ impl CpuBackend {
                 let placed = &self.placed[s * nc..(s + 1) * nc];
                 let water = self.water.as_mut().expect("wet");
                 let forces = self.workers.iter().map(|w| &w.water_force);
-                water.integrate(forces, &self.params.water, self.params.gravity, h, placed, self.params.friction);
+                water.integrate(
+                    forces,
+                    &self.params.water,
+                    self.params.gravity,
+                    h,
+                    placed,
+                    self.params.friction,
+                );
             }
             let water = self.water.as_mut().expect("wet");
             if water.pos.iter().chain(&water.vel).any(|p| !p.is_finite()) {
-                return Err(Error::Unstable { strand: u32::MAX, detail: "a water particle became non-finite".into() });
+                return Err(Error::Unstable {
+                    strand: u32::MAX,
+                    detail: "a water particle became non-finite".into(),
+                });
             }
             report.water_removed = water.cull(to);
         } else {
@@ -300,7 +319,10 @@ impl CpuBackend {
         }
         if self.workers.iter().any(|w| w.nonfinite) {
             let strand = self.first_nonfinite_strand();
-            return Err(Error::Unstable { strand, detail: format!("after a step of {dt} s in {n_sub} substeps") });
+            return Err(Error::Unstable {
+                strand,
+                detail: format!("after a step of {dt} s in {n_sub} substeps"),
+            });
         }
         report.max_speed = self.workers.iter().map(|w| w.max_v2).fold(0.0, f32::max).sqrt();
         Ok(report)
@@ -341,7 +363,11 @@ impl CpuBackend {
             }
             let first = k * per_chunk;
             for (j, rows_b) in state.chunks_mut(rows).enumerate() {
-                let wet_b = if wet.is_empty() { &mut [][..] } else { &mut wet[j * rows..(j + 1) * rows] };
+                let wet_b = if wet.is_empty() {
+                    &mut [][..]
+                } else {
+                    &mut wet[j * rows..(j + 1) * rows]
+                };
                 for s in subs.clone() {
                     if axial {
                         block_substep::<true>(&ctx, first + j, s, rows_b, wet_b, worker);
@@ -463,8 +489,21 @@ fn block_substep<const AXIAL: bool>(
                 let mut near = false;
                 let [fx, fy, fz] = &mut worker.water_force;
                 w.grid.for_each_run(x, w.r_max, |s, e| {
-                    let run = adhesion::Run { x: &w.sorted[0][s..e], y: &w.sorted[1][s..e], z: &w.sorted[2][s..e] };
-                    let (f, n) = adhesion::gather_run(x, run, &mut fx[s..e], &mut fy[s..e], &mut fz[s..e], w.r_min, w.r_max, w.s);
+                    let run = adhesion::Run {
+                        x: &w.sorted[0][s..e],
+                        y: &w.sorted[1][s..e],
+                        z: &w.sorted[2][s..e],
+                    };
+                    let (f, n) = adhesion::gather_run(
+                        x,
+                        run,
+                        &mut fx[s..e],
+                        &mut fy[s..e],
+                        &mut fz[s..e],
+                        w.r_min,
+                        w.r_max,
+                        w.s,
+                    );
                     total += f;
                     near |= n;
                 });
@@ -491,7 +530,15 @@ fn block_substep<const AXIAL: bool>(
             None
         };
         let r = &mut rows[i];
-        symplectic_euler_row(&mut r.x, &mut r.v, &f[i], &params[i].inv_mass, target.as_ref(), ctx.g, ctx.h);
+        symplectic_euler_row(
+            &mut r.x,
+            &mut r.v,
+            &f[i],
+            &params[i].inv_mass,
+            target.as_ref(),
+            ctx.g,
+            ctx.h,
+        );
         // Pass: collide.
         for c in &ctx.placed[s * ctx.n_colliders..(s + 1) * ctx.n_colliders] {
             collide_row(&mut r.x, &mut r.v, &params[i].inv_mass, c, ctx.friction);

@@ -36,7 +36,11 @@ impl Water {
             pos: Vec::with_capacity(cap),
             vel: Vec::with_capacity(cap),
             grid: Grid::new(cap, 2.0 * p.r_max),
-            sorted: [Vec::with_capacity(cap), Vec::with_capacity(cap), Vec::with_capacity(cap)],
+            sorted: [
+                Vec::with_capacity(cap),
+                Vec::with_capacity(cap),
+                Vec::with_capacity(cap),
+            ],
             center_local,
             radius,
             removed: 0,
@@ -104,7 +108,9 @@ impl Water {
         let inv_m = 1.0 / p.particle_mass;
         for (k, &j) in self.grid.sorted().iter().enumerate() {
             let j = j as usize;
-            let f = forces.clone().fold(-p.drag * self.vel[j], |acc, w| acc + Vec3::new(w[0][k], w[1][k], w[2][k]));
+            let f = forces.clone().fold(-p.drag * self.vel[j], |acc, w| {
+                acc + Vec3::new(w[0][k], w[1][k], w[2][k])
+            });
             let v = self.vel[j] + h * (f * inv_m + g);
             let mut x = self.pos[j] + h * v;
             let mut v = v;

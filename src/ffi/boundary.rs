@@ -38,11 +38,20 @@ impl WetHairResult {
     /// Every code with its name, for `wethair_result_string`.
     pub(crate) const ALL: [(WetHairResult, &'static str); 10] = [
         (WetHairResult::WETHAIR_OK, "WETHAIR_OK\0"),
-        (WetHairResult::WETHAIR_ERROR_NULL_POINTER, "WETHAIR_ERROR_NULL_POINTER\0"),
-        (WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT, "WETHAIR_ERROR_INVALID_ARGUMENT\0"),
+        (
+            WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+            "WETHAIR_ERROR_NULL_POINTER\0",
+        ),
+        (
+            WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
+            "WETHAIR_ERROR_INVALID_ARGUMENT\0",
+        ),
         (WetHairResult::WETHAIR_ERROR_STRUCT_SIZE, "WETHAIR_ERROR_STRUCT_SIZE\0"),
         (WetHairResult::WETHAIR_ERROR_CAPACITY, "WETHAIR_ERROR_CAPACITY\0"),
-        (WetHairResult::WETHAIR_ERROR_BUFFER_TOO_SMALL, "WETHAIR_ERROR_BUFFER_TOO_SMALL\0"),
+        (
+            WetHairResult::WETHAIR_ERROR_BUFFER_TOO_SMALL,
+            "WETHAIR_ERROR_BUFFER_TOO_SMALL\0",
+        ),
         (WetHairResult::WETHAIR_ERROR_IO, "WETHAIR_ERROR_IO\0"),
         (WetHairResult::WETHAIR_ERROR_PARSE, "WETHAIR_ERROR_PARSE\0"),
         (WetHairResult::WETHAIR_ERROR_UNSTABLE, "WETHAIR_ERROR_UNSTABLE\0"),
@@ -147,7 +156,12 @@ macro_rules! read_def {
             return Err($crate::ffi::boundary::Fail(
                 $crate::ffi::WetHairResult::WETHAIR_ERROR_STRUCT_SIZE,
                 format!(
-                    concat!($name, "->struct_size is {}, this library expects {} (call ", stringify!($ty), "'s _default())"),
+                    concat!(
+                        $name,
+                        "->struct_size is {}, this library expects {} (call ",
+                        stringify!($ty),
+                        "'s _default())"
+                    ),
                     size,
                     std::mem::size_of::<$ty>()
                 ),

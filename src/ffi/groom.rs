@@ -18,7 +18,10 @@ fn publish(g: Groom, out: *mut *mut WetHairGroom) {
 /// # Safety
 /// `desc`'s arrays hold the counts they claim; `out` is writable.
 #[no_mangle]
-pub unsafe extern "C" fn wethair_groom_create(desc: *const WetHairGroomDesc, out: *mut *mut WetHairGroom) -> WetHairResult {
+pub unsafe extern "C" fn wethair_groom_create(
+    desc: *const WetHairGroomDesc,
+    out: *mut *mut WetHairGroom,
+) -> WetHairResult {
     guard("wethair_groom_create", || {
         let d = read_def!(desc, WetHairGroomDesc, "desc");
         if out.is_null() {
@@ -32,12 +35,20 @@ pub unsafe extern "C" fn wethair_groom_create(desc: *const WetHairGroomDesc, out
             ));
         }
         if d.strand_point_counts.is_null() || d.positions.is_null() {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "strand_point_counts or positions is NULL".into()));
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+                "strand_point_counts or positions is NULL".into(),
+            ));
         }
         let counts = std::slice::from_raw_parts(d.strand_point_counts, ns);
         let xyz = std::slice::from_raw_parts(d.positions, np * 3);
         let positions = xyz.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect();
-        let pinned = (!d.pinned.is_null()).then(|| std::slice::from_raw_parts(d.pinned, np).iter().map(|&b| b != 0).collect());
+        let pinned = (!d.pinned.is_null()).then(|| {
+            std::slice::from_raw_parts(d.pinned, np)
+                .iter()
+                .map(|&b| b != 0)
+                .collect()
+        });
         let masses = (!d.masses.is_null()).then(|| std::slice::from_raw_parts(d.masses, np).to_vec());
         crate::error::check_positive("default_mass", d.default_mass)?;
         let g = Groom::new(positions, counts, pinned, masses, d.default_mass)?;
@@ -51,13 +62,20 @@ pub unsafe extern "C" fn wethair_groom_create(desc: *const WetHairGroomDesc, out
 /// # Safety
 /// `out` is writable.
 #[no_mangle]
-pub unsafe extern "C" fn wethair_groom_create_paper_scene(strands: u32, points: u32, out: *mut *mut WetHairGroom) -> WetHairResult {
+pub unsafe extern "C" fn wethair_groom_create_paper_scene(
+    strands: u32,
+    points: u32,
+    out: *mut *mut WetHairGroom,
+) -> WetHairResult {
     guard("wethair_groom_create_paper_scene", || {
         if out.is_null() {
             return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "out is NULL".into()));
         }
         if strands as usize > MAX_STRANDS || (strands as usize).saturating_mul(points as usize) > MAX_POINTS {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_CAPACITY, format!("{strands} x {points} exceeds the groom capacity")));
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_CAPACITY,
+                format!("{strands} x {points} exceeds the groom capacity"),
+            ));
         }
         publish(groom::paper_scene(strands, points)?, out);
         Ok(())
@@ -69,13 +87,25 @@ pub unsafe extern "C" fn wethair_groom_create_paper_scene(strands: u32, points: 
 /// # Safety
 /// `path` is a NUL-terminated string; `out` is writable.
 #[no_mangle]
-pub unsafe extern "C" fn wethair_groom_load(path: *const c_char, point_mass: f32, out: *mut *mut WetHairGroom) -> WetHairResult {
+pub unsafe extern "C" fn wethair_groom_load(
+    path: *const c_char,
+    point_mass: f32,
+    out: *mut *mut WetHairGroom,
+) -> WetHairResult {
     guard("wethair_groom_load", || {
         if path.is_null() || out.is_null() {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "path or out is NULL".into()));
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+                "path or out is NULL".into(),
+            ));
         }
         crate::error::check_positive("point_mass", point_mass)?;
-        let p = CStr::from_ptr(path).to_str().map_err(|_| Fail(WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT, "path is not UTF-8".into()))?;
+        let p = CStr::from_ptr(path).to_str().map_err(|_| {
+            Fail(
+                WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
+                "path is not UTF-8".into(),
+            )
+        })?;
         publish(groom::load_file(std::path::Path::new(p), point_mass)?, out);
         Ok(())
     })
@@ -86,7 +116,11 @@ pub unsafe extern "C" fn wethair_groom_load(path: *const c_char, point_mass: f32
 /// # Safety
 /// `groom` came from `wethair_groom_*`; outputs are NULL or writable.
 #[no_mangle]
-pub unsafe extern "C" fn wethair_groom_get_counts(groom: *const WetHairGroom, strands: *mut u32, points: *mut u32) -> WetHairResult {
+pub unsafe extern "C" fn wethair_groom_get_counts(
+    groom: *const WetHairGroom,
+    strands: *mut u32,
+    points: *mut u32,
+) -> WetHairResult {
     guard("wethair_groom_get_counts", || {
         let g = nonnull!(groom, "groom");
         if let Some(s) = strands.as_mut() {

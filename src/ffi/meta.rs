@@ -9,7 +9,9 @@ use std::ffi::c_char;
 #[no_mangle]
 pub extern "C" fn wethair_version() -> u32 {
     let p = |s: &str| s.parse::<u32>().unwrap_or(0);
-    p(env!("CARGO_PKG_VERSION_MAJOR")) * 10000 + p(env!("CARGO_PKG_VERSION_MINOR")) * 100 + p(env!("CARGO_PKG_VERSION_PATCH"))
+    p(env!("CARGO_PKG_VERSION_MAJOR")) * 10000
+        + p(env!("CARGO_PKG_VERSION_MINOR")) * 100
+        + p(env!("CARGO_PKG_VERSION_PATCH"))
 }
 
 /// The library version as a NUL-terminated string, e.g. "0.1.0". Never NULL.

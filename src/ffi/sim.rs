@@ -22,7 +22,7 @@ pub unsafe extern "C" fn wethair_sim_create(desc: *const WetHairSimDesc, out: *m
             return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "out is NULL".into()));
         }
         let groom: &WetHairGroom = nonnull!(d.groom, "desc->groom");
-        let params = d.to_params()?;
+        let params = d.params()?;
         let sim = Simulation::new(&groom.0, params)?;
         out.write(Box::into_raw(Box::new(WetHairSim(sim))));
         Ok(())
@@ -64,24 +64,42 @@ pub unsafe extern "C" fn wethair_sim_set_head_transform(sim: *mut WetHairSim, ma
 /// # Safety
 /// `sim` is valid; the arrays hold `count * 3` floats.
 #[no_mangle]
-pub unsafe extern "C" fn wethair_sim_add_water(sim: *mut WetHairSim, positions: *const f32, velocities: *const f32, count: u32) -> WetHairResult {
+pub unsafe extern "C" fn wethair_sim_add_water(
+    sim: *mut WetHairSim,
+    positions: *const f32,
+    velocities: *const f32,
+    count: u32,
+) -> WetHairResult {
     guard("wethair_sim_add_water", || {
         let s = nonnull_mut!(sim, "sim");
         if count == 0 {
             return Ok(());
         }
         if positions.is_null() {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "positions is NULL".into()));
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+                "positions is NULL".into(),
+            ));
         }
         if count > MAX_WATER_CAPACITY {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_CAPACITY, format!("count {count} exceeds {MAX_WATER_CAPACITY}")));
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_CAPACITY,
+                format!("count {count} exceeds {MAX_WATER_CAPACITY}"),
+            ));
         }
         let n = count as usize;
         let to_vec3 = |p: *const f32| -> Vec<Vec3> {
-            std::slice::from_raw_parts(p, n * 3).chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect()
+            std::slice::from_raw_parts(p, n * 3)
+                .chunks_exact(3)
+                .map(|c| Vec3::new(c[0], c[1], c[2]))
+                .collect()
         };
         let pos = to_vec3(positions);
-        let vel = if velocities.is_null() { Vec::new() } else { to_vec3(velocities) };
+        let vel = if velocities.is_null() {
+            Vec::new()
+        } else {
+            to_vec3(velocities)
+        };
         s.0.add_water(&pos, &vel)?;
         Ok(())
     })
@@ -131,7 +149,10 @@ pub unsafe extern "C" fn wethair_sim_reset(sim: *mut WetHairSim) -> WetHairResul
 /// # Safety
 /// `sim` is valid; `out` is writable.
 #[no_mangle]
-pub unsafe extern "C" fn wethair_sim_get_vertex_layout(sim: *const WetHairSim, out: *mut WetHairVertexLayout) -> WetHairResult {
+pub unsafe extern "C" fn wethair_sim_get_vertex_layout(
+    sim: *const WetHairSim,
+    out: *mut WetHairVertexLayout,
+) -> WetHairResult {
     guard("wethair_sim_get_vertex_layout", || {
         let s = nonnull!(sim, "sim");
         let out = check_out_size!(out, WetHairVertexLayout, "out");
@@ -157,15 +178,26 @@ pub unsafe extern "C" fn wethair_sim_get_vertex_layout(sim: *const WetHairSim, o
 /// # Safety
 /// `sim` is valid; `dst` holds `capacity` floats; `written` is writable.
 #[no_mangle]
-pub unsafe extern "C" fn wethair_sim_get_vertex_buffer(sim: *const WetHairSim, dst: *mut f32, capacity: usize, written: *mut usize) -> WetHairResult {
+pub unsafe extern "C" fn wethair_sim_get_vertex_buffer(
+    sim: *const WetHairSim,
+    dst: *mut f32,
+    capacity: usize,
+    written: *mut usize,
+) -> WetHairResult {
     guard("wethair_sim_get_vertex_buffer", || {
         let s = nonnull!(sim, "sim");
         if dst.is_null() || written.is_null() {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "dst or written is NULL".into()));
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+                "dst or written is NULL".into(),
+            ));
         }
         let need = s.0.vertex_count() * s.0.attributes().stride();
         if capacity < need {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_BUFFER_TOO_SMALL, format!("capacity {capacity} floats, {need} needed")));
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_BUFFER_TOO_SMALL,
+                format!("capacity {capacity} floats, {need} needed"),
+            ));
         }
         if let Some(e) = s.0.failed() {
             return Err(e.clone().into());
@@ -182,11 +214,19 @@ pub unsafe extern "C" fn wethair_sim_get_vertex_buffer(sim: *const WetHairSim, d
 /// # Safety
 /// `sim` is valid; `dst` holds `capacity * 3` floats; `written` is writable.
 #[no_mangle]
-pub unsafe extern "C" fn wethair_sim_get_water(sim: *const WetHairSim, dst: *mut f32, capacity: u32, written: *mut u32) -> WetHairResult {
+pub unsafe extern "C" fn wethair_sim_get_water(
+    sim: *const WetHairSim,
+    dst: *mut f32,
+    capacity: u32,
+    written: *mut u32,
+) -> WetHairResult {
     guard("wethair_sim_get_water", || {
         let s = nonnull!(sim, "sim");
         if written.is_null() || (dst.is_null() && capacity > 0) {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "dst or written is NULL".into()));
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+                "dst or written is NULL".into(),
+            ));
         }
         let w = s.0.water_positions();
         let n = w.len().min(capacity as usize);

@@ -208,8 +208,14 @@ impl WetHairSimDesc {
             struct_size: std::mem::size_of::<Self>() as u32,
             damping_model: p.damping_model as u32,
             groom: std::ptr::null(),
-            stretch: WetHairSpring { stiffness: p.stretch.stiffness, damping: p.stretch.damping },
-            bend: WetHairSpring { stiffness: p.bend.stiffness, damping: p.bend.damping },
+            stretch: WetHairSpring {
+                stiffness: p.stretch.stiffness,
+                damping: p.stretch.damping,
+            },
+            bend: WetHairSpring {
+                stiffness: p.bend.stiffness,
+                damping: p.bend.damping,
+            },
             gravity: p.gravity.to_array(),
             air_drag: p.air_drag,
             substeps: p.substeps,
@@ -233,7 +239,7 @@ impl WetHairSimDesc {
 
     /// Converts to [`SimParams`], checking the enums and the collider array (floats are
     /// checked by [`SimParams::validate`]).
-    pub(crate) fn to_params(&self) -> Result<SimParams, Fail> {
+    pub(crate) fn params(&self) -> Result<SimParams, Fail> {
         let damping_model = match self.damping_model {
             0 => DampingModel::Relative,
             1 => DampingModel::Axial,
@@ -249,22 +255,38 @@ impl WetHairSimDesc {
         let raw: &[WetHairCollider] = if n == 0 {
             &[]
         } else if self.colliders.is_null() {
-            return Err(Fail(super::WetHairResult::WETHAIR_ERROR_NULL_POINTER, "colliders is NULL".into()));
+            return Err(Fail(
+                super::WetHairResult::WETHAIR_ERROR_NULL_POINTER,
+                "colliders is NULL".into(),
+            ));
         } else {
             unsafe { std::slice::from_raw_parts(self.colliders, n) }
         };
         let mut colliders = Vec::with_capacity(n);
         for (i, c) in raw.iter().enumerate() {
             colliders.push(match c.shape {
-                0 => Shape::Sphere { center: Vec3::from(c.a), radius: c.radius },
-                1 => Shape::Capsule { a: Vec3::from(c.a), b: Vec3::from(c.b), radius: c.radius },
+                0 => Shape::Sphere {
+                    center: Vec3::from(c.a),
+                    radius: c.radius,
+                },
+                1 => Shape::Capsule {
+                    a: Vec3::from(c.a),
+                    b: Vec3::from(c.b),
+                    radius: c.radius,
+                },
                 t => fail_invalid!("collider {i} has type {t}, not a WetHairColliderType"),
             });
         }
         let w = &self.water;
         Ok(SimParams {
-            stretch: SpringParams { stiffness: self.stretch.stiffness, damping: self.stretch.damping },
-            bend: SpringParams { stiffness: self.bend.stiffness, damping: self.bend.damping },
+            stretch: SpringParams {
+                stiffness: self.stretch.stiffness,
+                damping: self.stretch.damping,
+            },
+            bend: SpringParams {
+                stiffness: self.bend.stiffness,
+                damping: self.bend.damping,
+            },
             damping_model,
             gravity: Vec3::from(self.gravity),
             air_drag: self.air_drag,

@@ -18,7 +18,9 @@ const HAS_POINTS: u32 = 1 << 1;
 /// Parses a `.hair` file's bytes; every point gets `mass` kg.
 pub fn load_cyhair(bytes: &[u8], mass: f32) -> Result<Groom> {
     if bytes.len() < HEADER_BYTES || &bytes[..4] != b"HAIR" {
-        return Err(Error::Parse("not a .hair file: no HAIR signature or short header".into()));
+        return Err(Error::Parse(
+            "not a .hair file: no HAIR signature or short header".into(),
+        ));
     }
     let strands = read_u32(bytes, 4, "strand count")? as usize;
     let points = read_u32(bytes, 8, "point count")? as usize;
@@ -28,14 +30,18 @@ pub fn load_cyhair(bytes: &[u8], mass: f32) -> Result<Groom> {
         return Err(Error::Parse(".hair file has no point array".into()));
     }
     if strands == 0 || points > MAX_POINTS || strands > points {
-        return Err(Error::Parse(format!(".hair header: {strands} strands, {points} points")));
+        return Err(Error::Parse(format!(
+            ".hair header: {strands} strands, {points} points"
+        )));
     }
     let mut off = HEADER_BYTES;
     let counts: Vec<u32> = if flags & HAS_SEGMENTS != 0 {
         let end = off + strands * 2;
         let seg = bytes.get(off..end).ok_or_else(|| super::truncated("segment array"))?;
         off = end;
-        seg.chunks_exact(2).map(|b| u16::from_le_bytes([b[0], b[1]]) as u32 + 1).collect()
+        seg.chunks_exact(2)
+            .map(|b| u16::from_le_bytes([b[0], b[1]]) as u32 + 1)
+            .collect()
     } else {
         vec![default_segments.saturating_add(1).min(u32::MAX as usize) as u32; strands]
     };

@@ -82,9 +82,7 @@ impl Groom {
             return Err(invalid!("position {i} is not finite: {:?}", positions[i]));
         }
         let pinned = match pinned {
-            Some(p) if p.len() != total => {
-                return Err(invalid!("{} pinned flags for {total} points", p.len()))
-            }
+            Some(p) if p.len() != total => return Err(invalid!("{} pinned flags for {total} points", p.len())),
             Some(p) => p,
             None => {
                 let mut p = vec![false; total];
@@ -95,18 +93,21 @@ impl Groom {
             }
         };
         let mass = match mass {
-            Some(m) if m.len() != total => {
-                return Err(invalid!("{} masses for {total} points", m.len()))
-            }
+            Some(m) if m.len() != total => return Err(invalid!("{} masses for {total} points", m.len())),
             Some(m) => m,
             None => vec![default_mass; total],
         };
         for (i, (&m, &pin)) in mass.iter().zip(&pinned).enumerate() {
-            if !pin && !(m.is_finite() && m > 0.0) {
+            if !(pin || m.is_finite() && m > 0.0) {
                 return Err(invalid!("point {i} has mass {m}; free points need finite mass > 0"));
             }
         }
-        Ok(Groom { positions, strand_first, pinned, mass })
+        Ok(Groom {
+            positions,
+            strand_first,
+            pinned,
+            mass,
+        })
     }
 
     /// Number of strands.
@@ -141,14 +142,20 @@ impl Groom {
 
     /// The most points any strand has.
     pub fn max_strand_points(&self) -> usize {
-        self.strand_first.windows(2).map(|w| (w[1] - w[0]) as usize).max().unwrap_or(0)
+        self.strand_first
+            .windows(2)
+            .map(|w| (w[1] - w[0]) as usize)
+            .max()
+            .unwrap_or(0)
     }
 
     /// Axis-aligned bounds of the rest pose.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        self.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
-            (lo.min(p), hi.max(p))
-        })
+        self.positions
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
+                (lo.min(p), hi.max(p))
+            })
     }
 
     /// The longest strand's rest length (sum of its segment lengths).
@@ -156,7 +163,10 @@ impl Groom {
         (0..self.strand_count())
             .map(|s| {
                 let r = self.strand_range(s);
-                self.positions[r].windows(2).map(|w| (w[1] - w[0]).length()).sum::<f32>()
+                self.positions[r]
+                    .windows(2)
+                    .map(|w| (w[1] - w[0]).length())
+                    .sum::<f32>()
             })
             .fold(0.0, f32::max)
     }

@@ -25,7 +25,9 @@ impl PaperScene {
 /// Builds the paper scene with `strands` strands of `points` points each.
 pub fn paper_scene(strands: u32, points: u32) -> Result<Groom> {
     if strands == 0 || points < 2 {
-        return Err(invalid!("paper scene needs >= 1 strand and >= 2 points, got {strands} x {points}"));
+        return Err(invalid!(
+            "paper scene needs >= 1 strand and >= 2 points, got {strands} x {points}"
+        ));
     }
     let n = strands as usize;
     let p = points as usize;

@@ -39,7 +39,9 @@ pub fn load_tfx(bytes: &[u8], mass: f32) -> Result<Groom> {
         .filter(|&t| t <= MAX_POINTS)
         .ok_or_else(|| Error::Capacity(format!("{strands} x {per_strand} points")))?;
     if offset < HEADER_BYTES {
-        return Err(Error::Parse(format!("tfx position offset {offset} points into the header")));
+        return Err(Error::Parse(format!(
+            "tfx position offset {offset} points into the header"
+        )));
     }
     let end = offset
         .checked_add(total * 16)

@@ -69,7 +69,14 @@ pub fn gather_run(
     s: f32,
 ) -> (Vec3, bool) {
     const L: usize = 8;
-    let n = run.x.len().min(run.y.len()).min(run.z.len()).min(fx.len()).min(fy.len()).min(fz.len());
+    let n = run
+        .x
+        .len()
+        .min(run.y.len())
+        .min(run.z.len())
+        .min(fx.len())
+        .min(fy.len())
+        .min(fz.len());
     let r2 = r_max * r_max;
     let mut acc = [[0.0f32; L]; 3];
     let mut near = [0.0f32; L];

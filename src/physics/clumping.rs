@@ -10,7 +10,9 @@ pub fn mean_nearest_tip_distance(tips: &[Vec3]) -> f32 {
     if n < 2 {
         return 0.0;
     }
-    let (lo, hi) = tips.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+    let (lo, hi) = tips
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
     // Tips lie on a surface: spacing ~ extent / sqrt(n); two spacings per cell finds most
     // nearest neighbours within one query.
     let cell = ((hi - lo).max_element() / (n as f32).sqrt() * 2.0).max(1e-6);

@@ -50,7 +50,12 @@ impl Shape {
         let (a, b) = (head.transform_point3(a), head.transform_point3(b));
         let ab = b - a;
         let l2 = ab.length_squared();
-        Placed { a, ab, inv_len2: if l2 > 0.0 { 1.0 / l2 } else { 0.0 }, radius: r * scale }
+        Placed {
+            a,
+            ab,
+            inv_len2: if l2 > 0.0 { 1.0 / l2 } else { 0.0 },
+            radius: r * scale,
+        }
     }
 }
 

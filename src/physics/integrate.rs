@@ -7,15 +7,7 @@ use super::lanes::{Lane, L3, W};
 /// Advances one row of free points by `h`, and moves pinned points (inverse mass 0) to `target`.
 /// Returns nothing; `x`/`v` are updated in place.
 #[inline(always)]
-pub fn symplectic_euler_row(
-    x: &mut L3,
-    v: &mut L3,
-    f: &L3,
-    inv_mass: &Lane,
-    target: Option<&L3>,
-    g: [f32; 3],
-    h: f32,
-) {
+pub fn symplectic_euler_row(x: &mut L3, v: &mut L3, f: &L3, inv_mass: &Lane, target: Option<&L3>, g: [f32; 3], h: f32) {
     let inv_h = 1.0 / h;
     for l in 0..W {
         let w = inv_mass[l];

@@ -21,7 +21,11 @@ pub struct L3 {
 
 impl L3 {
     /// All components zero.
-    pub const ZERO: L3 = L3 { x: [0.0; W], y: [0.0; W], z: [0.0; W] };
+    pub const ZERO: L3 = L3 {
+        x: [0.0; W],
+        y: [0.0; W],
+        z: [0.0; W],
+    };
 
     /// The vector of lane `l`.
     #[inline(always)]

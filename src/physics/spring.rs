@@ -33,15 +33,7 @@ pub struct SpringLanes {
 
 /// Adds eq. 1's force to `fa` (on point a) and subtracts it from `fb` (on point b).
 #[inline(always)]
-pub fn spring<const AXIAL: bool>(
-    xa: &L3,
-    xb: &L3,
-    va: &L3,
-    vb: &L3,
-    s: &SpringLanes,
-    fa: &mut L3,
-    fb: &mut L3,
-) {
+pub fn spring<const AXIAL: bool>(xa: &L3, xb: &L3, va: &L3, vb: &L3, s: &SpringLanes, fa: &mut L3, fb: &mut L3) {
     for l in 0..W {
         let dx = xb.x[l] - xa.x[l];
         let dy = xb.y[l] - xa.y[l];

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The main job: build the library and the C renderer, run the paper scene dry and wet, and
+# write out/wethair.png (dry left, wet right) plus a ms/frame line.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+cargo build --release --quiet
+make -C examples/c --quiet build/render
+mkdir -p out
+./examples/c/build/render --out out/wethair.png "$@"

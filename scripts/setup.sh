@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs what building and testing wethair needs on a fresh Debian machine (as root), and
+# checks the Rust toolchain is there. Safe to run again: it installs only what is missing.
+set -euo pipefail
+need=()
+for tool in cc:gcc c++:g++ make:make valgrind:valgrind pkg-config:pkg-config; do
+    command -v "${tool%%:*}" >/dev/null 2>&1 || need+=("${tool##*:}")
+done
+# AddressSanitizer's runtime for gcc.
+ldconfig -p 2>/dev/null | grep -q libasan || need+=(libasan8)
+if [ ${#need[@]} -gt 0 ]; then
+    if [ "$(id -u)" != 0 ]; then
+        echo "setup: missing ${need[*]}; run as root or install them" >&2
+        exit 1
+    fi
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
+fi
+command -v cargo >/dev/null || { echo "setup: cargo not found (install Rust 1.80+ with rustup)" >&2; exit 1; }
+rustup component list --installed 2>/dev/null | grep -q clippy || rustup component add clippy rustfmt >/dev/null 2>&1 || true

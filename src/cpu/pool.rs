@@ -1,0 +1,52 @@
+//! The simulation's own worker pool. Dropping it waits until every worker thread has exited,
+//! so that a host can unload the library (a Unity or Unreal plugin) right after destroying a
+//! simulation, and leak checkers see no thread left running.
+
+use crate::error::{Error, Result};
+use std::sync::{Arc, Condvar, Mutex};
+
+/// A rayon pool whose drop joins its threads.
+#[derive(Debug)]
+pub struct Pool {
+    pool: Option<rayon::ThreadPool>,
+    alive: Arc<(Mutex<usize>, Condvar)>,
+}
+
+impl Pool {
+    /// Starts `threads` workers named `wethair-N`.
+    pub fn new(threads: usize) -> Result<Pool> {
+        let alive = Arc::new((Mutex::new(threads), Condvar::new()));
+        let on_exit = alive.clone();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("wethair-{i}"))
+            .exit_handler(move |_| {
+                let (count, cv) = &*on_exit;
+                let mut n = count.lock().unwrap_or_else(|e| e.into_inner());
+                *n -= 1;
+                cv.notify_all();
+            })
+            .build()
+            .map_err(|e| Error::Capacity(format!("could not start {threads} threads: {e}")))?;
+        Ok(Pool {
+            pool: Some(pool),
+            alive,
+        })
+    }
+
+    /// Runs `f` on the pool (the caller waits).
+    pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        self.pool.as_ref().expect("pool lives until drop").install(f)
+    }
+}
+
+impl Drop for Pool {
+    fn drop(&mut self) {
+        drop(self.pool.take());
+        let (count, cv) = &*self.alive;
+        let mut n = count.lock().unwrap_or_else(|e| e.into_inner());
+        while *n > 0 {
+            n = cv.wait(n).unwrap_or_else(|e| e.into_inner());
+        }
+    }
+}
