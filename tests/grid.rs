@@ -28,6 +28,13 @@ fn check(points: &[Vec3], queries: &[Vec3], r: f32, cell: f32) {
             .filter(|&i| (points[i as usize] - *q).length_squared() <= r * r)
             .collect();
         assert_eq!(found, brute, "query at {q:?}");
+        if !brute.is_empty() {
+            assert!(
+                grid.may_have_near(*q, r),
+                "prefilter rejected {q:?} with {} neighbours",
+                brute.len()
+            );
+        }
     }
 }
 

@@ -20,6 +20,7 @@ impl Pool {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .thread_name(|i| format!("wethair-{i}"))
+            .start_handler(|_| super::denormals::FlushDenormals::forever())
             .exit_handler(move |_| {
                 let (count, cv) = &*on_exit;
                 let mut n = count.lock().unwrap_or_else(|e| e.into_inner());

@@ -35,7 +35,7 @@ impl Water {
         Water {
             pos: Vec::with_capacity(cap),
             vel: Vec::with_capacity(cap),
-            grid: Grid::new(cap, 2.0 * p.r_max),
+            grid: Grid::new(cap, p.r_max),
             sorted: [
                 Vec::with_capacity(cap),
                 Vec::with_capacity(cap),

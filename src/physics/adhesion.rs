@@ -55,7 +55,8 @@ pub struct Run<'a> {
 
 /// Eq. 2 between one hair point at `p` and every particle of a run: returns the summed force on
 /// the hair point and whether any particle lies within `r_max`; subtracts each reaction from
-/// `(fx, fy, fz)` (same length as the run). Eight particles per step, then a scalar tail.
+/// `(fx, fy, fz)` (same length as the run). Runs hold a few particles (one column of cells), so
+/// a plain loop beats any SIMD set-up here.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn gather_run(
@@ -68,51 +69,22 @@ pub fn gather_run(
     r_max: f32,
     s: f32,
 ) -> (Vec3, bool) {
-    const L: usize = 8;
-    let n = run
-        .x
-        .len()
-        .min(run.y.len())
-        .min(run.z.len())
-        .min(fx.len())
-        .min(fy.len())
-        .min(fz.len());
     let r2 = r_max * r_max;
-    let mut acc = [[0.0f32; L]; 3];
-    let mut near = [0.0f32; L];
-    let full = n / L * L;
-    for k in (0..full).step_by(L) {
-        // Fixed-size views: no bounds checks inside, so the lane loop becomes SIMD.
-        let xs: &[f32; L] = run.x[k..k + L].try_into().expect("8 lanes");
-        let ys: &[f32; L] = run.y[k..k + L].try_into().expect("8 lanes");
-        let zs: &[f32; L] = run.z[k..k + L].try_into().expect("8 lanes");
-        let ox: &mut [f32; L] = (&mut fx[k..k + L]).try_into().expect("8 lanes");
-        let oy: &mut [f32; L] = (&mut fy[k..k + L]).try_into().expect("8 lanes");
-        let oz: &mut [f32; L] = (&mut fz[k..k + L]).try_into().expect("8 lanes");
-        for l in 0..L {
-            let (dx, dy, dz) = (xs[l] - p.x, ys[l] - p.y, zs[l] - p.z);
-            let d2 = dx * dx + dy * dy + dz * dz;
-            let m = force_scale(d2, r_min, r_max, s);
-            acc[0][l] += m * dx;
-            acc[1][l] += m * dy;
-            acc[2][l] += m * dz;
-            ox[l] -= m * dx;
-            oy[l] -= m * dy;
-            oz[l] -= m * dz;
-            near[l] = if d2 <= r2 { 1.0 } else { near[l] };
-        }
-    }
-    let mut total = Vec3::new(acc[0].iter().sum(), acc[1].iter().sum(), acc[2].iter().sum());
-    let mut any = near.iter().sum::<f32>() > 0.0;
-    for k in full..n {
-        let d = Vec3::new(run.x[k] - p.x, run.y[k] - p.y, run.z[k] - p.z);
+    let mut total = Vec3::ZERO;
+    let mut any = false;
+    let parts = run.x.iter().zip(run.y).zip(run.z);
+    for ((((&x, &y), &z), ox), (oy, oz)) in parts.zip(fx.iter_mut()).zip(fy.iter_mut().zip(fz.iter_mut())) {
+        let d = Vec3::new(x - p.x, y - p.y, z - p.z);
         let d2 = d.length_squared();
+        if d2 > r2 {
+            continue;
+        }
         let f = d * force_scale(d2, r_min, r_max, s);
         total += f;
-        fx[k] -= f.x;
-        fy[k] -= f.y;
-        fz[k] -= f.z;
-        any |= d2 <= r2;
+        *ox -= f.x;
+        *oy -= f.y;
+        *oz -= f.z;
+        any = true;
     }
     (total, any)
 }

@@ -59,31 +59,49 @@ impl Shape {
     }
 }
 
-/// Pushes the free lanes of one row (inverse mass > 0) out of a placed collider. The inside
-/// test runs on all lanes at once; only rows with a lane inside take the scalar fix-up.
+/// Pushes the free lanes of one row (inverse mass > 0) out of a placed collider: the same
+/// response as [`collide_point`], computed on all lanes with selects so that it vectorises
+/// (hair resting on a head touches it on most rows, every substep).
 #[inline(always)]
 pub fn collide_row(x: &mut L3, v: &mut L3, inv_mass: &Lane, c: &Placed, friction: f32) {
     let r2 = c.radius * c.radius;
-    let mut inside = [0.0f32; W];
+    // Cheap test first (no sqrt, no division): most rows of a groom touch no collider.
+    let mut any = 0u32;
     for l in 0..W {
         let (px, py, pz) = (x.x[l] - c.a.x, x.y[l] - c.a.y, x.z[l] - c.a.z);
         let t = ((px * c.ab.x + py * c.ab.y + pz * c.ab.z) * c.inv_len2).clamp(0.0, 1.0);
         let (dx, dy, dz) = (px - c.ab.x * t, py - c.ab.y * t, pz - c.ab.z * t);
-        let d2 = dx * dx + dy * dy + dz * dz;
-        inside[l] = if d2 < r2 && inv_mass[l] > 0.0 { 1.0 } else { 0.0 };
+        any |= ((dx * dx + dy * dy + dz * dz < r2) & (inv_mass[l] > 0.0)) as u32;
     }
-    if inside.iter().sum::<f32>() == 0.0 {
+    if any == 0 {
         return;
     }
     for l in 0..W {
-        if inside[l] == 0.0 {
-            continue;
-        }
-        let mut p = x.get(l);
-        let mut vel = v.get(l);
-        collide_point(&mut p, &mut vel, c, friction);
-        x.set(l, p);
-        v.set(l, vel);
+        let (px, py, pz) = (x.x[l] - c.a.x, x.y[l] - c.a.y, x.z[l] - c.a.z);
+        let t = ((px * c.ab.x + py * c.ab.y + pz * c.ab.z) * c.inv_len2).clamp(0.0, 1.0);
+        let (ax, ay, az) = (c.a.x + c.ab.x * t, c.a.y + c.ab.y * t, c.a.z + c.ab.z * t);
+        let (dx, dy, dz) = (x.x[l] - ax, x.y[l] - ay, x.z[l] - az);
+        let d2 = dx * dx + dy * dy + dz * dz;
+        let inside = (d2 < r2) & (inv_mass[l] > 0.0);
+        // On the axis there is no way out: push along +z, as collide_point does.
+        let on_axis = d2 <= 1e-24;
+        let inv = if on_axis { 0.0 } else { 1.0 / d2.sqrt() };
+        let (nx, ny, nz) = if on_axis {
+            (0.0, 0.0, 1.0)
+        } else {
+            (dx * inv, dy * inv, dz * inv)
+        };
+        let (vx, vy, vz) = (v.x[l], v.y[l], v.z[l]);
+        let vn = vx * nx + vy * ny + vz * nz;
+        let into = vn.min(0.0);
+        let (tx, ty, tz) = (vx - nx * vn, vy - ny * vn, vz - nz * vn);
+        // Unconditional stores of selected values: the form LLVM vectorises.
+        x.x[l] = if inside { ax + nx * c.radius } else { x.x[l] };
+        x.y[l] = if inside { ay + ny * c.radius } else { x.y[l] };
+        x.z[l] = if inside { az + nz * c.radius } else { x.z[l] };
+        v.x[l] = if inside { vx - nx * into - tx * friction } else { vx };
+        v.y[l] = if inside { vy - ny * into - ty * friction } else { vy };
+        v.z[l] = if inside { vz - nz * into - tz * friction } else { vz };
     }
 }
 

@@ -27,6 +27,8 @@ pub struct Grid {
     cursor: Vec<u32>,
     sorted: Vec<u32>,
     cell_of_point: Vec<u32>,
+    /// Per cell: 1 when a point lies in this cell or one of its 26 neighbours.
+    near: Vec<u8>,
 }
 
 impl Grid {
@@ -44,6 +46,7 @@ impl Grid {
             cursor: Vec::with_capacity(MAX_CELLS),
             sorted: Vec::with_capacity(capacity),
             cell_of_point: Vec::with_capacity(capacity),
+            near: Vec::with_capacity(MAX_CELLS),
         }
     }
 
@@ -102,6 +105,26 @@ impl Grid {
         for c in 0..cells {
             self.start[c + 1] += self.start[c];
         }
+        self.near.clear();
+        self.near.resize(cells, 0);
+        for cx in 0..dims.x {
+            for cy in 0..dims.y {
+                for cz in 0..dims.z {
+                    let c = self.index(IVec3::new(cx, cy, cz));
+                    if self.start[c + 1] == self.start[c] {
+                        continue;
+                    }
+                    for nx in (cx - 1).max(0)..=(cx + 1).min(dims.x - 1) {
+                        for ny in (cy - 1).max(0)..=(cy + 1).min(dims.y - 1) {
+                            for nz in (cz - 1).max(0)..=(cz + 1).min(dims.z - 1) {
+                                let n = self.index(IVec3::new(nx, ny, nz));
+                                self.near[n] = 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.start[..cells]);
         self.sorted.clear();
@@ -113,6 +136,41 @@ impl Grid {
         }
     }
 
+    /// False when no point can lie within `r` of `p` (`r` at most the cell size): `p` is
+    /// outside the box grown by `r`, or no point is in its cell's 3×3×3 neighbourhood. A
+    /// neighbour's cell is within one cell of `p`'s because cells are at least `r` wide, and
+    /// clamping does not increase that distance.
+    #[inline(always)]
+    pub fn may_have_near(&self, p: Vec3, r: f32) -> bool {
+        p.cmpge(self.lo - r).all() && p.cmple(self.hi + r).all() && self.near[self.index(self.cell_of(p))] != 0
+    }
+
+    /// [`Grid::may_have_near`] for the `W` points of a lane row at once (the arithmetic runs
+    /// as SIMD; only the flag lookups are scalar). Returns a bit per lane.
+    #[inline(always)]
+    pub fn may_have_near_lanes(&self, x: &crate::physics::lanes::L3, r: f32) -> u32 {
+        use crate::physics::lanes::W;
+        let (lo, hi, inv) = (self.lo - r, self.hi + r, self.inv_cell);
+        let top = (self.dims - IVec3::ONE).as_vec3();
+        let mut idx = [0i32; W];
+        let mut inside = [false; W];
+        for l in 0..W {
+            let (px, py, pz) = (x.x[l], x.y[l], x.z[l]);
+            inside[l] = (px >= lo.x) & (px <= hi.x) & (py >= lo.y) & (py <= hi.y) & (pz >= lo.z) & (pz <= hi.z);
+            let cx = ((px - self.lo.x) * inv).clamp(0.0, top.x) as i32;
+            let cy = ((py - self.lo.y) * inv).clamp(0.0, top.y) as i32;
+            let cz = ((pz - self.lo.z) * inv).clamp(0.0, top.z) as i32;
+            idx[l] = (cx * self.dims.y + cy) * self.dims.z + cz;
+        }
+        let mut bits = 0u32;
+        for l in 0..W {
+            if inside[l] && self.near[idx[l] as usize] != 0 {
+                bits |= 1 << l;
+            }
+        }
+        bits
+    }
+
     /// Bounds of the points (the grid's box).
     pub fn bounds(&self) -> (Vec3, Vec3) {
         (self.lo, self.hi)
@@ -121,6 +179,7 @@ impl Grid {
     /// Bytes allocated.
     pub fn bytes(&self) -> usize {
         4 * (self.start.capacity() + self.cursor.capacity() + self.sorted.capacity() + self.cell_of_point.capacity())
+            + self.near.capacity()
     }
 
     /// Number of points in the grid.
@@ -144,13 +203,16 @@ impl Grid {
         }
         let a = self.cell_of(qlo);
         let b = self.cell_of(qhi);
+        let span = (b.z - a.z) as usize;
         for cx in a.x..=b.x {
-            for cy in a.y..=b.y {
-                let s = self.start[self.index(IVec3::new(cx, cy, a.z))];
-                let e = self.start[self.index(IVec3::new(cx, cy, b.z)) + 1];
+            let mut first = self.index(IVec3::new(cx, a.y, a.z));
+            for _ in a.y..=b.y {
+                let s = self.start[first];
+                let e = self.start[first + span + 1];
                 if s < e {
                     f(s as usize, e as usize);
                 }
+                first += self.dims.z as usize;
             }
         }
     }

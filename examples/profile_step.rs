@@ -1,0 +1,63 @@
+//! Steps the paper scene (head collider, `particles` placed in the hair) for `frames` frames:
+//! a target for `perf record` when tuning the CPU backend.
+//! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
+use wethair::groom::paper_scene;
+use wethair::scenes::{on_hair, Lcg};
+use wethair::{SimParams, Simulation};
+
+fn main() {
+    let a: Vec<usize> = std::env::args()
+        .skip(1)
+        .map(|s| s.parse().expect("integer argument"))
+        .collect();
+    let (particles, threads, frames) = (
+        a.first().copied().unwrap_or(20),
+        a.get(1).copied().unwrap_or(1),
+        a.get(2).copied().unwrap_or(300),
+    );
+    let groom = paper_scene(10_000, 6).expect("groom");
+    let mut sim = Simulation::new(
+        &groom,
+        SimParams {
+            threads: threads as u32,
+            ..if std::env::var_os("NO_COLLIDER").is_some() {
+                SimParams::default()
+            } else {
+                SimParams::paper_scene_with_head()
+            }
+        },
+    )
+    .expect("sim");
+    if particles > 0 {
+        sim.add_water(&on_hair(groom.positions(), particles, &mut Lcg(2024)), &[])
+            .expect("water");
+    }
+    let t0 = std::time::Instant::now();
+    for _ in 0..frames {
+        sim.step(1.0 / 60.0).expect("step");
+    }
+    let w = sim.water_positions();
+    let r = sim.params().water.r_max;
+    let mut g = wethair::physics::grid::Grid::new(w.len(), r);
+    g.build(w);
+    let (mut pass, mut cand, mut near) = (0, 0, 0);
+    for x in sim.positions() {
+        if g.may_have_near(x, r) {
+            pass += 1;
+            g.for_each_candidate(x, r, |j| {
+                cand += 1;
+                near += ((w[j as usize] - x).length() <= r) as usize;
+            });
+        }
+    }
+    println!(
+        "grid {:?} cell {}: {pass} of 60000 points pass the prefilter, {cand} candidates, {near} within r_max",
+        g.dims(),
+        g.cell()
+    );
+    println!(
+        "{:.3} ms/frame, {} particles held",
+        t0.elapsed().as_secs_f64() * 1e3 / frames as f64,
+        sim.stats().particles
+    );
+}
