@@ -16,18 +16,18 @@ fn main() {
         a.get(2).copied().unwrap_or(300),
     );
     let groom = paper_scene(10_000, 6).expect("groom");
-    let mut sim = Simulation::new(
-        &groom,
-        SimParams {
-            threads: threads as u32,
-            ..if std::env::var_os("NO_COLLIDER").is_some() {
-                SimParams::default()
-            } else {
-                SimParams::paper_scene_with_head()
-            }
-        },
-    )
-    .expect("sim");
+    let mut params = SimParams {
+        threads: threads as u32,
+        ..if std::env::var_os("NO_COLLIDER").is_some() {
+            SimParams::default()
+        } else {
+            SimParams::paper_scene_with_head()
+        }
+    };
+    if let Some(a) = std::env::var_os("ADHESION") {
+        params.water.adhesion = a.to_str().and_then(|s| s.parse().ok()).expect("ADHESION=number");
+    }
+    let mut sim = Simulation::new(&groom, params).expect("sim");
     if particles > 0 {
         sim.add_water(&on_hair(groom.positions(), particles, &mut Lcg(2024)), &[])
             .expect("water");

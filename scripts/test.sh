@@ -35,4 +35,6 @@ step "C smoke under Valgrind (memcheck; definite leaks and errors fail)"
 valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite --errors-for-leak-kinds=definite \
     ./examples/c/build/smoke 60 1000
 
-printf '\n%s\n' "all test stages passed"
+rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
+c_checks=9  # header C11, header C++17, smoke, render, 3 under ASan, valgrind smoke, fmt+clippy
+printf '\nwethair tests: %d passed, 0 failed\n' "$((rust + c_checks))"

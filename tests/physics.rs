@@ -297,3 +297,78 @@ fn roots_follow_the_head() {
         assert!((x[s * 6] - want).length() < 1e-6);
     }
 }
+
+/// A capsule collider (a limb, a shoulder) keeps hair outside too, and follows the head.
+#[test]
+fn capsule_collider_keeps_hair_outside() {
+    let groom = paper_scene(2000, 6).unwrap();
+    let (a, b, r) = (Vec3::new(-0.2, 0.0, -0.05), Vec3::new(0.2, 0.0, -0.05), 0.12);
+    let params = SimParams {
+        colliders: vec![wethair::Shape::Capsule { a, b, radius: r }],
+        ..Default::default()
+    };
+    let mut sim = Simulation::new(&groom, params).unwrap();
+    let head = glam::Mat4::from_translation(Vec3::new(0.0, 0.0, 0.03));
+    sim.set_head_transform(head).unwrap();
+    for _ in 0..120 {
+        sim.step(1.0 / 60.0).unwrap();
+    }
+    let (a, b) = (head.transform_point3(a), head.transform_point3(b));
+    let pinned = groom.pinned();
+    for (i, p) in sim.positions().iter().enumerate() {
+        let t = ((*p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+        let d = (*p - (a + (b - a) * t)).length();
+        assert!(
+            pinned[i] || d >= r - 1e-5,
+            "point {i} is {d} m from the capsule axis (radius {r})"
+        );
+    }
+}
+
+/// The row form of eq. 2 (one particle against 8 hair points) equals the per-point form.
+#[test]
+fn adhesion_row_and_point_forms_agree() {
+    use wethair::physics::lanes::{L3, W};
+    let mut rng = Lcg(3);
+    let (r0, r1, s) = (0.002f32, 0.008f32, 0.01f32);
+    let mut x = L3::ZERO;
+    for l in 0..W {
+        x.set(l, Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 0.01);
+    }
+    let n = 40;
+    let q: Vec<[f32; 3]> = (0..n)
+        .map(|_| [rng.next_f32() * 0.012, rng.next_f32() * 0.012, rng.next_f32() * 0.012])
+        .collect();
+    let cols: Vec<Vec<f32>> = (0..3).map(|c| q.iter().map(|p| p[c]).collect()).collect();
+    let run = adhesion::Run {
+        x: &cols[0],
+        y: &cols[1],
+        z: &cols[2],
+    };
+    let (mut fx, mut fy, mut fz) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut acc, mut near) = (L3::ZERO, [0.0; W]);
+    adhesion::gather_run_lanes(
+        &x, &[1.0; W], run, &mut fx, &mut fy, &mut fz, &mut acc, &mut near, r0, r1, s,
+    );
+    let (mut gx, mut gy, mut gz) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    for l in 0..W {
+        let (f, any) = adhesion::gather_run(x.get(l), run, &mut gx, &mut gy, &mut gz, r0, r1, s);
+        assert!(
+            (f - acc.get(l)).length() <= 1e-6 * (1.0 + f.length()),
+            "lane {l}: {f:?} vs {:?}",
+            acc.get(l)
+        );
+        assert_eq!(any, near[l] > 0.0);
+    }
+    for j in 0..n {
+        let (a, b) = (Vec3::new(fx[j], fy[j], fz[j]), Vec3::new(gx[j], gy[j], gz[j]));
+        assert!(
+            (a - b).length() <= 1e-6 * (1.0 + b.length()),
+            "particle {j}: {a:?} vs {b:?}"
+        );
+    }
+    assert!(
+        near.iter().any(|&v| v > 0.0),
+        "the test cloud should put particles within r_max"
+    );
+}

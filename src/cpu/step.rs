@@ -20,6 +20,10 @@ use crate::physics::spring::{spring, DampingModel};
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
+/// Most grid columns one row query walks (a row spanning ~6 cells a side); wider rows query
+/// lane by lane (3 x 3 columns each, as cells are r_max wide).
+const MAX_RUNS: usize = 49;
+
 /// One pass of the step, as reported by [`CpuBackend::passes`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pass {
@@ -522,36 +526,69 @@ fn block_substep_impl<const AXIAL: bool>(
                     lanes &= !(1 << l);
                 }
             }
-            while lanes != 0 {
-                let l = lanes.trailing_zeros() as usize;
-                lanes &= lanes - 1;
-                let x = r.x.get(l);
-                let mut total = Vec3::ZERO;
-                let mut near = false;
-                let [fx, fy, fz] = &mut worker.water_force;
-                w.grid.for_each_run(x, w.r_max, |s, e| {
+            if lanes == 0 {
+                continue;
+            }
+            let [fx, fy, fz] = &mut worker.water_force;
+            // Row path: one query for the lanes' bounds, each particle against all lanes at once.
+            // Morton-ordered strands keep most rows compact; a row too wide for MAX_RUNS columns
+            // goes lane by lane.
+            let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+            let mut mask = [0.0f32; W];
+            for l in 0..W {
+                if lanes & (1 << l) != 0 {
+                    mask[l] = 1.0;
+                    lo = lo.min(r.x.get(l));
+                    hi = hi.max(r.x.get(l));
+                }
+            }
+            let mut runs = [(0u32, 0u32); MAX_RUNS];
+            let mut acc = L3::ZERO;
+            let mut near = [0.0f32; W];
+            if let Some(n) = w.grid.runs_in_box(lo - w.r_max, hi + w.r_max, &mut runs) {
+                for &(s, e) in &runs[..n] {
+                    let (s, e) = (s as usize, e as usize);
                     let run = adhesion::Run {
                         x: &w.sorted[0][s..e],
                         y: &w.sorted[1][s..e],
                         z: &w.sorted[2][s..e],
                     };
-                    let (f, n) = adhesion::gather_run(
-                        x,
-                        run,
-                        &mut fx[s..e],
-                        &mut fy[s..e],
-                        &mut fz[s..e],
-                        w.r_min,
-                        w.r_max,
-                        w.s,
+                    let (ox, oy, oz) = (&mut fx[s..e], &mut fy[s..e], &mut fz[s..e]);
+                    adhesion::gather_run_lanes(
+                        &r.x, &mask, run, ox, oy, oz, &mut acc, &mut near, w.r_min, w.r_max, w.s,
                     );
-                    total += f;
-                    near |= n;
-                });
-                f[i].add_at(l, total);
-                if near {
-                    wet[i][l] += (1.0 - wet[i][l]) * w.wet_gain;
                 }
+            } else {
+                while lanes != 0 {
+                    let l = lanes.trailing_zeros() as usize;
+                    lanes &= lanes - 1;
+                    let mut one = [0.0f32; W];
+                    one[l] = 1.0;
+                    let x = r.x.get(l);
+                    let n = w
+                        .grid
+                        .runs_in_box(x - w.r_max, x + w.r_max, &mut runs)
+                        .expect("a point's query spans 3x3 columns");
+                    for &(s, e) in &runs[..n] {
+                        let (s, e) = (s as usize, e as usize);
+                        let run = adhesion::Run {
+                            x: &w.sorted[0][s..e],
+                            y: &w.sorted[1][s..e],
+                            z: &w.sorted[2][s..e],
+                        };
+                        let (ox, oy, oz) = (&mut fx[s..e], &mut fy[s..e], &mut fz[s..e]);
+                        adhesion::gather_run_lanes(
+                            &r.x, &one, run, ox, oy, oz, &mut acc, &mut near, w.r_min, w.r_max, w.s,
+                        );
+                    }
+                }
+            }
+            let fi = &mut f[i];
+            for l in 0..W {
+                fi.x[l] += acc.x[l];
+                fi.y[l] += acc.y[l];
+                fi.z[l] += acc.z[l];
+                wet[i][l] += (1.0 - wet[i][l]) * w.wet_gain * near[l];
             }
         }
     }

@@ -4,6 +4,7 @@
 //! on hair point i from particle j is `s g(d) (p_j - p_i)/d`, and particle j gets the opposite.
 //! `g` is 0 at `r_min` and `r_max`, 1 halfway, negative (repulsive) inside `r_min`.
 
+use super::lanes::{hsum, Lane, L3, W};
 use glam::Vec3;
 
 /// Below this distance (m) the direction between a hair point and a particle is undefined;
@@ -87,4 +88,54 @@ pub fn gather_run(
         any = true;
     }
     (total, any)
+}
+
+/// Eq. 2 between the `W` hair points of a lane row (`mask[l]` is 1 for lanes to include, 0
+/// otherwise) and every particle of a run. Adds the forces on the hair lanes to `acc`, marks in
+/// `near` the lanes with a particle within `r_max`, and subtracts each particle's reaction (the
+/// sum over lanes) from `(fx, fy, fz)`. One particle against eight hair points is one SIMD pass.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn gather_run_lanes(
+    x: &L3,
+    mask: &Lane,
+    run: Run,
+    fx: &mut [f32],
+    fy: &mut [f32],
+    fz: &mut [f32],
+    acc: &mut L3,
+    near: &mut Lane,
+    r_min: f32,
+    r_max: f32,
+    s: f32,
+) {
+    let r2 = r_max * r_max;
+    let parts = run.x.iter().zip(run.y).zip(run.z);
+    for ((((&qx, &qy), &qz), ox), (oy, oz)) in parts.zip(fx.iter_mut()).zip(fy.iter_mut().zip(fz.iter_mut())) {
+        let mut d2s = [0.0f32; W];
+        let mut hit = 0.0f32;
+        for l in 0..W {
+            let (dx, dy, dz) = (qx - x.x[l], qy - x.y[l], qz - x.z[l]);
+            d2s[l] = dx * dx + dy * dy + dz * dz;
+            let inside = if d2s[l] <= r2 { mask[l] } else { 0.0 };
+            near[l] = near[l].max(inside);
+            hit += inside;
+        }
+        if hit == 0.0 {
+            continue; // no lane within r_max of this particle
+        }
+        let (mut rx, mut ry, mut rz) = ([0.0f32; W], [0.0f32; W], [0.0f32; W]);
+        for l in 0..W {
+            let m = force_scale(d2s[l], r_min, r_max, s) * mask[l];
+            rx[l] = m * (qx - x.x[l]);
+            ry[l] = m * (qy - x.y[l]);
+            rz[l] = m * (qz - x.z[l]);
+            acc.x[l] += rx[l];
+            acc.y[l] += ry[l];
+            acc.z[l] += rz[l];
+        }
+        *ox -= hsum(&rx);
+        *oy -= hsum(&ry);
+        *oz -= hsum(&rz);
+    }
 }

@@ -196,8 +196,14 @@ impl Grid {
     /// (one run per (x, y) column; z-neighbours are contiguous). Together the runs hold a
     /// superset of the points within `r` of `p`, each once.
     #[inline(always)]
-    pub fn for_each_run(&self, p: Vec3, r: f32, mut f: impl FnMut(usize, usize)) {
-        let (qlo, qhi) = (p - r, p + r);
+    pub fn for_each_run(&self, p: Vec3, r: f32, f: impl FnMut(usize, usize)) {
+        self.for_each_run_in_box(p - r, p + r, f)
+    }
+
+    /// Calls `f(start, end)` for each run of sorted slots whose cells overlap the box
+    /// `qlo..qhi`, one per (x, y) column: a superset of the points in the box, each once.
+    #[inline(always)]
+    pub fn for_each_run_in_box(&self, qlo: Vec3, qhi: Vec3, mut f: impl FnMut(usize, usize)) {
         if !(qlo.cmple(self.hi).all() && qhi.cmpge(self.lo).all()) || self.sorted.is_empty() {
             return;
         }
@@ -215,6 +221,34 @@ impl Grid {
                 first += self.dims.z as usize;
             }
         }
+    }
+
+    /// Writes into `out` the runs `(start, end)` of sorted slots whose cells overlap the box
+    /// `qlo..qhi` (one per (x, y) column, empty ones left out) and returns how many; `None` when
+    /// the box spans more than `out.len()` columns. No closure: the caller's loop stays in the
+    /// caller's instruction set (a closure would be compiled without AVX2 and called per run).
+    #[inline(always)]
+    pub fn runs_in_box(&self, qlo: Vec3, qhi: Vec3, out: &mut [(u32, u32)]) -> Option<usize> {
+        if !(qlo.cmple(self.hi).all() && qhi.cmpge(self.lo).all()) || self.sorted.is_empty() {
+            return Some(0);
+        }
+        let a = self.cell_of(qlo);
+        let b = self.cell_of(qhi);
+        if ((b.x - a.x + 1) * (b.y - a.y + 1)) as usize > out.len() {
+            return None;
+        }
+        let span = (b.z - a.z) as usize;
+        let mut n = 0;
+        for cx in a.x..=b.x {
+            let mut first = self.index(IVec3::new(cx, a.y, a.z));
+            for _ in a.y..=b.y {
+                let (s, e) = (self.start[first], self.start[first + span + 1]);
+                out[n] = (s, e);
+                n += (s < e) as usize;
+                first += self.dims.z as usize;
+            }
+        }
+        Some(n)
     }
 
     /// Calls `f(index)` for every point in the cells that overlap the cube `p ± r`: a superset of

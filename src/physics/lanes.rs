@@ -49,3 +49,11 @@ impl L3 {
         self.z[l] += v.z;
     }
 }
+
+/// Sum of the lanes in a fixed pairwise order (a tree the compiler can keep in registers, and
+/// the same bits on every run).
+#[inline(always)]
+pub fn hsum(a: &Lane) -> f32 {
+    let s4 = [a[0] + a[4], a[1] + a[5], a[2] + a[6], a[3] + a[7]];
+    (s4[0] + s4[2]) + (s4[1] + s4[3])
+}
