@@ -326,6 +326,7 @@ fn capsule_collider_keeps_hair_outside() {
 }
 
 /// The row form of eq. 2 (one particle against 8 hair points) equals the per-point form.
+#[allow(clippy::needless_range_loop)]
 #[test]
 fn adhesion_row_and_point_forms_agree() {
     use wethair::physics::lanes::{L3, W};
