@@ -62,6 +62,8 @@ pub struct Layout {
     pub rest_local: Vec<L3>,
     /// Per row: whether any lane is pinned (only those rows compute head targets).
     pub pinned_row: Vec<bool>,
+    /// Per row: bit `l` set when lane `l` is a real hair point (not padding).
+    pub real_lanes: Vec<u8>,
     /// Per host point: mass in kg (diagnostics: momentum and energy).
     pub mass: Vec<f32>,
 }
@@ -91,6 +93,7 @@ impl Layout {
             params: vec![ParamRow::default(); n_rows],
             rest_local: vec![L3::ZERO; n_rows],
             pinned_row: vec![false; n_rows],
+            real_lanes: vec![0; n_rows],
             mass: groom.mass.clone(),
         };
         let (ks, cs) = (params.stretch.stiffness, params.stretch.damping);
@@ -112,6 +115,9 @@ impl Layout {
                     // Padding sits on the strand's last point (or the origin), pinned.
                     let p = pts.get(i).or(pts.last()).copied().unwrap_or_default();
                     lay.rest_local[r].set(l, p);
+                    if i < pts.len() {
+                        lay.real_lanes[r] |= 1 << l;
+                    }
                     let free = i < pts.len() && !groom.pinned[first + i];
                     row.inv_mass[l] = if free { 1.0 / groom.mass[first + i] } else { 0.0 };
                     if !free {

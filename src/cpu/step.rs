@@ -520,12 +520,7 @@ fn block_substep_impl<const AXIAL: bool>(
     if let Some(w) = &ctx.water {
         for (i, r) in rows.iter().enumerate() {
             // Which lanes can have a particle within r_max (SIMD prefilter), minus padding.
-            let mut lanes = w.grid.may_have_near_lanes(&r.x, w.r_max);
-            for l in 0..W {
-                if i >= lay.lane_points[b * W + l] as usize {
-                    lanes &= !(1 << l);
-                }
-            }
+            let mut lanes = w.grid.may_have_near_lanes(&r.x, w.r_max) & lay.real_lanes[base + i] as u32;
             if lanes == 0 {
                 continue;
             }

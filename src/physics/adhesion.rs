@@ -113,15 +113,16 @@ pub fn gather_run_lanes(
     let parts = run.x.iter().zip(run.y).zip(run.z);
     for ((((&qx, &qy), &qz), ox), (oy, oz)) in parts.zip(fx.iter_mut()).zip(fy.iter_mut().zip(fz.iter_mut())) {
         let mut d2s = [0.0f32; W];
-        let mut hit = 0.0f32;
+        let mut hit = 0u32;
         for l in 0..W {
             let (dx, dy, dz) = (qx - x.x[l], qy - x.y[l], qz - x.z[l]);
             d2s[l] = dx * dx + dy * dy + dz * dz;
             let inside = if d2s[l] <= r2 { mask[l] } else { 0.0 };
             near[l] = near[l].max(inside);
-            hit += inside;
+            // An integer OR, not a float sum: it reduces in a tree instead of a serial chain.
+            hit |= (inside > 0.0) as u32;
         }
-        if hit == 0.0 {
+        if hit == 0 {
             continue; // no lane within r_max of this particle
         }
         let (mut rx, mut ry, mut rz) = ([0.0f32; W], [0.0f32; W], [0.0f32; W]);

@@ -27,8 +27,9 @@ pub struct Grid {
     cursor: Vec<u32>,
     sorted: Vec<u32>,
     cell_of_point: Vec<u32>,
-    /// Per cell: 1 when a point lies in this cell or one of its 26 neighbours.
-    near: Vec<u8>,
+    /// Per cell: 1 when a point lies in this cell or one of its 26 neighbours (u32, so eight
+    /// lanes can look theirs up with one gather).
+    near: Vec<u32>,
 }
 
 impl Grid {
@@ -164,9 +165,10 @@ impl Grid {
         }
         let mut bits = 0u32;
         for l in 0..W {
-            if inside[l] && self.near[idx[l] as usize] != 0 {
-                bits |= 1 << l;
-            }
+            // SAFETY: each coordinate is clamped to [0, dims - 1], so idx < dims.x*dims.y*dims.z,
+            // which is near.len() after build.
+            let flag = unsafe { *self.near.get_unchecked(idx[l] as usize) };
+            bits |= ((inside[l] as u32) & flag) << l;
         }
         bits
     }
@@ -179,7 +181,7 @@ impl Grid {
     /// Bytes allocated.
     pub fn bytes(&self) -> usize {
         4 * (self.start.capacity() + self.cursor.capacity() + self.sorted.capacity() + self.cell_of_point.capacity())
-            + self.near.capacity()
+            + 4 * self.near.capacity()
     }
 
     /// Number of points in the grid.
