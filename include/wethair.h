@@ -86,6 +86,20 @@ typedef enum WetHairVertexAttribute {
   WETHAIR_ATTRIBUTE_FORCE32 = 2147483647,
 } WetHairVertexAttribute;
 
+// How each substep advances the strands (`WetHairSimDesc::integrator`).
+typedef enum WetHairIntegrator {
+  // The paper's symplectic Euler: cheapest, conditionally stable.
+  WETHAIR_INTEGRATOR_SYMPLECTIC_EULER = 0,
+  // Linearised implicit Euler with a banded solve per strand: stable for stiff springs.
+  WETHAIR_INTEGRATOR_IMPLICIT_EULER = 1,
+  // XPBD with small steps: springs as compliant constraints.
+  WETHAIR_INTEGRATOR_XPBD = 2,
+  // Symplectic Euler when stable for the scene's stiffness, masses and substep, else implicit.
+  WETHAIR_INTEGRATOR_AUTO = 3,
+  // Keeps the enum 32 bits wide.
+  WETHAIR_INTEGRATOR_FORCE32 = 2147483647,
+} WetHairIntegrator;
+
 // Opaque strand set; create with `wethair_groom_*`, free with `wethair_groom_destroy`.
 typedef struct WetHairGroom WetHairGroom;
 
@@ -173,6 +187,11 @@ typedef struct WetHairSimDesc {
   float air_drag;
   // Substeps per step, 1..=1024. Default 4.
   uint32_t substeps;
+  // A `WetHairIntegrator` value. Default symplectic Euler (the paper's).
+  uint32_t integrator;
+  // Newton iterations (implicit Euler; 1 = linearised) or constraint sweeps (XPBD) per
+  // substep, 1..=64. Default 1.
+  uint32_t solver_iterations;
   // Worker threads, 0 = one per core, at most 256.
   uint32_t threads;
   // Water parameters.
@@ -227,6 +246,8 @@ typedef struct WetHairStats {
   float clumping;
   // Worker threads.
   uint32_t threads;
+  // The `WetHairIntegrator` in use (AUTO resolved).
+  uint32_t integrator;
 } WetHairStats;
 
 #ifdef __cplusplus

@@ -31,7 +31,7 @@ pub mod scenes;
 pub mod sim;
 
 pub use error::{Error, Result};
-pub use params::{SimParams, SpringParams, VertexAttributes, WaterParams};
+pub use params::{Integrator, SimParams, SpringParams, VertexAttributes, WaterParams};
 pub use physics::collide::Shape;
 pub use physics::spring::DampingModel;
 pub use sim::{Energy, Simulation, Stats};

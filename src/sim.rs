@@ -13,7 +13,7 @@ use std::time::Instant;
 pub const MAX_DT: f32 = 1.0;
 
 /// Counters and measures of a simulation.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stats {
     /// Strands.
     pub strands: u32,
@@ -33,6 +33,8 @@ pub struct Stats {
     pub clumping: f32,
     /// Worker threads.
     pub threads: u32,
+    /// The integrator in use (`Auto` resolved).
+    pub integrator: crate::Integrator,
 }
 
 /// Energies of the hair and water, J (diagnostics and tests).
@@ -266,6 +268,7 @@ impl Simulation {
             max_speed: self.max_speed,
             clumping: mean_nearest_tip_distance(&self.tips()),
             threads: self.cpu.threads() as u32,
+            integrator: self.cpu.integrator(),
         }
     }
 

@@ -14,30 +14,8 @@
 
 use crate::groom::Groom;
 use crate::params::SimParams;
-use crate::physics::lanes::{Lane, L3, W};
-use crate::physics::spring::SpringLanes;
-
-/// Mutable per-row state: positions (m) and velocities (m/s) of `W` points.
-#[derive(Clone, Copy, Debug, Default)]
-#[repr(C, align(32))]
-pub struct StateRow {
-    /// Positions, world space.
-    pub x: L3,
-    /// Velocities.
-    pub v: L3,
-}
-
-/// Constant per-row parameters: inverse masses and the springs that start at this row.
-#[derive(Clone, Copy, Debug, Default)]
-#[repr(C, align(32))]
-pub struct ParamRow {
-    /// Inverse mass, 1/kg; 0 for pinned points.
-    pub inv_mass: Lane,
-    /// Stretch spring from point i to i+1.
-    pub stretch: SpringLanes,
-    /// Bend spring from point i to i+2.
-    pub bend: SpringLanes,
-}
+pub use crate::physics::lanes::{ParamRow, StateRow};
+use crate::physics::lanes::{L3, W};
 
 /// How host strands map to blocks, and the constant per-row data.
 #[derive(Debug)]

@@ -11,12 +11,15 @@
 use super::layout::{Layout, StateRow};
 use super::water::Water;
 use crate::error::{Error, Result};
+use crate::params::Integrator;
 use crate::params::{SimParams, VertexAttributes};
 use crate::physics::adhesion;
 use crate::physics::collide::{collide_row, Placed};
+use crate::physics::implicit::{implicit_euler_block, BandScratch};
 use crate::physics::integrate::symplectic_euler_row;
 use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::spring::{spring, DampingModel};
+use crate::physics::xpbd;
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
@@ -37,8 +40,12 @@ pub enum Pass {
     BendSprings,
     /// Eq. 2 between hair points and particles.
     Adhesion,
-    /// Symplectic Euler; pinned points follow the head.
+    /// Symplectic Euler (or XPBD's prediction); pinned points follow the head.
     Integrate,
+    /// Implicit Euler: springs, Jacobians and each strand's banded solve, per Newton iteration.
+    ImplicitSolve,
+    /// XPBD: project stretch then bend constraints.
+    ProjectConstraints,
     /// Push hair out of colliders.
     Collide,
     /// Integrate water particles (and collide them).
@@ -57,6 +64,8 @@ impl Pass {
             Pass::BendSprings => "bend_springs",
             Pass::Adhesion => "adhesion",
             Pass::Integrate => "integrate",
+            Pass::ImplicitSolve => "implicit_solve",
+            Pass::ProjectConstraints => "project_constraints",
             Pass::Collide => "collide",
             Pass::WaterIntegrate => "water_integrate",
             Pass::WaterCull => "water_cull",
@@ -72,6 +81,10 @@ pub struct Worker {
     water_force: [Vec<f32>; 3],
     max_v2: f32,
     nonfinite: bool,
+    /// Banded system of one block (implicit Euler only).
+    band: Option<BandScratch>,
+    /// Positions before the substep (XPBD only).
+    prev: Vec<L3>,
 }
 
 /// What one step measured.
@@ -85,6 +98,8 @@ pub struct StepReport {
 
 /// Constant inputs of one substep.
 struct Ctx<'a> {
+    integrator: Integrator,
+    solver_iterations: u32,
     lay: &'a Layout,
     avx2: bool,
     h: f32,
@@ -127,6 +142,7 @@ pub struct CpuBackend {
     water_center: Vec3,
     water_radius: f32,
     avx2: bool,
+    integrator: Integrator,
 }
 
 impl CpuBackend {
@@ -144,9 +160,16 @@ impl CpuBackend {
         } else {
             None
         };
+        let integrator = resolve_integrator(params, groom);
         let workers = (0..threads)
             .map(|_| Worker {
                 f: vec![L3::ZERO; lay.rows],
+                band: (integrator == Integrator::ImplicitEuler).then(|| BandScratch::new(lay.rows)),
+                prev: if integrator == Integrator::Xpbd {
+                    vec![L3::ZERO; lay.rows]
+                } else {
+                    Vec::new()
+                },
                 ..Default::default()
             })
             .collect();
@@ -170,7 +193,13 @@ impl CpuBackend {
             water_center: 0.5 * (lo + hi),
             water_radius,
             avx2: cpu_has_avx2(),
+            integrator,
         })
+    }
+
+    /// The integrator in use (`Auto` resolved).
+    pub fn integrator(&self) -> Integrator {
+        self.integrator
     }
 
     /// Worker threads in use.
@@ -189,16 +218,25 @@ impl CpuBackend {
         if p.air_drag > 0.0 {
             v.push(Pass::Drag);
         }
-        if p.stretch.stiffness > 0.0 || p.stretch.damping > 0.0 {
+        let bend = self.lay.rows > 2 && (p.bend.stiffness > 0.0 || p.bend.damping > 0.0);
+        let xpbd = self.integrator == Integrator::Xpbd;
+        let explicit = self.integrator == Integrator::SymplecticEuler;
+        if explicit && (p.stretch.stiffness > 0.0 || p.stretch.damping > 0.0) {
             v.push(Pass::StretchSprings);
         }
-        if self.lay.rows > 2 && (p.bend.stiffness > 0.0 || p.bend.damping > 0.0) {
+        if explicit && bend {
             v.push(Pass::BendSprings);
         }
         if wet {
             v.push(Pass::Adhesion);
         }
-        v.push(Pass::Integrate);
+        v.push(match self.integrator {
+            Integrator::ImplicitEuler => Pass::ImplicitSolve,
+            _ => Pass::Integrate,
+        });
+        if xpbd {
+            v.push(Pass::ProjectConstraints);
+        }
         if !p.colliders.is_empty() {
             v.push(Pass::Collide);
         }
@@ -341,6 +379,8 @@ impl CpuBackend {
         let p = &self.params;
         let water = if wet { self.water.as_ref() } else { None };
         let ctx = Ctx {
+            integrator: self.integrator,
+            solver_iterations: p.solver_iterations,
             lay: &self.lay,
             avx2: self.avx2,
             h,
@@ -501,14 +541,16 @@ fn block_substep_impl<const AXIAL: bool>(
             fi.z[l] = -ctx.drag * r.v.z[l];
         }
     }
-    // Pass: stretch springs (i, i+1).
-    for i in 0..p - 1 {
+    // Pass: stretch springs (i, i+1) (XPBD projects them as constraints instead).
+    // (Implicit Euler evaluates them inside its Newton iterations.)
+    let springs_as_forces = ctx.integrator == Integrator::SymplecticEuler;
+    for i in (0..p - 1).filter(|_| springs_as_forces) {
         let (fa, fb) = f.split_at_mut(i + 1);
         let (ra, rb) = (&rows[i], &rows[i + 1]);
         spring::<AXIAL>(&ra.x, &rb.x, &ra.v, &rb.v, &params[i].stretch, &mut fa[i], &mut fb[0]);
     }
     // Pass: bend springs (i, i+2).
-    if ctx.bend {
+    if ctx.bend && springs_as_forces {
         for i in 0..p - 2 {
             let (fa, fb) = f.split_at_mut(i + 2);
             let (ra, rb) = (&rows[i], &rows[i + 2]);
@@ -589,29 +631,68 @@ fn block_substep_impl<const AXIAL: bool>(
     }
     // Pass: integrate; pinned points take the head's target.
     let head = &ctx.heads[s];
+    let target = |i: usize| -> Option<L3> {
+        if !lay.pinned_row[base + i] {
+            return None;
+        }
+        let rest = &lay.rest_local[base + i];
+        let mut t = L3::ZERO;
+        for l in 0..W {
+            t.set(l, head.transform_point3(rest.get(l)));
+        }
+        Some(t)
+    };
+    match ctx.integrator {
+        Integrator::ImplicitEuler => {
+            let sc = worker.band.as_mut().expect("band scratch allocated for implicit Euler");
+            let iters = ctx.solver_iterations;
+            implicit_euler_block::<AXIAL>(rows, f, params, &target, ctx.bend, ctx.g, ctx.h, iters, sc);
+        }
+        Integrator::Xpbd => {
+            let prev = &mut worker.prev[..p];
+            for i in 0..p {
+                let r = &mut rows[i];
+                xpbd::predict_row(
+                    &mut r.x,
+                    &mut r.v,
+                    &mut prev[i],
+                    &f[i],
+                    &params[i].inv_mass,
+                    target(i).as_ref(),
+                    ctx.g,
+                    ctx.h,
+                );
+            }
+            for _ in 0..ctx.solver_iterations.max(1) {
+                for i in 0..p - 1 {
+                    let (ra, rb) = rows.split_at_mut(i + 1);
+                    let (wa, wb) = (&params[i].inv_mass, &params[i + 1].inv_mass);
+                    xpbd::project(&mut ra[i].x, &mut rb[0].x, wa, wb, &params[i].stretch, ctx.h);
+                }
+                if ctx.bend {
+                    for i in 0..p - 2 {
+                        let (ra, rb) = rows.split_at_mut(i + 2);
+                        let (wa, wb) = (&params[i].inv_mass, &params[i + 2].inv_mass);
+                        xpbd::project(&mut ra[i].x, &mut rb[0].x, wa, wb, &params[i].bend, ctx.h);
+                    }
+                }
+            }
+            for i in 0..p {
+                xpbd::finish_row(&rows[i].x, &mut rows[i].v, &prev[i], ctx.h);
+            }
+        }
+        _ => {
+            for i in 0..p {
+                let r = &mut rows[i];
+                let t = target(i);
+                symplectic_euler_row(&mut r.x, &mut r.v, &f[i], &params[i].inv_mass, t.as_ref(), ctx.g, ctx.h);
+            }
+        }
+    }
     let mut max_v2 = worker.max_v2;
     let mut check = 0.0f32;
     for i in 0..p {
-        let target = if lay.pinned_row[base + i] {
-            let rest = &lay.rest_local[base + i];
-            let mut t = L3::ZERO;
-            for l in 0..W {
-                t.set(l, head.transform_point3(rest.get(l)));
-            }
-            Some(t)
-        } else {
-            None
-        };
         let r = &mut rows[i];
-        symplectic_euler_row(
-            &mut r.x,
-            &mut r.v,
-            &f[i],
-            &params[i].inv_mass,
-            target.as_ref(),
-            ctx.g,
-            ctx.h,
-        );
         // Pass: collide.
         for c in &ctx.placed[s * ctx.n_colliders..(s + 1) * ctx.n_colliders] {
             collide_row(&mut r.x, &mut r.v, &params[i].inv_mass, c, ctx.friction);
@@ -638,5 +719,26 @@ fn cpu_has_avx2() -> bool {
     #[cfg(not(target_arch = "x86_64"))]
     {
         false
+    }
+}
+
+/// Resolves [`Integrator::Auto`]: symplectic Euler when it is stable with a 10% margin for the
+/// lightest free point at the substep of a 60 Hz frame, else implicit Euler.
+fn resolve_integrator(p: &SimParams, groom: &crate::groom::Groom) -> Integrator {
+    if p.integrator != Integrator::Auto {
+        return p.integrator;
+    }
+    let min_mass = groom
+        .masses()
+        .iter()
+        .zip(groom.pinned())
+        .filter(|(_, &pin)| !pin)
+        .map(|(&m, _)| m)
+        .fold(f32::INFINITY, f32::min);
+    let h = 1.0 / (60.0 * p.substeps as f32);
+    if crate::params::explicit_limit(p, min_mass, h) < 0.9 * 4.0 {
+        Integrator::SymplecticEuler
+    } else {
+        Integrator::ImplicitEuler
     }
 }

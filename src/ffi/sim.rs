@@ -259,6 +259,7 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
             max_speed: st.max_speed,
             clumping: st.clumping,
             threads: st.threads,
+            integrator: st.integrator as u32,
         });
         Ok(())
     })

@@ -1,7 +1,7 @@
 //! The C-visible structs and enums, and their conversion into the Rust API's types.
 
 use super::boundary::Fail;
-use crate::params::{SimParams, SpringParams, VertexAttributes, WaterParams};
+use crate::params::{Integrator, SimParams, SpringParams, VertexAttributes, WaterParams};
 use crate::physics::collide::Shape;
 use crate::physics::spring::DampingModel;
 use glam::Vec3;
@@ -17,6 +17,23 @@ pub enum WetHairDampingModel {
     WETHAIR_DAMPING_AXIAL = 1,
     /// Keeps the enum 32 bits wide.
     WETHAIR_DAMPING_FORCE32 = 0x7fff_ffff,
+}
+
+/// How each substep advances the strands (`WetHairSimDesc::integrator`).
+#[repr(C)]
+#[allow(non_camel_case_types)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WetHairIntegrator {
+    /// The paper's symplectic Euler: cheapest, conditionally stable.
+    WETHAIR_INTEGRATOR_SYMPLECTIC_EULER = 0,
+    /// Linearised implicit Euler with a banded solve per strand: stable for stiff springs.
+    WETHAIR_INTEGRATOR_IMPLICIT_EULER = 1,
+    /// XPBD with small steps: springs as compliant constraints.
+    WETHAIR_INTEGRATOR_XPBD = 2,
+    /// Symplectic Euler when stable for the scene's stiffness, masses and substep, else implicit.
+    WETHAIR_INTEGRATOR_AUTO = 3,
+    /// Keeps the enum 32 bits wide.
+    WETHAIR_INTEGRATOR_FORCE32 = 0x7fff_ffff,
 }
 
 /// Collider shape (`WetHairCollider::shape`).
@@ -117,6 +134,11 @@ pub struct WetHairSimDesc {
     pub air_drag: f32,
     /// Substeps per step, 1..=1024. Default 4.
     pub substeps: u32,
+    /// A `WetHairIntegrator` value. Default symplectic Euler (the paper's).
+    pub integrator: u32,
+    /// Newton iterations (implicit Euler; 1 = linearised) or constraint sweeps (XPBD) per
+    /// substep, 1..=64. Default 1.
+    pub solver_iterations: u32,
     /// Worker threads, 0 = one per core, at most 256.
     pub threads: u32,
     /// Water parameters.
@@ -197,6 +219,8 @@ pub struct WetHairStats {
     pub clumping: f32,
     /// Worker threads.
     pub threads: u32,
+    /// The `WetHairIntegrator` in use (AUTO resolved).
+    pub integrator: u32,
 }
 
 impl WetHairSimDesc {
@@ -219,6 +243,8 @@ impl WetHairSimDesc {
             gravity: p.gravity.to_array(),
             air_drag: p.air_drag,
             substeps: p.substeps,
+            integrator: p.integrator as u32,
+            solver_iterations: p.solver_iterations,
             threads: p.threads,
             water: WetHairWaterDesc {
                 r_min: w.r_min,
@@ -244,6 +270,13 @@ impl WetHairSimDesc {
             0 => DampingModel::Relative,
             1 => DampingModel::Axial,
             v => fail_invalid!("damping_model {v} is not a WetHairDampingModel"),
+        };
+        let integrator = match self.integrator {
+            0 => Integrator::SymplecticEuler,
+            1 => Integrator::ImplicitEuler,
+            2 => Integrator::Xpbd,
+            3 => Integrator::Auto,
+            v => fail_invalid!("integrator {v} is not a WetHairIntegrator"),
         };
         let n = self.collider_count as usize;
         if n > crate::params::MAX_COLLIDERS {
@@ -291,6 +324,8 @@ impl WetHairSimDesc {
             gravity: Vec3::from(self.gravity),
             air_drag: self.air_drag,
             substeps: self.substeps,
+            integrator,
+            solver_iterations: self.solver_iterations,
             threads: self.threads,
             water: WaterParams {
                 r_min: w.r_min,

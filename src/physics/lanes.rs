@@ -57,3 +57,25 @@ pub fn hsum(a: &Lane) -> f32 {
     let s4 = [a[0] + a[4], a[1] + a[5], a[2] + a[6], a[3] + a[7]];
     (s4[0] + s4[2]) + (s4[1] + s4[3])
 }
+
+/// Mutable per-row state: positions (m) and velocities (m/s) of `W` points.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(32))]
+pub struct StateRow {
+    /// Positions, world space.
+    pub x: L3,
+    /// Velocities.
+    pub v: L3,
+}
+
+/// Constant per-row parameters: inverse masses and the springs that start at this row.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(32))]
+pub struct ParamRow {
+    /// Inverse mass, 1/kg; 0 for pinned points.
+    pub inv_mass: Lane,
+    /// Stretch spring from point i to i+1.
+    pub stretch: super::spring::SpringLanes,
+    /// Bend spring from point i to i+2.
+    pub bend: super::spring::SpringLanes,
+}

@@ -6,6 +6,8 @@ pub mod adhesion;
 pub mod clumping;
 pub mod collide;
 pub mod grid;
+pub mod implicit;
 pub mod integrate;
 pub mod lanes;
 pub mod spring;
+pub mod xpbd;
