@@ -1,0 +1,197 @@
+//! Extreme cases: each ends in a finite, bounded state or in the exact documented error.
+
+use glam::{Mat4, Quat, Vec3};
+use wethair::groom::{paper_scene, Groom};
+use wethair::scenes::Lcg;
+use wethair::{Error, Integrator, SimParams, Simulation};
+
+fn all_finite(sim: &Simulation) -> bool {
+    sim.positions()
+        .iter()
+        .chain(sim.velocities().iter())
+        .all(|p| p.is_finite())
+        && sim.water_positions().iter().all(|p| p.is_finite())
+}
+
+/// Steps `frames` frames; returns Ok when every step succeeded with a finite state, or the
+/// first error (which must then be `Unstable`, with no non-finite vertex handed out).
+fn run(sim: &mut Simulation, frames: usize, dt: f32) -> Result<(), Error> {
+    for _ in 0..frames {
+        sim.step(dt)?;
+        assert!(all_finite(sim), "a step returned Ok with a non-finite state");
+    }
+    Ok(())
+}
+
+#[test]
+fn long_strands_of_64_and_128_points() {
+    for points in [64, 128] {
+        for integrator in [Integrator::SymplecticEuler, Integrator::ImplicitEuler] {
+            let groom = paper_scene(64, points).unwrap();
+            let mut sim = Simulation::new(
+                &groom,
+                SimParams {
+                    integrator,
+                    ..SimParams::paper_scene_with_head()
+                },
+            )
+            .unwrap();
+            run(&mut sim, 120, 1.0 / 60.0).unwrap_or_else(|e| panic!("{points} points, {integrator:?}: {e}"));
+            let reach = 0.1 + 0.02 * (points - 1) as f32;
+            let far = sim.positions().iter().map(|p| p.length()).fold(0.0, f32::max);
+            // Strands stretch under their own weight (k = 40 N/m holds 127 g at the root) but
+            // stay within a few lengths of the head.
+            assert!(far < 3.0 * reach, "{points} points, {integrator:?}: a point at {far} m");
+        }
+    }
+}
+
+#[test]
+fn a_hundred_thousand_particles_in_a_5cm_box() {
+    let groom = paper_scene(2000, 6).unwrap();
+    let mut params = SimParams::paper_scene_with_head();
+    params.water.capacity = 100_000;
+    let mut sim = Simulation::new(&groom, params).unwrap();
+    let mut rng = Lcg(42);
+    let water: Vec<Vec3> = (0..100_000)
+        .map(|_| {
+            Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32()) * 0.05 + Vec3::new(0.0, 0.0, 0.15)
+        })
+        .collect();
+    sim.add_water(&water, &[]).unwrap();
+    match run(&mut sim, 3, 1.0 / 60.0) {
+        Ok(()) => assert!(all_finite(&sim)),
+        Err(e) => assert!(matches!(e, Error::Unstable { .. }), "{e}"),
+    }
+    // One more particle than the capacity is refused, exactly.
+    let mut full = Simulation::new(
+        &groom,
+        SimParams {
+            water: wethair::WaterParams {
+                capacity: 10,
+                ..params_water()
+            },
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(matches!(
+        full.add_water(&vec![Vec3::Z; 11], &[]),
+        Err(Error::Capacity(_))
+    ));
+}
+
+fn params_water() -> wethair::WaterParams {
+    SimParams::default().water
+}
+
+#[test]
+fn particle_on_a_hair_point_and_coincident_particles() {
+    let groom = paper_scene(100, 6).unwrap();
+    let mut sim = Simulation::new(&groom, SimParams::paper_scene_with_head()).unwrap();
+    let on = groom.positions()[3]; // exactly on a free hair point: d = 0
+    sim.add_water(&[on, on, on, groom.positions()[9], groom.positions()[9]], &[])
+        .unwrap();
+    run(&mut sim, 60, 1.0 / 60.0).unwrap();
+    assert!(all_finite(&sim));
+}
+
+#[test]
+fn head_teleported_one_metre_then_spun_at_ten_revolutions_per_second() {
+    for integrator in [Integrator::SymplecticEuler, Integrator::ImplicitEuler, Integrator::Xpbd] {
+        let groom = paper_scene(500, 6).unwrap();
+        let mut sim = Simulation::new(
+            &groom,
+            SimParams {
+                integrator,
+                ..SimParams::paper_scene_with_head()
+            },
+        )
+        .unwrap();
+        run(&mut sim, 10, 1.0 / 60.0).unwrap();
+        let jump = Vec3::new(1.0, 0.0, 0.0);
+        sim.set_head_transform(Mat4::from_translation(jump)).unwrap();
+        let teleport = run(&mut sim, 1, 1.0 / 60.0);
+        // 10 rev/s at 60 Hz is 60 degrees per frame.
+        let mut spin = Ok(());
+        for f in 1..=60 {
+            let rot = Quat::from_rotation_z(f as f32 * std::f32::consts::TAU * 10.0 / 60.0);
+            sim.set_head_transform(Mat4::from_rotation_translation(rot, jump))
+                .unwrap();
+            spin = spin.and(run(&mut sim, 1, 1.0 / 60.0));
+        }
+        match (teleport, spin) {
+            (Ok(()), Ok(())) => {
+                // Roots sit on the moved, spun head; the hair came along.
+                let x = sim.positions();
+                let head = Mat4::from_rotation_translation(Quat::from_rotation_z(std::f32::consts::TAU * 10.0), jump);
+                assert!((x[0] - head.transform_point3(groom.positions()[0])).length() < 1e-4);
+                let far = x.iter().map(|p| (*p - jump).length()).fold(0.0, f32::max);
+                // Bounded: the 1 m jump stretches the strands (k = 40 N/m) before they catch up,
+                // and spinning flings them out, but nothing runs away.
+                assert!(far < 2.0, "{integrator:?}: a point {far} m from the head");
+            }
+            (t, s) => {
+                let e = t.err().or(s.err()).unwrap();
+                assert!(matches!(e, Error::Unstable { .. }), "{integrator:?}: {e}");
+                assert!(
+                    sim.write_vertices(&mut vec![0.0; 500 * 6 * 7]).is_err(),
+                    "no vertices after a failure"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn zero_length_segments_are_accepted_and_stay_finite() {
+    // Documented rule: coincident points are kept; a spring with no length has no direction
+    // and exerts no force until its ends separate.
+    let pos = vec![
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, -0.02),
+        Vec3::new(0.0, 0.0, -0.02),
+        Vec3::new(0.0, 0.0, -0.04),
+    ];
+    let groom = Groom::new(pos, &[4], None, None, 1e-3).unwrap();
+    for integrator in [Integrator::SymplecticEuler, Integrator::ImplicitEuler, Integrator::Xpbd] {
+        let mut sim = Simulation::new(
+            &groom,
+            SimParams {
+                integrator,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        run(&mut sim, 120, 1.0 / 60.0).unwrap_or_else(|e| panic!("{integrator:?}: {e}"));
+    }
+}
+
+#[test]
+fn time_steps_of_zero_negative_nan_and_one_second() {
+    let groom = paper_scene(100, 6).unwrap();
+    let mut sim = Simulation::new(&groom, SimParams::default()).unwrap();
+    for dt in [0.0, -1.0 / 60.0, f32::NAN, f32::INFINITY, 1.5] {
+        assert!(matches!(sim.step(dt), Err(Error::InvalidArgument(_))), "dt {dt}");
+    }
+    assert_eq!(sim.stats().steps, 0, "a refused step must not count or move anything");
+    // dt = 1 s: the explicit method diverges and says so, naming a strand; reset recovers.
+    let e = run(&mut sim, 5, 1.0).expect_err("symplectic Euler at 0.25 s substeps");
+    assert!(matches!(e, Error::Unstable { strand, .. } if strand < 100), "{e}");
+    assert!(
+        matches!(sim.step(1.0 / 60.0), Err(Error::Unstable { .. })),
+        "failed until reset"
+    );
+    sim.reset();
+    run(&mut sim, 5, 1.0 / 60.0).unwrap();
+    // Implicit Euler takes the 1 s step.
+    let mut implicit = Simulation::new(
+        &groom,
+        SimParams {
+            integrator: Integrator::ImplicitEuler,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    run(&mut implicit, 5, 1.0).unwrap();
+}
