@@ -76,7 +76,7 @@ fn a_hundred_thousand_particles_in_a_5cm_box() {
     )
     .unwrap();
     assert!(matches!(
-        full.add_water(&vec![Vec3::Z; 11], &[]),
+        full.add_water(&[Vec3::Z; 11], &[]),
         Err(Error::Capacity(_))
     ));
 }
