@@ -27,6 +27,7 @@ pub mod ffi;
 pub mod groom;
 pub mod params;
 pub mod physics;
+pub mod reference;
 pub mod scenes;
 pub mod sim;
 

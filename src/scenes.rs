@@ -38,3 +38,65 @@ pub fn on_hair(hair: &[Vec3], count: usize, rng: &mut Lcg) -> Vec<Vec3> {
         })
         .collect()
 }
+
+/// The scenes of the work-precision report: a name, a groom, parameters and water.
+pub struct ReportScene {
+    /// Short name (file names, legends).
+    pub name: &'static str,
+    /// The strands.
+    pub groom: crate::groom::Groom,
+    /// Their parameters (no collider: the reference has none).
+    pub params: crate::SimParams,
+    /// Water particles, at rest, added at t = 0.
+    pub water: Vec<Vec3>,
+}
+
+/// One strand of 10 points released horizontally from a pinned root: a swinging chain.
+pub fn swinging_chain() -> ReportScene {
+    let pos: Vec<Vec3> = (0..10).map(|i| Vec3::new(0.02 * i as f32, 0.0, 0.0)).collect();
+    let groom = crate::groom::Groom::new(pos, &[10], None, None, 1e-3).expect("valid chain");
+    ReportScene {
+        name: "swinging_chain",
+        groom,
+        params: crate::SimParams::default(),
+        water: vec![],
+    }
+}
+
+/// A patch of the paper scene: the `strands` strands whose roots are nearest the side of the
+/// head at 20 degrees above the equator, with `particles` water particles placed in the hair:
+/// clumping in a small scene. (Not the crown: strands there point straight up, an unstable
+/// equilibrium whose buckling amplifies any difference exponentially, which no reference can
+/// resolve at 1 s.) `stiffness` scales both spring families.
+pub fn paper_slice(strands: usize, particles: usize, stiffness: f32) -> ReportScene {
+    let full = crate::groom::paper_scene(10_000, 6).expect("paper scene");
+    let centre = Vec3::new(1.0, 0.0, 0.36).normalize();
+    let mut order: Vec<usize> = (0..full.strand_count()).collect();
+    let key = |s: usize| -full.positions()[s * 6].normalize().dot(centre);
+    order.sort_by(|&a, &b| key(a).total_cmp(&key(b)));
+    let pos: Vec<Vec3> = order[..strands]
+        .iter()
+        .flat_map(|&s| full.positions()[s * 6..s * 6 + 6].to_vec())
+        .collect();
+    let groom = crate::groom::Groom::new(pos, &vec![6; strands], None, None, 1e-3).expect("slice");
+    // Air drag makes the wet scene dissipative: undamped, particles rattling among strands make
+    // it chaotic, and no reference can be trusted at 1 s (see the report).
+    let mut params = crate::SimParams {
+        air_drag: 0.05,
+        ..Default::default()
+    };
+    params.stretch.stiffness *= stiffness;
+    params.bend.stiffness *= stiffness;
+    let water = on_hair(groom.positions(), particles, &mut Lcg(77));
+    let name = if stiffness == 1.0 {
+        "paper_slice_wet"
+    } else {
+        "paper_slice_wet_stiff"
+    };
+    ReportScene {
+        name,
+        groom,
+        params,
+        water,
+    }
+}

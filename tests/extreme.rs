@@ -75,10 +75,7 @@ fn a_hundred_thousand_particles_in_a_5cm_box() {
         },
     )
     .unwrap();
-    assert!(matches!(
-        full.add_water(&[Vec3::Z; 11], &[]),
-        Err(Error::Capacity(_))
-    ));
+    assert!(matches!(full.add_water(&[Vec3::Z; 11], &[]), Err(Error::Capacity(_))));
 }
 
 fn params_water() -> wethair::WaterParams {

@@ -85,6 +85,8 @@ pub struct Worker {
     band: Option<BandScratch>,
     /// Positions before the substep (XPBD only).
     prev: Vec<L3>,
+    /// Constraint multipliers, stretch then bend (XPBD only).
+    lambda: Vec<Lane>,
 }
 
 /// What one step measured.
@@ -167,6 +169,11 @@ impl CpuBackend {
                 band: (integrator == Integrator::ImplicitEuler).then(|| BandScratch::new(lay.rows)),
                 prev: if integrator == Integrator::Xpbd {
                     vec![L3::ZERO; lay.rows]
+                } else {
+                    Vec::new()
+                },
+                lambda: if integrator == Integrator::Xpbd {
+                    vec![[0.0; W]; 2 * lay.rows]
                 } else {
                     Vec::new()
                 },
@@ -650,6 +657,8 @@ fn block_substep_impl<const AXIAL: bool>(
         }
         Integrator::Xpbd => {
             let prev = &mut worker.prev[..p];
+            let lambda = &mut worker.lambda[..2 * p];
+            lambda.fill([0.0; W]);
             for i in 0..p {
                 let r = &mut rows[i];
                 xpbd::predict_row(
@@ -667,13 +676,29 @@ fn block_substep_impl<const AXIAL: bool>(
                 for i in 0..p - 1 {
                     let (ra, rb) = rows.split_at_mut(i + 1);
                     let (wa, wb) = (&params[i].inv_mass, &params[i + 1].inv_mass);
-                    xpbd::project(&mut ra[i].x, &mut rb[0].x, wa, wb, &params[i].stretch, ctx.h);
+                    xpbd::project(
+                        &mut ra[i].x,
+                        &mut rb[0].x,
+                        wa,
+                        wb,
+                        &params[i].stretch,
+                        &mut lambda[i],
+                        ctx.h,
+                    );
                 }
                 if ctx.bend {
                     for i in 0..p - 2 {
                         let (ra, rb) = rows.split_at_mut(i + 2);
                         let (wa, wb) = (&params[i].inv_mass, &params[i + 2].inv_mass);
-                        xpbd::project(&mut ra[i].x, &mut rb[0].x, wa, wb, &params[i].bend, ctx.h);
+                        xpbd::project(
+                            &mut ra[i].x,
+                            &mut rb[0].x,
+                            wa,
+                            wb,
+                            &params[i].bend,
+                            &mut lambda[p + i],
+                            ctx.h,
+                        );
                     }
                 }
             }

@@ -1,7 +1,8 @@
 //! XPBD with small steps (Macklin et al. 2019): each substep predicts positions from the
 //! explicit forces (drag, adhesion, gravity), then projects every spring once as a compliant
 //! distance constraint with compliance `1 / k`, stretch then bend, root to tip (Gauss-Seidel
-//! along the strand), and takes the velocity from the displacement. Stiff springs become hard
+//! along the strand, multipliers accumulated over the sweeps), and takes the velocity from the
+//! displacement. Stiff springs become hard
 //! constraints instead of a blow-up; spring damping is replaced by XPBD's own dissipation.
 
 use super::lanes::{Lane, L3, W};
@@ -34,9 +35,11 @@ pub fn predict_row(
     }
 }
 
-/// Projects one spring between rows `a` and `b` as a compliant distance constraint.
+/// Projects one spring between rows `a` and `b` as a compliant distance constraint;
+/// `lambda` is its accumulated Lagrange multiplier over this substep's sweeps (zero at the
+/// start of the substep), which is what makes several sweeps converge to the compliant answer.
 #[inline(always)]
-pub fn project(xa: &mut L3, xb: &mut L3, wa: &Lane, wb: &Lane, s: &SpringLanes, h: f32) {
+pub fn project(xa: &mut L3, xb: &mut L3, wa: &Lane, wb: &Lane, s: &SpringLanes, lambda: &mut Lane, h: f32) {
     for l in 0..W {
         let (dx, dy, dz) = (xb.x[l] - xa.x[l], xb.y[l] - xa.y[l], xb.z[l] - xa.z[l]);
         let len = (dx * dx + dy * dy + dz * dz).sqrt();
@@ -45,10 +48,11 @@ pub fn project(xa: &mut L3, xb: &mut L3, wa: &Lane, wb: &Lane, s: &SpringLanes, 
         let alpha = if s.k[l] > 0.0 { 1.0 / (s.k[l] * h * h) } else { 0.0 };
         let wsum = wa[l] + wb[l] + alpha;
         let dl = if on && wsum > 0.0 {
-            -(len - s.rest[l]) / wsum
+            (-(len - s.rest[l]) - alpha * lambda[l]) / wsum
         } else {
             0.0
         };
+        lambda[l] += dl;
         let inv = if on { 1.0 / len } else { 0.0 };
         let (nx, ny, nz) = (dx * inv * dl, dy * inv * dl, dz * inv * dl);
         xa.x[l] -= wa[l] * nx;

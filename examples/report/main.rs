@@ -1,0 +1,375 @@
+//! The work-precision report and the stability maps (issue: "report error against run time,
+//! check numerical stability on stiff and extreme cases").
+//!
+//! For each scene (a swinging chain; a slice of the paper scene with water clumping; the same
+//! with 1,000x stiffer springs) and each integrator, sweeps the substeps per 1/60 s frame,
+//! simulates 1 s single-threaded, and measures against the f64 RK4 reference: RMS and maximum
+//! position error at t = 1 s, strand stretch error, energy drift, and wall time per simulated
+//! second. Then, per integrator, a stability map over stiffness (1x to 10^6x the explicit limit)
+//! and time step (1/480 s to 1/15 s) on the swinging chain.
+//!
+//! Usage: cargo run --release --example report -- [--quick] [--out DIR]   (default docs/report)
+//! Writes DIR/work_precision.csv, DIR/work_precision.svg, DIR/stability.csv,
+//! DIR/stability.svg, and prints markdown tables.
+
+mod svg;
+
+use std::fmt::Write as _;
+use std::time::Instant;
+use wethair::reference::Reference;
+use wethair::scenes::{paper_slice, swinging_chain, ReportScene};
+use wethair::{Integrator, SimParams, Simulation, SpringParams};
+
+/// An integrator configuration of the sweep.
+#[derive(Clone, Copy)]
+struct Method {
+    label: &'static str,
+    integrator: Integrator,
+    iterations: u32,
+}
+
+const METHODS: [Method; 5] = [
+    Method {
+        label: "symplectic Euler (paper)",
+        integrator: Integrator::SymplecticEuler,
+        iterations: 1,
+    },
+    Method {
+        label: "implicit Euler, 1 Newton",
+        integrator: Integrator::ImplicitEuler,
+        iterations: 1,
+    },
+    Method {
+        label: "implicit Euler, 3 Newton",
+        integrator: Integrator::ImplicitEuler,
+        iterations: 3,
+    },
+    Method {
+        label: "XPBD, 1 sweep",
+        integrator: Integrator::Xpbd,
+        iterations: 1,
+    },
+    Method {
+        label: "XPBD, 4 sweeps",
+        integrator: Integrator::Xpbd,
+        iterations: 4,
+    },
+];
+
+/// The measures of one run against the reference.
+struct Measure {
+    ms_per_sim_s: f64,
+    rms: f64,
+    max: f64,
+    stretch: f64,
+    drift: f64,
+    diverged: bool,
+}
+
+fn strains(x: &[glam::DVec3], groom: &wethair::groom::Groom) -> Vec<f64> {
+    let rest = groom.positions();
+    let mut out = vec![];
+    for s in 0..groom.strand_count() {
+        let r = groom.strand_range(s);
+        for i in r.start..r.end - 1 {
+            let l0 = (rest[i + 1] - rest[i]).length() as f64;
+            out.push((x[i + 1] - x[i]).length() / l0 - 1.0);
+        }
+    }
+    out
+}
+
+fn measure(sc: &ReportScene, m: Method, substeps: u32, reference: &Reference, e_scale: f64) -> Measure {
+    let params = SimParams {
+        integrator: m.integrator,
+        solver_iterations: m.iterations,
+        substeps,
+        threads: 1,
+        ..sc.params.clone()
+    };
+    let mut sim = Simulation::new(&sc.groom, params).expect("valid scene");
+    if !sc.water.is_empty() {
+        sim.add_water(&sc.water, &[]).expect("water fits");
+    }
+    let t0 = Instant::now();
+    let mut diverged = false;
+    for _ in 0..60 {
+        if sim.step(1.0 / 60.0).is_err() {
+            diverged = true;
+            break;
+        }
+    }
+    let ms = t0.elapsed().as_secs_f64() * 1e3;
+    if diverged {
+        return Measure {
+            ms_per_sim_s: ms,
+            rms: f64::NAN,
+            max: f64::NAN,
+            stretch: f64::NAN,
+            drift: f64::NAN,
+            diverged,
+        };
+    }
+    let x: Vec<glam::DVec3> = sim.positions().iter().map(|p| p.as_dvec3()).collect();
+    let err: Vec<f64> = x
+        .iter()
+        .zip(reference.hair_positions())
+        .map(|(p, q)| (*p - *q).length())
+        .collect();
+    let rms = (err.iter().map(|e| e * e).sum::<f64>() / err.len() as f64).sqrt();
+    let max = err.iter().copied().fold(0.0, f64::max);
+    let (a, b) = (strains(&x, &sc.groom), strains(reference.hair_positions(), &sc.groom));
+    let stretch = a.iter().zip(&b).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+    let drift = (sim.energy().total() - reference.energy()).abs() / e_scale;
+    // A run that stays finite but leaves the scene's reach is diverged too.
+    diverged = max > 1.0;
+    Measure {
+        ms_per_sim_s: ms,
+        rms,
+        max,
+        stretch,
+        drift,
+        diverged,
+    }
+}
+
+/// Classifies one stability-map cell on the swinging chain: 0 stable, 1 bounded but
+/// inaccurate, 2 diverged.
+fn classify(m: Method, mult: f64, dt: f32) -> u8 {
+    let sc = swinging_chain();
+    // Symplectic Euler's limit at this step: h² 4k/m = 4  =>  k = m / h² (bend springs at the
+    // paper's k/4 add nothing to the largest eigenvalue).
+    let k = mult * 1e-3 / (dt as f64 * dt as f64);
+    let params = SimParams {
+        integrator: m.integrator,
+        solver_iterations: m.iterations,
+        substeps: 1,
+        threads: 1,
+        stretch: SpringParams {
+            stiffness: k as f32,
+            damping: 0.0,
+        },
+        bend: SpringParams {
+            stiffness: k as f32 / 4.0,
+            damping: 0.0,
+        },
+        ..SimParams::default()
+    };
+    let mut sim = Simulation::new(&sc.groom, params).expect("valid");
+    // Energy tolerance: 0.1% of the chain's weight times its length.
+    let tol = 1e-3 * 9e-3 * 9.81 * 0.18;
+    let e0 = sim.energy().total();
+    let steps = (1.0 / dt).round() as usize;
+    let mut e_max = e0;
+    for _ in 0..steps {
+        if sim.step(dt).is_err() {
+            return 2;
+        }
+        let x: Vec<glam::DVec3> = sim.positions().iter().map(|p| p.as_dvec3()).collect();
+        // Soft springs may legitimately stretch a long way; 100 m means a runaway.
+        if x.iter().any(|p| p.length() > 100.0) {
+            return 2;
+        }
+        e_max = e_max.max(sim.energy().total());
+    }
+    // Stable: the undamped chain never holds more energy than it started with (a passive system
+    // cannot gain any); bounded but inaccurate: finite, but it gained energy.
+    if e_max <= e0 + tol {
+        0
+    } else {
+        1
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let quick = args.iter().any(|a| a == "--quick");
+    let out = args
+        .iter()
+        .position(|a| a == "--out")
+        .and_then(|i| args.get(i + 1))
+        .map_or("docs/report", |s| s.as_str());
+    std::fs::create_dir_all(out).expect("create output folder");
+    let started = Instant::now();
+    let scenes = [
+        swinging_chain(),
+        paper_slice(if quick { 20 } else { 60 }, if quick { 6 } else { 16 }, 1.0),
+        paper_slice(if quick { 20 } else { 60 }, if quick { 6 } else { 16 }, 1000.0),
+    ];
+    let substeps: &[u32] = if quick {
+        &[1, 4, 16, 64]
+    } else {
+        &[1, 2, 4, 8, 16, 32, 64, 128]
+    };
+    let mut csv = String::from("scene,integrator,substeps,ms_per_simulated_s,rms_error_m,max_error_m,stretch_error,energy_drift_over_MgL,diverged,reference_error_m\n");
+    let mut body = String::new();
+    let mut summary = String::from("| scene | integrator | substeps | ms per simulated s | RMS error (m) | max error (m) | stretch error | energy drift |\n|---|---|---|---|---|---|---|---|\n");
+    for (k, sc) in scenes.iter().enumerate() {
+        // The reference at h and h/2: their difference is its own error bound.
+        let h_ref = if sc.params.stretch.stiffness > 1000.0 {
+            1.0 / 64_000.0
+        } else {
+            1.0 / 32_000.0
+        };
+        let mut reference = Reference::new(&sc.groom, &sc.params, &sc.water);
+        let mut half = reference.clone();
+        let e_start = reference.energy();
+        reference.run_to(1.0, h_ref);
+        half.run_to(1.0, h_ref / 2.0);
+        let ref_err = reference
+            .hair_positions()
+            .iter()
+            .zip(half.hair_positions())
+            .map(|(p, q)| (*p - *q).length())
+            .fold(0.0, f64::max);
+        println!(
+            "reference {}: RK4 f64 at h = 1/{:.0} s; halving h moves the result by {ref_err:.2e} m",
+            sc.name,
+            1.0 / h_ref
+        );
+        // Energy drift relative to the hair's weight times its length (M g L): the energy a
+        // fall through the whole strand would release.
+        let weight: f64 = sc
+            .groom
+            .masses()
+            .iter()
+            .zip(sc.groom.pinned())
+            .filter(|(_, &p)| !p)
+            .map(|(&m, _)| m as f64)
+            .sum::<f64>()
+            * 9.81;
+        let e_scale = weight * sc.groom.max_strand_length() as f64;
+        let _ = e_start;
+        let mut series = vec![];
+        for (j, m) in METHODS.iter().enumerate() {
+            let mut pts = vec![];
+            for &n in substeps {
+                let r = measure(sc, *m, n, &half, e_scale);
+                let _ = writeln!(
+                    csv,
+                    "{},\"{}\",{n},{:.4},{:.3e},{:.3e},{:.3e},{:.3e},{},{ref_err:.2e}",
+                    sc.name, m.label, r.ms_per_sim_s, r.rms, r.max, r.stretch, r.drift, r.diverged
+                );
+                if !r.diverged {
+                    pts.push((r.ms_per_sim_s, r.rms));
+                }
+                if n == 4 || n == 1 {
+                    let cell = |v: f64| {
+                        if r.diverged {
+                            "diverged".to_string()
+                        } else {
+                            format!("{v:.2e}")
+                        }
+                    };
+                    let _ = writeln!(
+                        summary,
+                        "| {} | {} | {n} | {:.2} | {} | {} | {} | {} |",
+                        sc.name,
+                        m.label,
+                        r.ms_per_sim_s,
+                        cell(r.rms),
+                        cell(r.max),
+                        cell(r.stretch),
+                        cell(r.drift)
+                    );
+                }
+            }
+            series.push(svg::Series {
+                label: m.label.to_string(),
+                colour: svg::COLOURS[j],
+                points: pts,
+            });
+        }
+        svg::loglog(
+            &mut body,
+            520.0 * k as f64,
+            0.0,
+            520.0,
+            400.0,
+            sc.name,
+            "wall ms per simulated second",
+            "RMS position error at 1 s (m)",
+            &series,
+        );
+    }
+    std::fs::write(format!("{out}/work_precision.csv"), &csv).expect("write csv");
+    std::fs::write(format!("{out}/work_precision.svg"), svg::document(1560.0, 400.0, &body)).expect("write svg");
+    println!("\n{summary}");
+
+    // Stability maps.
+    let mults = [0.25, 1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6];
+    let mult_names = ["0.25", "1", "1e1", "1e2", "1e3", "1e4", "1e5", "1e6"];
+    let dts = [
+        1.0 / 480.0,
+        1.0 / 240.0,
+        1.0 / 120.0,
+        1.0 / 60.0,
+        1.0 / 30.0,
+        1.0 / 15.0f32,
+    ];
+    let dt_names = ["1/480", "1/240", "1/120", "1/60", "1/30", "1/15"];
+    let mut csv = String::from("integrator,stiffness_over_explicit_limit,dt_s,class\n");
+    let mut body = String::new();
+    let maps = [METHODS[0], METHODS[1], METHODS[3]];
+    let names = ["stable (never gains energy)", "bounded, gains energy", "diverged"];
+    let colours = ["#2ca02c", "#ffbf00", "#d62728"];
+    for (k, m) in maps.iter().enumerate() {
+        let (ox, oy) = (20.0 + 330.0 * k as f64, 40.0);
+        let _ = writeln!(
+            body,
+            r#"<text x="{}" y="{}" font-size="14" text-anchor="middle">{}</text>"#,
+            ox + 160.0,
+            oy - 12.0,
+            m.label
+        );
+        for (i, &mult) in mults.iter().enumerate() {
+            for (j, &dt) in dts.iter().enumerate() {
+                let c = classify(*m, mult, dt);
+                let _ = writeln!(csv, "\"{}\",{mult:e},{dt},{}", m.label, names[c as usize]);
+                let (x, y) = (ox + 50.0 + 40.0 * j as f64, oy + 30.0 * (mults.len() - 1 - i) as f64);
+                let _ = writeln!(
+                    body,
+                    r#"<rect x="{x}" y="{y}" width="38" height="28" fill="{}"/>"#,
+                    colours[c as usize]
+                );
+            }
+            let y = oy + 30.0 * (mults.len() - 1 - i) as f64 + 18.0;
+            let _ = writeln!(
+                body,
+                r#"<text x="{}" y="{y}" font-size="11" text-anchor="end">{}</text>"#,
+                ox + 46.0,
+                mult_names[i]
+            );
+        }
+        for (j, n) in dt_names.iter().enumerate() {
+            let _ = writeln!(
+                body,
+                r#"<text x="{}" y="{}" font-size="10" text-anchor="middle">{n}</text>"#,
+                ox + 69.0 + 40.0 * j as f64,
+                oy + 30.0 * mults.len() as f64 + 12.0
+            );
+        }
+    }
+    let _ = writeln!(
+        body,
+        r#"<text x="20" y="{}" font-size="12">rows: stretch stiffness over the explicit limit (h² 4k/m = 4; bend k/4, no damping); columns: one step of dt s; swinging chain for 1 s</text>"#,
+        40.0 + 30.0 * 8.0 + 34.0
+    );
+    for (c, n) in names.iter().enumerate() {
+        let x = 20.0 + 260.0 * c as f64;
+        let _ = writeln!(
+            body,
+            r#"<rect x="{x}" y="{}" width="14" height="14" fill="{}"/><text x="{}" y="{}" font-size="12">{n}</text>"#,
+            40.0 + 30.0 * 8.0 + 44.0,
+            colours[c],
+            x + 18.0,
+            40.0 + 30.0 * 8.0 + 56.0
+        );
+    }
+    std::fs::write(format!("{out}/stability.csv"), &csv).expect("write csv");
+    std::fs::write(format!("{out}/stability.svg"), svg::document(1010.0, 350.0, &body)).expect("write svg");
+    println!(
+        "wrote {out}/work_precision.csv, work_precision.svg, stability.csv, stability.svg in {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
+}
