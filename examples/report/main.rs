@@ -280,17 +280,16 @@ fn main() {
                 points: pts,
             });
         }
-        svg::loglog(
-            &mut body,
-            520.0 * k as f64,
-            0.0,
-            520.0,
-            400.0,
-            sc.name,
-            "wall ms per simulated second",
-            "RMS position error at 1 s (m)",
-            &series,
-        );
+        let panel = svg::Panel {
+            ox: 520.0 * k as f64,
+            oy: 0.0,
+            w: 520.0,
+            h: 400.0,
+            title: sc.name,
+            xl: "wall ms per simulated second",
+            yl: "RMS position error at 1 s (m)",
+        };
+        svg::loglog(&mut body, &panel, &series);
     }
     std::fs::write(format!("{out}/work_precision.csv"), &csv).expect("write csv");
     std::fs::write(format!("{out}/work_precision.svg"), svg::document(1560.0, 400.0, &body)).expect("write svg");
