@@ -160,8 +160,48 @@ impl Reference {
         }
     }
 
-    /// One classical RK4 step of `h` seconds.
+    /// Which hair-water pairs are within `r_max` (a hash of the set): eq. 2's force has a kink
+    /// there, and a Runge-Kutta step across it loses its order.
+    fn pair_signature(&self, s: &State) -> (usize, u64) {
+        let r2 = self.r_max * self.r_max;
+        let (mut n, mut h) = (0usize, 0u64);
+        for j in self.hair..s.x.len() {
+            for i in 0..self.hair {
+                if (s.x[j] - s.x[i]).length_squared() <= r2 {
+                    n += 1;
+                    h = h.wrapping_add(
+                        (i as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ (j as u64).wrapping_mul(0xc2b2_ae3d_27d4_eb4f),
+                    );
+                }
+            }
+        }
+        (n, h)
+    }
+
+    /// One RK4 step of `h`, split in halves (down to `h / 2^depth`) while a pair crosses
+    /// `r_max` inside it, so that steps across eq. 2's kink are tiny and the reference keeps
+    /// converging at high order on wet scenes.
     pub fn step(&mut self, h: f64) {
+        self.step_split(h, 16);
+    }
+
+    fn step_split(&mut self, h: f64, depth: u32) {
+        if self.state.x.len() == self.hair || depth == 0 {
+            self.step_rk4(h);
+            return;
+        }
+        let before = self.pair_signature(&self.state);
+        let saved = (self.state.clone(), self.time);
+        self.step_rk4(h);
+        if self.pair_signature(&self.state) != before {
+            (self.state, self.time) = saved;
+            self.step_split(h / 2.0, depth - 1);
+            self.step_split(h / 2.0, depth - 1);
+        }
+    }
+
+    /// One classical RK4 step of `h` seconds.
+    fn step_rk4(&mut self, h: f64) {
         let n = self.state.x.len();
         let s0 = self.state.clone();
         let mut k = [

@@ -110,17 +110,36 @@ pub(crate) fn guard(name: &str, body: impl FnOnce() -> Result<(), Fail>) -> WetH
     }
 }
 
+/// The failure for a NULL pointer named `name`.
+pub(crate) fn null(name: &str) -> Fail {
+    Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, format!("{name} is NULL"))
+}
+
+/// Checks a def or output struct: not NULL, and its leading `struct_size` (read alone first,
+/// so a smaller struct from an older host is never over-read) is this library's size of `T`.
+pub(crate) fn check_struct<T>(p: *const T, name: &str) -> Result<(), Fail> {
+    if p.is_null() {
+        return Err(null(name));
+    }
+    // SAFETY: p is non-NULL and, per the API, points to at least a u32 struct_size.
+    let size = unsafe { std::ptr::read_unaligned(p as *const u32) } as usize;
+    let want = std::mem::size_of::<T>();
+    if size != want {
+        let ty = std::any::type_name::<T>().rsplit("::").next().unwrap_or("the struct");
+        return Err(Fail(
+            WetHairResult::WETHAIR_ERROR_STRUCT_SIZE,
+            format!("{name}->struct_size is {size}, this library expects {want} (sizeof({ty}))"),
+        ));
+    }
+    Ok(())
+}
+
 /// Turns a nullable pointer into a reference, or fails with `WETHAIR_ERROR_NULL_POINTER`.
 macro_rules! nonnull {
     ($p:expr, $name:literal) => {
         match unsafe { $p.as_ref() } {
             Some(r) => r,
-            None => {
-                return Err($crate::ffi::boundary::Fail(
-                    $crate::ffi::WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-                    concat!($name, " is NULL").into(),
-                ))
-            }
+            None => return Err($crate::ffi::boundary::null($name)),
         }
     };
 }
@@ -130,68 +149,25 @@ macro_rules! nonnull_mut {
     ($p:expr, $name:literal) => {
         match unsafe { $p.as_mut() } {
             Some(r) => r,
-            None => {
-                return Err($crate::ffi::boundary::Fail(
-                    $crate::ffi::WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-                    concat!($name, " is NULL").into(),
-                ))
-            }
+            None => return Err($crate::ffi::boundary::null($name)),
         }
     };
 }
 
-/// Reads a def struct behind a pointer after checking NULL and its leading `struct_size`
-/// (read alone first, so a smaller struct from an older host is never over-read).
+/// Reads a def struct behind a pointer after [`check_struct`].
 macro_rules! read_def {
     ($p:expr, $ty:ty, $name:literal) => {{
         let p: *const $ty = $p;
-        if p.is_null() {
-            return Err($crate::ffi::boundary::Fail(
-                $crate::ffi::WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-                concat!($name, " is NULL").into(),
-            ));
-        }
-        let size = unsafe { std::ptr::read_unaligned(p as *const u32) };
-        if size as usize != std::mem::size_of::<$ty>() {
-            return Err($crate::ffi::boundary::Fail(
-                $crate::ffi::WetHairResult::WETHAIR_ERROR_STRUCT_SIZE,
-                format!(
-                    concat!(
-                        $name,
-                        "->struct_size is {}, this library expects {} (call ",
-                        stringify!($ty),
-                        "'s _default())"
-                    ),
-                    size,
-                    std::mem::size_of::<$ty>()
-                ),
-            ));
-        }
+        $crate::ffi::boundary::check_struct(p, $name)?;
         unsafe { &*p }
     }};
 }
 
-/// Checks an output struct's `struct_size` (the host sets it; we write only on success).
+/// Checks an output struct (the host sets `struct_size`; it is written only on success).
 macro_rules! check_out_size {
     ($p:expr, $ty:ty, $name:literal) => {{
         let p: *mut $ty = $p;
-        if p.is_null() {
-            return Err($crate::ffi::boundary::Fail(
-                $crate::ffi::WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-                concat!($name, " is NULL").into(),
-            ));
-        }
-        let size = unsafe { std::ptr::read_unaligned(p as *const u32) };
-        if size as usize != std::mem::size_of::<$ty>() {
-            return Err($crate::ffi::boundary::Fail(
-                $crate::ffi::WetHairResult::WETHAIR_ERROR_STRUCT_SIZE,
-                format!(
-                    concat!($name, "->struct_size is {}, this library expects {}"),
-                    size,
-                    std::mem::size_of::<$ty>()
-                ),
-            ));
-        }
+        $crate::ffi::boundary::check_struct(p as *const $ty, $name)?;
         p
     }};
 }

@@ -25,7 +25,7 @@ pub unsafe extern "C" fn wethair_groom_create(
     guard("wethair_groom_create", || {
         let d = read_def!(desc, WetHairGroomDesc, "desc");
         if out.is_null() {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "out is NULL".into()));
+            return Err(super::boundary::null("out"));
         }
         let (ns, np) = (d.strand_count as usize, d.point_count as usize);
         if ns > MAX_STRANDS || np > MAX_POINTS {
@@ -35,10 +35,7 @@ pub unsafe extern "C" fn wethair_groom_create(
             ));
         }
         if d.strand_point_counts.is_null() || d.positions.is_null() {
-            return Err(Fail(
-                WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-                "strand_point_counts or positions is NULL".into(),
-            ));
+            return Err(super::boundary::null("strand_point_counts or positions"));
         }
         let counts = std::slice::from_raw_parts(d.strand_point_counts, ns);
         let xyz = std::slice::from_raw_parts(d.positions, np * 3);
@@ -69,7 +66,7 @@ pub unsafe extern "C" fn wethair_groom_create_paper_scene(
 ) -> WetHairResult {
     guard("wethair_groom_create_paper_scene", || {
         if out.is_null() {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "out is NULL".into()));
+            return Err(super::boundary::null("out"));
         }
         if strands as usize > MAX_STRANDS || (strands as usize).saturating_mul(points as usize) > MAX_POINTS {
             return Err(Fail(
@@ -94,10 +91,7 @@ pub unsafe extern "C" fn wethair_groom_load(
 ) -> WetHairResult {
     guard("wethair_groom_load", || {
         if path.is_null() || out.is_null() {
-            return Err(Fail(
-                WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-                "path or out is NULL".into(),
-            ));
+            return Err(super::boundary::null("path or out"));
         }
         crate::error::check_positive("point_mass", point_mass)?;
         let p = CStr::from_ptr(path).to_str().map_err(|_| {

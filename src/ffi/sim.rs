@@ -19,7 +19,7 @@ pub unsafe extern "C" fn wethair_sim_create(desc: *const WetHairSimDesc, out: *m
     guard("wethair_sim_create", || {
         let d = read_def!(desc, WetHairSimDesc, "desc");
         if out.is_null() {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "out is NULL".into()));
+            return Err(super::boundary::null("out"));
         }
         let groom: &WetHairGroom = nonnull!(d.groom, "desc->groom");
         let params = d.params()?;
@@ -50,7 +50,7 @@ pub unsafe extern "C" fn wethair_sim_set_head_transform(sim: *mut WetHairSim, ma
     guard("wethair_sim_set_head_transform", || {
         let s = nonnull_mut!(sim, "sim");
         if matrix.is_null() {
-            return Err(Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, "matrix is NULL".into()));
+            return Err(super::boundary::null("matrix"));
         }
         let m: [f32; 16] = std::ptr::read_unaligned(matrix as *const [f32; 16]);
         s.0.set_head_transform(Mat4::from_cols_array(&m))?;
@@ -76,10 +76,7 @@ pub unsafe extern "C" fn wethair_sim_add_water(
             return Ok(());
         }
         if positions.is_null() {
-            return Err(Fail(
-                WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-                "positions is NULL".into(),
-            ));
+            return Err(super::boundary::null("positions"));
         }
         if count > MAX_WATER_CAPACITY {
             return Err(Fail(
@@ -187,10 +184,7 @@ pub unsafe extern "C" fn wethair_sim_get_vertex_buffer(
     guard("wethair_sim_get_vertex_buffer", || {
         let s = nonnull!(sim, "sim");
         if dst.is_null() || written.is_null() {
-            return Err(Fail(
-                WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-                "dst or written is NULL".into(),
-            ));
+            return Err(super::boundary::null("dst or written"));
         }
         let need = s.0.vertex_count() * s.0.attributes().stride();
         if capacity < need {
@@ -223,10 +217,7 @@ pub unsafe extern "C" fn wethair_sim_get_water(
     guard("wethair_sim_get_water", || {
         let s = nonnull!(sim, "sim");
         if written.is_null() || (dst.is_null() && capacity > 0) {
-            return Err(Fail(
-                WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-                "dst or written is NULL".into(),
-            ));
+            return Err(super::boundary::null("dst or written"));
         }
         let w = s.0.water_positions();
         let n = w.len().min(capacity as usize);

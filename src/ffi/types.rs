@@ -288,10 +288,7 @@ impl WetHairSimDesc {
         let raw: &[WetHairCollider] = if n == 0 {
             &[]
         } else if self.colliders.is_null() {
-            return Err(Fail(
-                super::WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-                "colliders is NULL".into(),
-            ));
+            return Err(super::boundary::null("colliders"));
         } else {
             unsafe { std::slice::from_raw_parts(self.colliders, n) }
         };
