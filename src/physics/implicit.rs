@@ -171,32 +171,11 @@ fn strand_terms<const AXIAL: bool>(
             }
         }
     }
-    for i in 0..p.saturating_sub(1) {
-        spring_terms::<AXIAL>(
-            x,
-            x0,
-            i,
-            i + 1,
-            &rows[i].stretch,
-            h,
-            &mut energy,
-            grad,
-            band.as_deref_mut(),
-        );
-    }
-    if bend {
-        for i in 0..p.saturating_sub(2) {
-            spring_terms::<AXIAL>(
-                x,
-                x0,
-                i,
-                i + 2,
-                &rows[i].bend,
-                h,
-                &mut energy,
-                grad,
-                band.as_deref_mut(),
-            );
+    // Stretch springs join i to i+1, bend springs i to i+2.
+    for (gap, on) in [(1, true), (2, bend)] {
+        for i in (0..p.saturating_sub(gap)).filter(|_| on) {
+            let s = if gap == 1 { &rows[i].stretch } else { &rows[i].bend };
+            spring_terms::<AXIAL>(x, x0, i, i + gap, s, h, &mut energy, grad, band.as_deref_mut());
         }
     }
     energy
