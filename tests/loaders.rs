@@ -143,3 +143,40 @@ fn missing_file_and_unknown_format_are_errors() {
     assert!(matches!(load_file(&tmp, 1e-3), Err(Error::Parse(_))));
     std::fs::remove_file(tmp).ok();
 }
+
+/// Random corruption never panics or reads out of bounds: every mutated file either loads
+/// (a harmless change, e.g. in the UVs) or returns a parse/capacity error.
+#[test]
+fn corrupted_files_never_panic() {
+    let good = mohawk();
+    let mut seed = 0x2545_f491u32;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed
+    };
+    for _ in 0..400 {
+        let mut b = good[..(next() as usize % good.len()).max(200)].to_vec();
+        for _ in 0..(next() % 8) {
+            // Hit the header most of the time: that is where the offsets and counts live.
+            let at = if next() % 4 == 0 {
+                next() as usize % b.len()
+            } else {
+                next() as usize % 160
+            };
+            b[at] = next() as u8;
+        }
+        match std::panic::catch_unwind(|| load_tfx(&b, 1e-3)) {
+            Ok(Ok(g)) => assert!(g.positions().iter().all(|p| p.is_finite())),
+            Ok(Err(e)) => assert!(matches!(e, Error::Parse(_) | Error::Capacity(_)), "{e}"),
+            Err(_) => panic!("load_tfx panicked on a corrupted file"),
+        }
+        let mut h = b"HAIR".to_vec();
+        h.extend((0..(next() % 400)).map(|_| next() as u8));
+        assert!(
+            std::panic::catch_unwind(|| load_cyhair(&h, 1e-3).map(|_| ())).is_ok(),
+            "load_cyhair panicked"
+        );
+    }
+}
