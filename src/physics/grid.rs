@@ -2,7 +2,8 @@
 //! by a counting sort (count, prefix sum, scatter) every substep.
 //!
 //! The grid box is the points' own bounds, rebuilt with them, cut into cubic cells of side
-//! `>= cell_min`; cells grow when the box would need more than [`MAX_CELLS`]. Indices follow
+//! `>= cell_min`; cells grow when the box would need more than [`MAX_CELLS`] (or 64 per point,
+//! so that a few particles spread wide do not clear a large table every substep). Indices follow
 //! eq. 4 (clamped) and eq. 5 (`A = C_z + N_z (C_y + N_y C_x)`). A query from anywhere is
 //! exact: a point farther than `r` from the box has no neighbour and returns at once, and
 //! clamping is monotonic, so a neighbour's cell always lies in the clamped query range. Cells
@@ -89,7 +90,9 @@ impl Grid {
         let mut cell = self.cell_min;
         let dims_for = |cell: f32| (extent / cell).as_ivec3().max(IVec3::ZERO) + IVec3::ONE;
         let mut dims = dims_for(cell);
-        while dims.as_i64vec3().element_product() > MAX_CELLS as i64 {
+        // Few points spread wide need few cells: every build clears and prefix-sums all of them.
+        let max_cells = (64 * points.len()).clamp(4096, MAX_CELLS) as i64;
+        while dims.as_i64vec3().element_product() > max_cells {
             cell *= 1.26; // about 2x fewer cells per round
             dims = dims_for(cell);
         }
@@ -108,21 +111,14 @@ impl Grid {
         }
         self.near.clear();
         self.near.resize(cells, 0);
-        for cx in 0..dims.x {
-            for cy in 0..dims.y {
-                for cz in 0..dims.z {
-                    let c = self.index(IVec3::new(cx, cy, cz));
-                    if self.start[c + 1] == self.start[c] {
-                        continue;
-                    }
-                    for nx in (cx - 1).max(0)..=(cx + 1).min(dims.x - 1) {
-                        for ny in (cy - 1).max(0)..=(cy + 1).min(dims.y - 1) {
-                            for nz in (cz - 1).max(0)..=(cz + 1).min(dims.z - 1) {
-                                let n = self.index(IVec3::new(nx, ny, nz));
-                                self.near[n] = 1;
-                            }
-                        }
-                    }
+        // Mark each point's 3x3x3 neighbourhood (work per point, not per cell).
+        for &p in points {
+            let c = self.cell_of(p);
+            for nx in (c.x - 1).max(0)..=(c.x + 1).min(dims.x - 1) {
+                for ny in (c.y - 1).max(0)..=(c.y + 1).min(dims.y - 1) {
+                    let first = self.index(IVec3::new(nx, ny, (c.z - 1).max(0)));
+                    let last = self.index(IVec3::new(nx, ny, (c.z + 1).min(dims.z - 1)));
+                    self.near[first..=last].fill(1);
                 }
             }
         }
