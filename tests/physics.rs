@@ -351,9 +351,19 @@ fn adhesion_row_and_point_forms_agree() {
     adhesion::gather_run_lanes(
         &x, &[1.0; W], run, &mut fx, &mut fy, &mut fz, &mut acc, &mut near, r0, r1, s,
     );
-    let (mut gx, mut gy, mut gz) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    // The per-point form: the scalar law, pair by pair.
+    let (mut gx, mut gy, mut gz) = (vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]);
     for l in 0..W {
-        let (f, any) = adhesion::gather_run(x.get(l), run, &mut gx, &mut gy, &mut gz, r0, r1, s);
+        let (mut f, mut any) = (Vec3::ZERO, false);
+        for (j, p) in q.iter().enumerate() {
+            let (h, w) = (x.get(l), Vec3::from(*p));
+            let fj = adhesion::force_on_hair(h, w, r0, r1, s);
+            f += fj;
+            gx[j] -= fj.x;
+            gy[j] -= fj.y;
+            gz[j] -= fj.z;
+            any |= (w - h).length_squared() <= r1 * r1;
+        }
         assert!(
             (f - acc.get(l)).length() <= 1e-6 * (1.0 + f.length()),
             "lane {l}: {f:?} vs {:?}",

@@ -7,7 +7,7 @@
 //! Strands are placed in blocks in Morton (Z-curve) order of their roots, so that a block's
 //! strands are neighbours in space: a row's `W` points then share their water-grid cells, and
 //! one grid query serves the whole row. The host's strand order is kept everywhere outside
-//! (`slot_of_strand` / `strand_of_slot`).
+//! (`slot_of_strand`).
 //!
 //! Shorter strands are padded with pinned points whose springs have k = 0; a last partial block
 //! is padded with pinned dummy strands. Padded points are never written to the host.
@@ -28,12 +28,8 @@ pub struct Layout {
     pub strands: usize,
     /// Host point offsets per strand (len strands + 1).
     pub strand_first: Vec<u32>,
-    /// Points per slot (slot = block * W + lane; 0 for dummy slots), len `blocks * W`.
-    pub lane_points: Vec<u32>,
-    /// Host strand -> slot.
+    /// Host strand -> slot (slot = block * W + lane).
     pub slot_of_strand: Vec<u32>,
-    /// Slot -> host strand (`u32::MAX` for dummy slots).
-    pub strand_of_slot: Vec<u32>,
     /// Per row: the constant parameters.
     pub params: Vec<ParamRow>,
     /// Per row: rest positions in head space (pinned points' targets; the reset pose).
@@ -65,9 +61,7 @@ impl Layout {
             blocks,
             strands,
             strand_first: groom.strand_first.clone(),
-            lane_points: vec![0; blocks * W],
             slot_of_strand,
-            strand_of_slot,
             params: vec![ParamRow::default(); n_rows],
             rest_local: vec![L3::ZERO; n_rows],
             pinned_row: vec![false; n_rows],
@@ -79,14 +73,13 @@ impl Layout {
         for b in 0..blocks {
             for l in 0..W {
                 let slot = b * W + l;
-                let s = lay.strand_of_slot[slot] as usize;
+                let s = strand_of_slot[slot] as usize;
                 let pts = if s < strands {
                     &groom.positions[groom.strand_range(s)]
                 } else {
                     &[][..]
                 };
                 let first = if s < strands { groom.strand_first[s] as usize } else { 0 };
-                lay.lane_points[slot] = pts.len() as u32;
                 for i in 0..rows {
                     let r = b * rows + i;
                     let row = &mut lay.params[r];

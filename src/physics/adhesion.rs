@@ -17,6 +17,12 @@ pub fn profile(d: f32, r_min: f32, r_max: f32) -> f32 {
     if d > r_max {
         return 0.0;
     }
+    shell(d, r_min, r_max)
+}
+
+/// Eq. 2's parabola without the cut-off at `r_max` (callers apply it).
+#[inline(always)]
+fn shell(d: f32, r_min: f32, r_max: f32) -> f32 {
     let u = (2.0 * d - r_min - r_max) / (r_min - r_max);
     1.0 - u * u
 }
@@ -27,9 +33,9 @@ pub fn profile(d: f32, r_min: f32, r_max: f32) -> f32 {
 pub fn force_scale(d2: f32, r_min: f32, r_max: f32, s: f32) -> f32 {
     let inside = d2 <= r_max * r_max && d2 >= MIN_DISTANCE * MIN_DISTANCE;
     let d = d2.sqrt();
-    let u = (2.0 * d - r_min - r_max) / (r_min - r_max);
+    let g = shell(d, r_min, r_max);
     if inside {
-        s * (1.0 - u * u) / d
+        s * g / d
     } else {
         0.0
     }
@@ -52,42 +58,6 @@ pub struct Run<'a> {
     pub y: &'a [f32],
     /// z coordinates.
     pub z: &'a [f32],
-}
-
-/// Eq. 2 between one hair point at `p` and every particle of a run: returns the summed force on
-/// the hair point and whether any particle lies within `r_max`; subtracts each reaction from
-/// `(fx, fy, fz)` (same length as the run). Runs hold a few particles (one column of cells), so
-/// a plain loop beats any SIMD set-up here.
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-pub fn gather_run(
-    p: Vec3,
-    run: Run,
-    fx: &mut [f32],
-    fy: &mut [f32],
-    fz: &mut [f32],
-    r_min: f32,
-    r_max: f32,
-    s: f32,
-) -> (Vec3, bool) {
-    let r2 = r_max * r_max;
-    let mut total = Vec3::ZERO;
-    let mut any = false;
-    let parts = run.x.iter().zip(run.y).zip(run.z);
-    for ((((&x, &y), &z), ox), (oy, oz)) in parts.zip(fx.iter_mut()).zip(fy.iter_mut().zip(fz.iter_mut())) {
-        let d = Vec3::new(x - p.x, y - p.y, z - p.z);
-        let d2 = d.length_squared();
-        if d2 > r2 {
-            continue;
-        }
-        let f = d * force_scale(d2, r_min, r_max, s);
-        total += f;
-        *ox -= f.x;
-        *oy -= f.y;
-        *oz -= f.z;
-        any = true;
-    }
-    (total, any)
 }
 
 /// Eq. 2 between the `W` hair points of a lane row (`mask[l]` is 1 for lanes to include, 0

@@ -169,11 +169,6 @@ impl Grid {
         bits
     }
 
-    /// Bounds of the points (the grid's box).
-    pub fn bounds(&self) -> (Vec3, Vec3) {
-        (self.lo, self.hi)
-    }
-
     /// Bytes allocated.
     pub fn bytes(&self) -> usize {
         4 * (self.start.capacity() + self.cursor.capacity() + self.sorted.capacity() + self.cell_of_point.capacity())
@@ -188,37 +183,6 @@ impl Grid {
     /// Whether the grid holds no point.
     pub fn is_empty(&self) -> bool {
         self.sorted.is_empty()
-    }
-
-    /// Calls `f(start, end)` for each run of sorted slots whose cells overlap the cube `p ± r`
-    /// (one run per (x, y) column; z-neighbours are contiguous). Together the runs hold a
-    /// superset of the points within `r` of `p`, each once.
-    #[inline(always)]
-    pub fn for_each_run(&self, p: Vec3, r: f32, f: impl FnMut(usize, usize)) {
-        self.for_each_run_in_box(p - r, p + r, f)
-    }
-
-    /// Calls `f(start, end)` for each run of sorted slots whose cells overlap the box
-    /// `qlo..qhi`, one per (x, y) column: a superset of the points in the box, each once.
-    #[inline(always)]
-    pub fn for_each_run_in_box(&self, qlo: Vec3, qhi: Vec3, mut f: impl FnMut(usize, usize)) {
-        if !(qlo.cmple(self.hi).all() && qhi.cmpge(self.lo).all()) || self.sorted.is_empty() {
-            return;
-        }
-        let a = self.cell_of(qlo);
-        let b = self.cell_of(qhi);
-        let span = (b.z - a.z) as usize;
-        for cx in a.x..=b.x {
-            let mut first = self.index(IVec3::new(cx, a.y, a.z));
-            for _ in a.y..=b.y {
-                let s = self.start[first];
-                let e = self.start[first + span + 1];
-                if s < e {
-                    f(s as usize, e as usize);
-                }
-                first += self.dims.z as usize;
-            }
-        }
     }
 
     /// Writes into `out` the runs `(start, end)` of sorted slots whose cells overlap the box
@@ -250,10 +214,16 @@ impl Grid {
     }
 
     /// Calls `f(index)` for every point in the cells that overlap the cube `p ± r`: a superset of
-    /// the points within `r` of `p`, each visited once.
+    /// the points within `r` of `p` (`r` at most the cell size), each visited once.
     #[inline(always)]
     pub fn for_each_candidate(&self, p: Vec3, r: f32, mut f: impl FnMut(u32)) {
-        self.for_each_run(p, r, |s, e| self.sorted[s..e].iter().for_each(|&i| f(i)));
+        let mut runs = [(0u32, 0u32); 9];
+        let n = self
+            .runs_in_box(p - r, p + r, &mut runs)
+            .expect("r <= cell: a cube spans 3 x 3 columns");
+        for &(s, e) in &runs[..n] {
+            self.sorted[s as usize..e as usize].iter().for_each(|&i| f(i));
+        }
     }
 
     /// Point index at each sorted slot (points grouped by cell).
