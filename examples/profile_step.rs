@@ -39,7 +39,7 @@ fn main() {
     let w = sim.water_positions();
     let r = sim.params().water.r_max;
     let mut g = wethair::physics::grid::Grid::new(w.len(), r);
-    g.build(w);
+    g.build(&w);
     let (mut pass, mut cand, mut near) = (0, 0, 0);
     for x in sim.positions() {
         if g.may_have_near(x, r) {

@@ -49,6 +49,11 @@ typedef enum WetHairResult {
   WETHAIR_ERROR_UNSTABLE = 8,
   // An internal panic was caught at the boundary; destroy the object involved.
   WETHAIR_ERROR_PANIC = 9,
+  // The GPU device failed (lost, out of memory, validation); destroy the simulation.
+  WETHAIR_ERROR_DEVICE = 10,
+  // The request is not available here: no GPU adapter for the GPU backend, or an
+  // integrator the chosen backend does not run.
+  WETHAIR_ERROR_UNSUPPORTED = 11,
   // Keeps the enum 32 bits wide in every C compiler; never returned.
   WETHAIR_RESULT_FORCE32 = 2147483647,
 } WetHairResult;
@@ -99,6 +104,29 @@ typedef enum WetHairIntegrator {
   // Keeps the enum 32 bits wide.
   WETHAIR_INTEGRATOR_FORCE32 = 2147483647,
 } WetHairIntegrator;
+
+// Where the step runs (`WetHairSimDesc::backend`).
+typedef enum WetHairBackend {
+  // A hardware GPU when one is found and runs the integrator, else the CPU (a software
+  // adapter such as lavapipe is skipped); `wethair_sim_get_backend_info` says why.
+  WETHAIR_BACKEND_AUTO = 0,
+  // The multi-threaded CPU backend.
+  WETHAIR_BACKEND_CPU = 1,
+  // The GPU (wgpu) backend on any adapter; create fails when there is none.
+  WETHAIR_BACKEND_GPU = 2,
+  // Keeps the enum 32 bits wide.
+  WETHAIR_BACKEND_FORCE32 = 2147483647,
+} WetHairBackend;
+
+// How vertices reach host memory on the GPU backend (`WetHairSimDesc::readback`).
+typedef enum WetHairReadback {
+  // `wethair_sim_get_vertex_buffer` waits for the last step and returns its vertices.
+  WETHAIR_READBACK_LATEST = 0,
+  // It returns the step before the last without waiting (double-buffered staging).
+  WETHAIR_READBACK_PREVIOUS_FRAME = 1,
+  // Keeps the enum 32 bits wide.
+  WETHAIR_READBACK_FORCE32 = 2147483647,
+} WetHairReadback;
 
 // Opaque strand set; create with `wethair_groom_*`, free with `wethair_groom_destroy`.
 typedef struct WetHairGroom WetHairGroom;
@@ -204,6 +232,10 @@ typedef struct WetHairSimDesc {
   float friction;
   // OR of `WetHairVertexAttribute` bits. Default all three.
   uint32_t vertex_attributes;
+  // A `WetHairBackend` value. Default AUTO.
+  uint32_t backend;
+  // A `WetHairReadback` value. Default LATEST.
+  uint32_t readback;
 } WetHairSimDesc;
 
 // Where each attribute sits in the interleaved vertex buffer.
@@ -248,7 +280,21 @@ typedef struct WetHairStats {
   uint32_t threads;
   // The `WetHairIntegrator` in use (AUTO resolved).
   uint32_t integrator;
+  // The `WetHairBackend` in use (AUTO resolved: CPU or GPU).
+  uint32_t backend;
 } WetHairStats;
+
+// Which backend runs a simulation, on what, and why AUTO chose it.
+typedef struct WetHairBackendInfo {
+  // `sizeof(WetHairBackendInfo)`, set by the host before the call.
+  uint32_t struct_size;
+  // The `WetHairBackend` in use (CPU or GPU).
+  uint32_t backend;
+  // The adapter's name and API, or the CPU's thread count; NUL-terminated, cut to fit.
+  char device[128];
+  // Why AUTO chose the CPU; empty when it did not fall back. NUL-terminated, cut to fit.
+  char fallback_reason[256];
+} WetHairBackendInfo;
 
 #ifdef __cplusplus
 extern "C" {
@@ -366,11 +412,13 @@ enum WetHairResult wethair_sim_get_vertex_layout(const struct WetHairSim *sim, s
 
 // Copies the requested attributes of every vertex into `dst` (`capacity` floats; it needs
 // `vertex_count * stride_floats`) and stores the floats written in `written`. On any error
-// nothing is written, `written` included.
+// nothing is written, `written` included. On the GPU backend this is the readback: with
+// `WETHAIR_READBACK_LATEST` it waits for the last step; with
+// `WETHAIR_READBACK_PREVIOUS_FRAME` it returns the step before without waiting.
 //
 // # Safety
 // `sim` is valid; `dst` holds `capacity` floats; `written` is writable.
-enum WetHairResult wethair_sim_get_vertex_buffer(const struct WetHairSim *sim, float *dst, size_t capacity, size_t *written);
+enum WetHairResult wethair_sim_get_vertex_buffer(struct WetHairSim *sim, float *dst, size_t capacity, size_t *written);
 
 // Copies up to `capacity` water particle positions (x y z each) into `dst` and stores the
 // count in `written`.
@@ -384,6 +432,21 @@ enum WetHairResult wethair_sim_get_water(const struct WetHairSim *sim, float *ds
 // # Safety
 // `sim` is valid; `out` is writable.
 enum WetHairResult wethair_sim_get_stats(const struct WetHairSim *sim, struct WetHairStats *out);
+
+// Says which backend runs `sim`, on which device, and why AUTO fell back to the CPU. The host
+// sets `out->struct_size` first.
+//
+// # Safety
+// `sim` is valid; `out` is writable.
+enum WetHairResult wethair_sim_get_backend_info(const struct WetHairSim *sim, struct WetHairBackendInfo *out);
+
+// Makes a GPU simulation's device fail as a lost device would, so that a host can test its
+// error path: later calls on `sim` return `WETHAIR_ERROR_DEVICE`. No effect on the CPU
+// backend. For tests only.
+//
+// # Safety
+// `sim` is valid.
+enum WetHairResult wethair_sim_debug_lose_device(struct WetHairSim *sim);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -8,6 +8,10 @@ for tool in cc:gcc c++:g++ make:make valgrind:valgrind pkg-config:pkg-config; do
 done
 # AddressSanitizer's runtime for gcc.
 ldconfig -p 2>/dev/null | grep -q libasan || need+=(libasan8)
+# The Vulkan loader and Mesa's lavapipe (a software Vulkan device) for the GPU backend's tests
+# on machines without a GPU.
+ldconfig -p 2>/dev/null | grep -q libvulkan.so.1 || need+=(libvulkan1)
+[ -e /usr/share/vulkan/icd.d/lvp_icd.x86_64.json ] || need+=(mesa-vulkan-drivers)
 if [ ${#need[@]} -gt 0 ]; then
     if [ "$(id -u)" != 0 ]; then
         echo "setup: missing ${need[*]}; run as root or install them" >&2

@@ -23,6 +23,12 @@ pub enum Error {
         /// Human-readable detail.
         detail: String,
     },
+    /// The GPU device failed: lost, out of memory, or a validation error. The simulation is
+    /// marked failed; destroy it (a reset does not revive a lost device).
+    Device(String),
+    /// The requested combination is not available (e.g. no GPU adapter, or an integrator the
+    /// chosen backend does not run).
+    Unsupported(String),
 }
 
 impl fmt::Display for Error {
@@ -32,6 +38,8 @@ impl fmt::Display for Error {
             Error::Capacity(m) => write!(f, "capacity exceeded: {m}"),
             Error::Io(m) => write!(f, "i/o error: {m}"),
             Error::Parse(m) => write!(f, "malformed groom: {m}"),
+            Error::Device(m) => write!(f, "GPU device error: {m}"),
+            Error::Unsupported(m) => write!(f, "unsupported: {m}"),
             Error::Unstable { strand, detail } => {
                 write!(f, "unstable: strand {strand} became non-finite ({detail})")
             }

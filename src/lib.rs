@@ -24,6 +24,8 @@
 pub mod cpu;
 pub mod error;
 pub mod ffi;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod groom;
 pub mod params;
 pub mod physics;
@@ -32,7 +34,7 @@ pub mod scenes;
 pub mod sim;
 
 pub use error::{Error, Result};
-pub use params::{Integrator, SimParams, SpringParams, VertexAttributes, WaterParams};
+pub use params::{Backend, Integrator, Readback, SimParams, SpringParams, VertexAttributes, WaterParams};
 pub use physics::collide::Shape;
 pub use physics::spring::DampingModel;
-pub use sim::{Energy, Simulation, Stats};
+pub use sim::{BackendInfo, Energy, Simulation, Stats};

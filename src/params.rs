@@ -44,6 +44,32 @@ pub fn explicit_limit(p: &SimParams, min_mass: f32, h: f32) -> f32 {
     h * h * lambda + 2.0 * h * gamma
 }
 
+/// Where the step runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Backend {
+    /// A hardware GPU when one is found and runs the scene's integrator, else the CPU. A
+    /// software adapter (Mesa's lavapipe) is skipped: it is slower than the CPU backend.
+    /// [`crate::Simulation::backend_info`] says which was chosen and why.
+    Auto = 0,
+    /// The multi-threaded CPU backend (the reference).
+    Cpu = 1,
+    /// The wgpu compute backend on any adapter, software ones included; an error when none.
+    Gpu = 2,
+}
+
+/// How the vertices reach host memory on the GPU backend (the CPU backend always has them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Readback {
+    /// A read waits for the step just submitted and returns its vertices.
+    Latest = 0,
+    /// Each step also copies its vertices to one of two staging buffers; a read returns the
+    /// step before the last one, which is long finished, so the host never waits on the GPU.
+    /// The first read waits.
+    PreviousFrame = 1,
+}
+
 /// Stiffness and damping of one spring family.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpringParams {
@@ -138,6 +164,10 @@ pub struct SimParams {
     pub friction: f32,
     /// Vertex attributes written for the host.
     pub attributes: VertexAttributes,
+    /// Where the step runs.
+    pub backend: Backend,
+    /// How vertices reach host memory on the GPU backend.
+    pub readback: Readback,
 }
 
 impl Default for SimParams {
@@ -174,6 +204,8 @@ impl Default for SimParams {
             attributes: VertexAttributes(
                 VertexAttributes::POSITION | VertexAttributes::TANGENT | VertexAttributes::WETNESS,
             ),
+            backend: Backend::Auto,
+            readback: Readback::Latest,
         }
     }
 }

@@ -1,9 +1,9 @@
 //! [`Simulation`]: the Rust API every front end (C ABI, examples, tests) goes through.
 
-use crate::cpu::step::{CpuBackend, Pass};
+use crate::cpu::step::{resolve_integrator, CpuBackend, Pass};
 use crate::error::{invalid, Error, Result};
 use crate::groom::Groom;
-use crate::params::{SimParams, VertexAttributes};
+use crate::params::{Backend, Integrator, SimParams, VertexAttributes};
 use crate::physics::clumping::mean_nearest_tip_distance;
 use crate::physics::spring::spring_energy;
 use glam::{Affine3A, DVec3, Mat4, Vec3};
@@ -35,6 +35,63 @@ pub struct Stats {
     pub threads: u32,
     /// The integrator in use (`Auto` resolved).
     pub integrator: crate::Integrator,
+    /// The backend in use (`Auto` resolved).
+    pub backend: Backend,
+}
+
+/// Which backend runs the simulation, on what, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BackendInfo {
+    /// [`Backend::Cpu`] or [`Backend::Gpu`].
+    pub backend: Backend,
+    /// The GPU adapter's name and API ("llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan)"), or the
+    /// CPU's thread count.
+    pub device: String,
+    /// Why [`Backend::Auto`] chose the CPU (empty when it did not fall back).
+    pub fallback_reason: String,
+}
+
+/// The engine behind a simulation (one per simulation, so the size difference is moot).
+#[derive(Debug)]
+#[allow(clippy::large_enum_variant)]
+enum Engine {
+    Cpu(CpuBackend),
+    #[cfg(feature = "gpu")]
+    Gpu(Box<crate::gpu::GpuBackend>),
+}
+
+/// Per-point data in the host's order, for diagnostics that both backends share.
+#[derive(Debug)]
+struct HostPoints {
+    strand_first: Vec<u32>,
+    mass: Vec<f32>,
+    pinned: Vec<bool>,
+    /// Rest length to the next and the next-but-one point (0 where there is none).
+    rest: Vec<[f32; 2]>,
+}
+
+impl HostPoints {
+    fn new(g: &Groom) -> Self {
+        let pos = g.positions();
+        let mut rest = vec![[0.0; 2]; pos.len()];
+        for s in 0..g.strand_count() {
+            let r = g.strand_range(s);
+            for i in r.clone() {
+                if i + 1 < r.end {
+                    rest[i][0] = (pos[i + 1] - pos[i]).length();
+                }
+                if i + 2 < r.end {
+                    rest[i][1] = (pos[i + 2] - pos[i]).length();
+                }
+            }
+        }
+        HostPoints {
+            strand_first: g.strand_first.clone(),
+            mass: g.masses().to_vec(),
+            pinned: g.pinned().to_vec(),
+            rest,
+        }
+    }
 }
 
 /// Energies of the hair and water, J (diagnostics and tests).
@@ -62,7 +119,9 @@ impl Energy {
 #[derive(Debug)]
 pub struct Simulation {
     params: SimParams,
-    cpu: CpuBackend,
+    engine: Engine,
+    info: BackendInfo,
+    host: HostPoints,
     head: Affine3A,
     head_prev: Affine3A,
     last_step_ms: f32,
@@ -76,10 +135,12 @@ impl Simulation {
     pub fn new(groom: &Groom, params: SimParams) -> Result<Self> {
         params.validate()?;
         let head = Affine3A::IDENTITY;
-        let cpu = CpuBackend::new(groom, &params, &head)?;
+        let (engine, info) = choose_engine(groom, &params, &head)?;
         Ok(Simulation {
             params,
-            cpu,
+            engine,
+            info,
+            host: HostPoints::new(groom),
             head,
             head_prev: head,
             last_step_ms: 0.0,
@@ -117,19 +178,28 @@ impl Simulation {
 
     /// Adds water particles at `pos` with velocities `vel` (empty: at rest).
     pub fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
-        self.cpu.add_water(pos, vel)
+        match &mut self.engine {
+            Engine::Cpu(c) => c.add_water(pos, vel),
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => g.add_water(pos, vel),
+        }
     }
 
     /// Removes every water particle (hair stays as wet as it is).
     pub fn clear_water(&mut self) {
-        self.cpu.clear_water();
+        match &mut self.engine {
+            Engine::Cpu(c) => c.clear_water(),
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => g.clear_water(),
+        }
     }
 
     /// Advances the simulation by `dt` seconds (0 < dt <= 1).
     ///
     /// A step that produces a non-finite value returns [`Error::Unstable`] and marks the
     /// simulation failed: further steps and vertex reads return the same error until
-    /// [`Simulation::reset`].
+    /// [`Simulation::reset`]. On the GPU backend the step returns once its work is submitted,
+    /// so a failure inside it is reported by the next read (vertices, stats or step).
     pub fn step(&mut self, dt: f32) -> Result<()> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
@@ -138,28 +208,44 @@ impl Simulation {
             return Err(invalid!("dt must be finite, > 0 and <= {MAX_DT} s, got {dt}"));
         }
         let t0 = Instant::now();
-        let r = self.cpu.step(dt, &self.head_prev, &self.head);
+        let r = match &mut self.engine {
+            Engine::Cpu(c) => c.step(dt, &self.head_prev, &self.head).map(|rep| rep.max_speed),
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => {
+                let last = g.last_status();
+                g.check_status(&last)
+                    .and_then(|_| g.step(dt, &self.head_prev, &self.head))
+                    .map(|_| last.max_speed)
+            }
+        };
         self.last_step_ms = t0.elapsed().as_secs_f32() * 1e3;
         self.head_prev = self.head;
         self.steps += 1;
-        match r {
-            Ok(rep) => {
-                self.max_speed = rep.max_speed;
-                Ok(())
-            }
-            Err(e) => {
+        self.settle(r).map(|v| self.max_speed = v)
+    }
+
+    /// Records a failure so that later calls repeat it.
+    fn settle<T>(&mut self, r: Result<T>) -> Result<T> {
+        if let Err(e) = &r {
+            if matches!(e, Error::Unstable { .. } | Error::Device(_)) {
                 self.failed = Some(e.clone());
-                Err(e)
             }
         }
+        r
     }
 
     /// Back to the rest pose at the current head transform: zero velocity, dry, no water,
-    /// counters cleared, failure forgotten.
+    /// counters cleared, failure forgotten (a lost GPU device stays failed).
     pub fn reset(&mut self) {
-        self.cpu.reset(&self.head);
+        match &mut self.engine {
+            Engine::Cpu(c) => c.reset(&self.head),
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => g.reset(&self.head),
+        }
         self.head_prev = self.head;
-        self.failed = None;
+        if !matches!(self.failed, Some(Error::Device(_))) {
+            self.failed = None;
+        }
         self.steps = 0;
         self.max_speed = 0.0;
     }
@@ -169,14 +255,19 @@ impl Simulation {
         self.failed.as_ref()
     }
 
+    /// Which backend runs the simulation, on what device, and why `Auto` chose it.
+    pub fn backend_info(&self) -> &BackendInfo {
+        &self.info
+    }
+
     /// Hair points written per [`Simulation::write_vertices`].
     pub fn vertex_count(&self) -> usize {
-        self.cpu.lay.mass.len()
+        self.host.mass.len()
     }
 
     /// Strand and point counts.
     pub fn stats_counts(&self) -> (u32, u32) {
-        (self.cpu.lay.strands as u32, self.vertex_count() as u32)
+        ((self.host.strand_first.len() - 1) as u32, self.vertex_count() as u32)
     }
 
     /// The attributes written per vertex.
@@ -186,8 +277,9 @@ impl Simulation {
 
     /// Writes the requested attributes of every point, interleaved, strand after strand.
     /// `dst` must hold at least `vertex_count() * stride` floats; returns the floats written.
-    /// Writes nothing on error.
-    pub fn write_vertices(&self, dst: &mut [f32]) -> Result<usize> {
+    /// Writes nothing on error. On the GPU backend with [`crate::Readback::PreviousFrame`] the
+    /// vertices are those of the step before the last (see [`crate::Readback`]).
+    pub fn write_vertices(&mut self, dst: &mut [f32]) -> Result<usize> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
@@ -198,88 +290,163 @@ impl Simulation {
                 dst.len()
             )));
         }
-        self.cpu.write_vertices(self.params.attributes, &mut dst[..n]);
-        Ok(n)
+        let r = match &mut self.engine {
+            Engine::Cpu(c) => {
+                c.write_vertices(self.params.attributes, &mut dst[..n]);
+                Ok(n)
+            }
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => g.read_vertices(&mut dst[..n]).map(|_| n),
+        };
+        self.settle(r)
     }
 
-    /// The passes the next step will run (only those the scene needs).
+    /// The passes the next step will run (only those the scene needs), the same list on
+    /// both backends.
     pub fn passes(&self) -> Vec<Pass> {
-        self.cpu.passes()
+        match &self.engine {
+            Engine::Cpu(c) => c.passes(),
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => g.passes(),
+        }
+    }
+
+    /// The GPU compute entry points one step dispatches (empty on the CPU backend).
+    pub fn gpu_dispatches(&self) -> Vec<&'static str> {
+        match &self.engine {
+            Engine::Cpu(_) => Vec::new(),
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => g.dispatches(),
+        }
     }
 
     /// Every buffer the simulation holds and its size in bytes.
     pub fn buffers(&self) -> Vec<(&'static str, usize)> {
-        self.cpu.buffers()
-    }
-
-    /// Every point's position, strand after strand.
-    pub fn positions(&self) -> Vec<Vec3> {
-        self.per_point(|r, l| r.x.get(l))
-    }
-
-    /// Every point's velocity, strand after strand.
-    pub fn velocities(&self) -> Vec<Vec3> {
-        self.per_point(|r, l| r.v.get(l))
-    }
-
-    fn per_point<T>(&self, f: impl Fn(&crate::cpu::layout::StateRow, usize) -> T) -> Vec<T> {
-        let lay = &self.cpu.lay;
-        let mut out = Vec::with_capacity(self.vertex_count());
-        for s in 0..lay.strands {
-            let (b, l) = lay.lane_of(s);
-            for i in 0..lay.strand_points(s) {
-                out.push(f(&self.cpu.state[b * lay.rows + i], l));
-            }
+        match &self.engine {
+            Engine::Cpu(c) => c.buffers(),
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => g.buffers(),
         }
-        out
+    }
+
+    /// Every point's position, strand after strand (on the GPU a blocking readback; empty if
+    /// the device failed).
+    pub fn positions(&self) -> Vec<Vec3> {
+        self.point_states()
+            .map(|v| v.into_iter().map(|p| p.0).collect())
+            .unwrap_or_default()
+    }
+
+    /// Every point's velocity, strand after strand (as [`Simulation::positions`]).
+    pub fn velocities(&self) -> Vec<Vec3> {
+        self.point_states()
+            .map(|v| v.into_iter().map(|p| p.1).collect())
+            .unwrap_or_default()
+    }
+
+    /// Position, velocity and wetness of every point, strand after strand.
+    pub fn point_states(&self) -> Result<Vec<(Vec3, Vec3, f32)>> {
+        match &self.engine {
+            Engine::Cpu(c) => {
+                let lay = &c.lay;
+                let mut out = Vec::with_capacity(self.vertex_count());
+                for s in 0..lay.strands {
+                    let (b, l) = lay.lane_of(s);
+                    for i in 0..lay.strand_points(s) {
+                        let r = &c.state[b * lay.rows + i];
+                        let w = c.wet.get(b * lay.rows + i).map_or(0.0, |w| w[l]);
+                        out.push((r.x.get(l), r.v.get(l), w));
+                    }
+                }
+                Ok(out)
+            }
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => Ok(g
+                .read_state()?
+                .into_iter()
+                .map(|p| (Vec3::from_slice(&p.x), Vec3::from_slice(&p.v), p.x[3]))
+                .collect()),
+        }
+    }
+
+    /// Water particle positions and velocities (order changes when particles are removed).
+    pub fn water(&self) -> (Vec<Vec3>, Vec<Vec3>) {
+        match &self.engine {
+            Engine::Cpu(c) => c
+                .water
+                .as_ref()
+                .map_or_else(Default::default, |w| (w.pos.clone(), w.vel.clone())),
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => g
+                .read_water()
+                .map(|v| {
+                    v.iter()
+                        .map(|p| (Vec3::from_slice(&p.x), Vec3::from_slice(&p.v)))
+                        .unzip()
+                })
+                .unwrap_or_default(),
+        }
     }
 
     /// Water particle positions (order changes when particles are removed).
-    pub fn water_positions(&self) -> &[Vec3] {
-        self.cpu.water.as_ref().map_or(&[], |w| &w.pos)
+    pub fn water_positions(&self) -> Vec<Vec3> {
+        self.water().0
     }
 
     /// Water particle velocities, in the order of [`Simulation::water_positions`].
-    pub fn water_velocities(&self) -> &[Vec3] {
-        self.cpu.water.as_ref().map_or(&[], |w| &w.vel)
+    pub fn water_velocities(&self) -> Vec<Vec3> {
+        self.water().1
     }
 
     /// Tip positions of every strand, in host order.
     pub fn tips(&self) -> Vec<Vec3> {
-        let lay = &self.cpu.lay;
-        (0..lay.strands)
-            .map(|s| {
-                let (b, l) = lay.lane_of(s);
-                self.cpu.state[b * lay.rows + lay.strand_points(s) - 1].x.get(l)
-            })
-            .collect()
+        let x = self.positions();
+        if x.is_empty() {
+            return Vec::new();
+        }
+        self.host.strand_first[1..].iter().map(|&e| x[e as usize - 1]).collect()
     }
 
-    /// Counters and measures (the clumping measure is computed now, O(strands)).
+    /// Counters and measures (the clumping measure is computed now, O(strands); on the GPU
+    /// this reads back the state and waits for the device).
     pub fn stats(&self) -> Stats {
-        let lay = &self.cpu.lay;
+        let (strands, points) = self.stats_counts();
+        let (particles, removed, threads, integrator, backend) = match &self.engine {
+            Engine::Cpu(c) => (
+                c.water.as_ref().map_or(0, |w| w.len()) as u32,
+                c.water.as_ref().map_or(0, |w| w.removed),
+                c.threads() as u32,
+                c.integrator(),
+                Backend::Cpu,
+            ),
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => {
+                let (st, removed) = g.peek_status().unwrap_or_default();
+                (st.particles, removed, 0, g.integrator(), Backend::Gpu)
+            }
+        };
         Stats {
-            strands: lay.strands as u32,
-            points: self.vertex_count() as u32,
-            particles: self.water_positions().len() as u32,
-            particles_removed: self.cpu.water.as_ref().map_or(0, |w| w.removed),
+            strands,
+            points,
+            particles,
+            particles_removed: removed,
             steps: self.steps,
             last_step_ms: self.last_step_ms,
             max_speed: self.max_speed,
             clumping: mean_nearest_tip_distance(&self.tips()),
-            threads: self.cpu.threads() as u32,
-            integrator: self.cpu.integrator(),
+            threads,
+            integrator,
+            backend,
         }
     }
 
     /// Total linear momentum of free hair points and water particles, kg·m/s.
     pub fn momentum(&self) -> DVec3 {
-        let pinned = self.pinned_mask();
         let hair: DVec3 = self
             .velocities()
             .iter()
-            .zip(&self.cpu.lay.mass)
-            .zip(&pinned)
+            .zip(&self.host.mass)
+            .zip(&self.host.pinned)
             .filter(|(_, &p)| !p)
             .map(|((v, &m), _)| v.as_dvec3() * m as f64)
             .sum();
@@ -291,50 +458,115 @@ impl Simulation {
             .sum::<DVec3>()
     }
 
-    fn pinned_mask(&self) -> Vec<bool> {
-        let lay = &self.cpu.lay;
-        let mut out = Vec::with_capacity(self.vertex_count());
-        for s in 0..lay.strands {
-            let (b, l) = lay.lane_of(s);
-            for i in 0..lay.strand_points(s) {
-                out.push(lay.params[b * lay.rows + i].inv_mass[l] == 0.0);
-            }
-        }
-        out
-    }
-
     /// Kinetic, spring and gravitational energy (f64 sums).
     pub fn energy(&self) -> Energy {
-        let lay = &self.cpu.lay;
         let g = self.params.gravity.as_dvec3();
+        let (ks, kb) = (self.params.stretch.stiffness, self.params.bend.stiffness);
         let mut e = Energy::default();
-        for s in 0..lay.strands {
-            let (b, l) = lay.lane_of(s);
-            let n = lay.strand_points(s);
-            let first = lay.strand_first[s] as usize;
-            for i in 0..n {
-                let r = &self.cpu.state[b * lay.rows + i];
-                let prm = &lay.params[b * lay.rows + i];
-                if prm.inv_mass[l] > 0.0 {
-                    let m = lay.mass[first + i] as f64;
-                    e.kinetic += 0.5 * m * r.v.get(l).as_dvec3().length_squared();
-                    e.gravity -= m * g.dot(r.x.get(l).as_dvec3());
+        let st = self.point_states().unwrap_or_default();
+        let h = &self.host;
+        for s in 0..h.strand_first.len().saturating_sub(1) {
+            let (a, b) = (h.strand_first[s] as usize, h.strand_first[s + 1] as usize);
+            for i in a..b.min(st.len()) {
+                let (x, v, _) = st[i];
+                if !h.pinned[i] {
+                    let m = h.mass[i] as f64;
+                    e.kinetic += 0.5 * m * v.as_dvec3().length_squared();
+                    e.gravity -= m * g.dot(x.as_dvec3());
                 }
-                if i + 1 < n {
-                    let len = (self.cpu.state[b * lay.rows + i + 1].x.get(l) - r.x.get(l)).length();
-                    e.spring += spring_energy(prm.stretch.k[l], prm.stretch.rest[l], len);
+                if i + 1 < b {
+                    e.spring += spring_energy(ks, h.rest[i][0], (st[i + 1].0 - x).length());
                 }
-                if i + 2 < n {
-                    let len = (self.cpu.state[b * lay.rows + i + 2].x.get(l) - r.x.get(l)).length();
-                    e.spring += spring_energy(prm.bend.k[l], prm.bend.rest[l], len);
+                if i + 2 < b {
+                    e.spring += spring_energy(kb, h.rest[i][1], (st[i + 2].0 - x).length());
                 }
             }
         }
         let m_w = self.params.water.particle_mass as f64;
-        for (x, v) in self.water_positions().iter().zip(self.water_velocities()) {
+        let (wx, wv) = self.water();
+        for (x, v) in wx.iter().zip(&wv) {
             e.kinetic += 0.5 * m_w * v.as_dvec3().length_squared();
             e.gravity -= m_w * g.dot(x.as_dvec3());
         }
         e
     }
+
+    /// Makes a GPU simulation's device fail as a lost device would, to test a host's error
+    /// path; later calls return [`Error::Device`]. Does nothing on the CPU backend.
+    pub fn debug_lose_device(&mut self) {
+        #[cfg(feature = "gpu")]
+        if let Engine::Gpu(g) = &self.engine {
+            g.lose_device();
+        }
+    }
+
+    /// Builds a GPU grid over the particles held now and returns its dims and per-cell counts
+    /// (tests compare them with the CPU grid's). `None` on the CPU backend or without water.
+    pub fn gpu_grid_counts(&mut self) -> Option<Result<(glam::IVec3, Vec<u32>)>> {
+        match &mut self.engine {
+            Engine::Cpu(_) => None,
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => Some(g.read_grid_counts()),
+        }
+    }
+}
+
+/// Picks the backend the parameters ask for (see [`Backend`]).
+fn choose_engine(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Engine, BackendInfo)> {
+    let integrator = resolve_integrator(p, groom);
+    let cpu = |reason: String| -> Result<(Engine, BackendInfo)> {
+        let c = CpuBackend::new(groom, p, head)?;
+        let info = BackendInfo {
+            backend: Backend::Cpu,
+            device: format!("CPU, {} threads", c.threads()),
+            fallback_reason: reason,
+        };
+        Ok((Engine::Cpu(c), info))
+    };
+    match p.backend {
+        Backend::Cpu => cpu(String::new()),
+        #[cfg(not(feature = "gpu"))]
+        Backend::Gpu => Err(Error::Unsupported(
+            "this build has no GPU backend (feature `gpu`)".into(),
+        )),
+        #[cfg(not(feature = "gpu"))]
+        Backend::Auto => cpu("this build has no GPU backend (feature `gpu`)".into()),
+        #[cfg(feature = "gpu")]
+        Backend::Gpu => {
+            let dev = crate::gpu::GpuDevice::open(true)?;
+            gpu_engine(dev, groom, p, integrator, head, String::new())
+        }
+        #[cfg(feature = "gpu")]
+        Backend::Auto => {
+            if integrator != Integrator::SymplecticEuler {
+                return cpu(format!("{integrator:?} runs on the CPU backend only"));
+            }
+            match crate::gpu::GpuDevice::open(false) {
+                Err(e) => cpu(e.to_string()),
+                Ok(dev) => match gpu_engine(dev, groom, p, integrator, head, String::new()) {
+                    Ok(r) => Ok(r),
+                    Err(e) => cpu(format!("the GPU backend failed to start: {e}")),
+                },
+            }
+        }
+    }
+}
+
+#[cfg(feature = "gpu")]
+fn gpu_engine(
+    dev: crate::gpu::GpuDevice,
+    groom: &Groom,
+    p: &SimParams,
+    integrator: Integrator,
+    head: &Affine3A,
+    reason: String,
+) -> Result<(Engine, BackendInfo)> {
+    let device = dev.adapter_name();
+    let g = crate::gpu::GpuBackend::new(dev, groom, p, integrator, head)?;
+    let info = BackendInfo {
+        backend: Backend::Gpu,
+        device,
+        fallback_reason: reason,
+    };
+    Ok((Engine::Gpu(Box::new(g)), info))
 }

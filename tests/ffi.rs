@@ -601,7 +601,7 @@ fn sim_calls_check_everything_and_write_nothing_on_failure() {
             WETHAIR_ERROR_NULL_POINTER
         );
         assert_eq!(
-            wethair_sim_get_vertex_buffer(null(), buf.as_mut_ptr(), need, &mut written),
+            wethair_sim_get_vertex_buffer(null_mut(), buf.as_mut_ptr(), need, &mut written),
             WETHAIR_ERROR_NULL_POINTER
         );
         assert_eq!(

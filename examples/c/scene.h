@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "wethair.h"
@@ -46,9 +47,29 @@ static void wh_shower(uint32_t *state, uint32_t count, float *pos, float *vel) {
     }
 }
 
+/* A `--backend` value: auto, cpu or gpu; exits on anything else. */
+static uint32_t wh_parse_backend(const char *s) {
+    if (!strcmp(s, "auto")) return WETHAIR_BACKEND_AUTO;
+    if (!strcmp(s, "cpu")) return WETHAIR_BACKEND_CPU;
+    if (!strcmp(s, "gpu")) return WETHAIR_BACKEND_GPU;
+    fprintf(stderr, "--backend must be auto, cpu or gpu, got %s\n", s);
+    exit(2);
+}
+
+/* "GPU: llvmpipe (...)" or "CPU: 2 threads (AUTO fell back: ...)". */
+static void wh_print_backend(const WetHairSim *sim) {
+    WetHairBackendInfo info;
+    memset(&info, 0, sizeof info);
+    info.struct_size = sizeof info;
+    wh_check(wethair_sim_get_backend_info(sim, &info), "wethair_sim_get_backend_info");
+    printf("backend: %s on %s%s%s%s\n", info.backend == WETHAIR_BACKEND_GPU ? "GPU" : "CPU", info.device,
+           info.fallback_reason[0] ? " (AUTO chose the CPU: " : "", info.fallback_reason,
+           info.fallback_reason[0] ? ")" : "");
+}
+
 /* A simulation of `groom` with the default (paper scene) parameters and the head as a sphere
- * collider of radius 0.1 m at the origin. */
-static WetHairSim *wh_create_paper_sim(const WetHairGroom *groom, uint32_t threads) {
+ * collider of radius 0.1 m at the origin, on `backend` (a WetHairBackend). */
+static WetHairSim *wh_create_paper_sim(const WetHairGroom *groom, uint32_t threads, uint32_t backend) {
     WetHairSimDesc desc;
     wethair_sim_desc_default(&desc);
     WetHairCollider head = {WETHAIR_COLLIDER_SPHERE, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.1f};
@@ -56,6 +77,7 @@ static WetHairSim *wh_create_paper_sim(const WetHairGroom *groom, uint32_t threa
     desc.colliders = &head;
     desc.collider_count = 1;
     desc.threads = threads;
+    desc.backend = backend;
     WetHairSim *sim = NULL;
     wh_check(wethair_sim_create(&desc, &sim), "wethair_sim_create");
     return sim;

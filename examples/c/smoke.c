@@ -1,13 +1,45 @@
 /* Smoke test of the C ABI: the paper scene dry and under a shower of 1,000 water particles,
  * 200 frames each; reads the vertex buffer every frame and fails on any error or non-finite
- * value; prints dry and wet clumping and the timing. Exit status 0 only when wet hair clumps. */
+ * value; prints dry and wet clumping and the timing. Exit status 0 only when wet hair clumps.
+ *
+ * usage: smoke [FRAMES [STRANDS]] [--backend auto|cpu|gpu] [--lose-device]
+ * --lose-device instead checks the device-loss path: after a few frames the GPU device is made
+ * to fail; the next calls must return WETHAIR_ERROR_DEVICE without writing anything, and the
+ * host then cleans up and exits 0. */
 #include <string.h>
 
 #include "scene.h"
 
+/* The device-loss path (see the usage above). */
+static int lose_device(WetHairSim *dry, WetHairSim *wet) {
+    for (int f = 0; f < 3; f++) wh_check(wethair_sim_step(wet, 1.0f / 60.0f), "wethair_sim_step");
+    wh_check(wethair_sim_debug_lose_device(wet), "wethair_sim_debug_lose_device");
+    WetHairResult r = wethair_sim_step(wet, 1.0f / 60.0f);
+    float verts[64] = {0};
+    size_t written = 12345;
+    WetHairResult r2 = wethair_sim_get_vertex_buffer(wet, verts, 64, &written);
+    int ok = r == WETHAIR_ERROR_DEVICE && (r2 == WETHAIR_ERROR_DEVICE || r2 == WETHAIR_ERROR_BUFFER_TOO_SMALL) &&
+             written == 12345 && verts[0] == 0.0f;
+    printf("after device loss: step -> %s (%s)\n", wethair_result_string((uint32_t)r), wethair_last_error_message());
+    wethair_sim_destroy(wet);
+    wethair_sim_destroy(dry);
+    if (!ok) {
+        fprintf(stderr, "device loss was not reported as WETHAIR_ERROR_DEVICE\n");
+        return 1;
+    }
+    printf("smoke: device loss handled\n");
+    return 0;
+}
+
 int main(int argc, char **argv) {
-    uint32_t frames = argc > 1 ? (uint32_t)atoi(argv[1]) : 200;
-    uint32_t strands = argc > 2 ? (uint32_t)atoi(argv[2]) : 10000;
+    uint32_t frames = 200, strands = 10000, backend = WETHAIR_BACKEND_AUTO, positional = 0;
+    int lose = 0;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--backend") && i + 1 < argc) backend = wh_parse_backend(argv[++i]);
+        else if (!strcmp(argv[i], "--lose-device")) lose = 1;
+        else if (positional++ == 0) frames = (uint32_t)atoi(argv[i]);
+        else strands = (uint32_t)atoi(argv[i]);
+    }
     const uint32_t particles = 1000, per_frame = 50;
     if (wethair_version() != WETHAIR_VERSION) {
         fprintf(stderr, "header %s does not match library %s\n", WETHAIR_VERSION_STRING, wethair_version_string());
@@ -15,9 +47,11 @@ int main(int argc, char **argv) {
     }
     WetHairGroom *groom = NULL;
     wh_check(wethair_groom_create_paper_scene(strands, 6, &groom), "wethair_groom_create_paper_scene");
-    WetHairSim *dry = wh_create_paper_sim(groom, 0);
-    WetHairSim *wet = wh_create_paper_sim(groom, 0);
+    WetHairSim *dry = wh_create_paper_sim(groom, 0, backend);
+    WetHairSim *wet = wh_create_paper_sim(groom, 0, backend);
     wethair_groom_destroy(groom); /* the simulations keep their own copy */
+    wh_print_backend(wet);
+    if (lose) return lose_device(dry, wet);
 
     WetHairVertexLayout layout = {0};
     layout.struct_size = sizeof layout;

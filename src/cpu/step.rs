@@ -218,40 +218,8 @@ impl CpuBackend {
     pub fn passes(&self) -> Vec<Pass> {
         let wet = self.water.as_ref().is_some_and(|w| !w.is_empty());
         let p = &self.params;
-        let mut v = Vec::new();
-        if wet {
-            v.push(Pass::WaterGrid);
-        }
-        if p.air_drag > 0.0 {
-            v.push(Pass::Drag);
-        }
         let bend = self.lay.rows > 2 && (p.bend.stiffness > 0.0 || p.bend.damping > 0.0);
-        let xpbd = self.integrator == Integrator::Xpbd;
-        let explicit = self.integrator == Integrator::SymplecticEuler;
-        if explicit && (p.stretch.stiffness > 0.0 || p.stretch.damping > 0.0) {
-            v.push(Pass::StretchSprings);
-        }
-        if explicit && bend {
-            v.push(Pass::BendSprings);
-        }
-        if wet {
-            v.push(Pass::Adhesion);
-        }
-        v.push(match self.integrator {
-            Integrator::ImplicitEuler => Pass::ImplicitSolve,
-            _ => Pass::Integrate,
-        });
-        if xpbd {
-            v.push(Pass::ProjectConstraints);
-        }
-        if !p.colliders.is_empty() {
-            v.push(Pass::Collide);
-        }
-        if wet {
-            v.push(Pass::WaterIntegrate);
-            v.push(Pass::WaterCull);
-        }
-        v
+        pass_list(p, self.integrator, bend, wet)
     }
 
     /// Every buffer the backend holds, with its size in bytes (capacity, not length): what a
@@ -325,13 +293,9 @@ impl CpuBackend {
         let _ftz = super::denormals::FlushDenormals::new();
         let n_sub = self.params.substeps as usize;
         let h = dt / n_sub as f32;
-        let (s0, r0, t0) = from.to_scale_rotation_translation();
-        let (s1, r1, t1) = to.to_scale_rotation_translation();
         let nc = self.params.colliders.len();
+        crate::physics::head::substep_heads_into(from, to, &mut self.heads);
         for s in 0..n_sub {
-            let a = (s + 1) as f32 / n_sub as f32;
-            let head = Affine3A::from_scale_rotation_translation(s0.lerp(s1, a), r0.slerp(r1, a), t0.lerp(t1, a));
-            self.heads[s] = if s + 1 == n_sub { *to } else { head };
             for (c, shape) in self.params.colliders.iter().enumerate() {
                 self.placed[s * nc + c] = shape.place(&self.heads[s]);
             }
@@ -735,6 +699,43 @@ fn block_substep_impl<const AXIAL: bool>(
     }
 }
 
+/// The passes a step runs for these parameters, in order: both backends build their step
+/// from this one list. `bend`: the scene has bend springs; `wet`: it holds water now.
+pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -> Vec<Pass> {
+    let mut v = Vec::new();
+    if wet {
+        v.push(Pass::WaterGrid);
+    }
+    if p.air_drag > 0.0 {
+        v.push(Pass::Drag);
+    }
+    let explicit = integrator == Integrator::SymplecticEuler;
+    if explicit && (p.stretch.stiffness > 0.0 || p.stretch.damping > 0.0) {
+        v.push(Pass::StretchSprings);
+    }
+    if explicit && bend {
+        v.push(Pass::BendSprings);
+    }
+    if wet {
+        v.push(Pass::Adhesion);
+    }
+    v.push(match integrator {
+        Integrator::ImplicitEuler => Pass::ImplicitSolve,
+        _ => Pass::Integrate,
+    });
+    if integrator == Integrator::Xpbd {
+        v.push(Pass::ProjectConstraints);
+    }
+    if !p.colliders.is_empty() {
+        v.push(Pass::Collide);
+    }
+    if wet {
+        v.push(Pass::WaterIntegrate);
+        v.push(Pass::WaterCull);
+    }
+    v
+}
+
 /// Whether this CPU runs AVX2 (checked once per simulation).
 fn cpu_has_avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -749,7 +750,7 @@ fn cpu_has_avx2() -> bool {
 
 /// Resolves [`Integrator::Auto`]: symplectic Euler when it is stable with a 10% margin for the
 /// lightest free point at the substep of a 60 Hz frame, else implicit Euler.
-fn resolve_integrator(p: &SimParams, groom: &crate::groom::Groom) -> Integrator {
+pub fn resolve_integrator(p: &SimParams, groom: &crate::groom::Groom) -> Integrator {
     if p.integrator != Integrator::Auto {
         return p.integrator;
     }

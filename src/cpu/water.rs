@@ -50,21 +50,13 @@ impl Water {
     /// Appends particles; `vel` may be empty (then at rest). Checks everything first, so a
     /// failed call adds nothing.
     pub fn add(&mut self, pos: &[Vec3], vel: &[Vec3], capacity: usize) -> Result<()> {
-        if !vel.is_empty() && vel.len() != pos.len() {
-            return Err(invalid!("{} velocities for {} particles", vel.len(), pos.len()));
-        }
+        check_new_particles(pos, vel)?;
         if self.pos.len() + pos.len() > capacity {
             return Err(Error::Capacity(format!(
                 "{} particles held + {} added exceeds the water capacity {capacity}",
                 self.pos.len(),
                 pos.len()
             )));
-        }
-        if let Some(i) = pos.iter().position(|p| !p.is_finite()) {
-            return Err(invalid!("water position {i} is not finite: {:?}", pos[i]));
-        }
-        if let Some(i) = vel.iter().position(|v| !v.is_finite()) {
-            return Err(invalid!("water velocity {i} is not finite: {:?}", vel[i]));
         }
         self.pos.extend_from_slice(pos);
         if vel.is_empty() {
@@ -147,4 +139,19 @@ impl Water {
         self.pos.clear();
         self.vel.clear();
     }
+}
+
+/// Checks particles a host adds (both backends): finite positions and velocities, and as
+/// many velocities as positions (or none).
+pub fn check_new_particles(pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
+    if !vel.is_empty() && vel.len() != pos.len() {
+        return Err(invalid!("{} velocities for {} particles", vel.len(), pos.len()));
+    }
+    if let Some(i) = pos.iter().position(|p| !p.is_finite()) {
+        return Err(invalid!("water position {i} is not finite: {:?}", pos[i]));
+    }
+    if let Some(i) = vel.iter().position(|v| !v.is_finite()) {
+        return Err(invalid!("water velocity {i} is not finite: {:?}", vel[i]));
+    }
+    Ok(())
 }

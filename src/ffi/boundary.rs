@@ -30,13 +30,18 @@ pub enum WetHairResult {
     WETHAIR_ERROR_UNSTABLE = 8,
     /// An internal panic was caught at the boundary; destroy the object involved.
     WETHAIR_ERROR_PANIC = 9,
+    /// The GPU device failed (lost, out of memory, validation); destroy the simulation.
+    WETHAIR_ERROR_DEVICE = 10,
+    /// The request is not available here: no GPU adapter for the GPU backend, or an
+    /// integrator the chosen backend does not run.
+    WETHAIR_ERROR_UNSUPPORTED = 11,
     /// Keeps the enum 32 bits wide in every C compiler; never returned.
     WETHAIR_RESULT_FORCE32 = 0x7fff_ffff,
 }
 
 impl WetHairResult {
     /// Every code with its name, for `wethair_result_string`.
-    pub(crate) const ALL: [(WetHairResult, &'static str); 10] = [
+    pub(crate) const ALL: [(WetHairResult, &'static str); 12] = [
         (WetHairResult::WETHAIR_OK, "WETHAIR_OK\0"),
         (
             WetHairResult::WETHAIR_ERROR_NULL_POINTER,
@@ -56,6 +61,8 @@ impl WetHairResult {
         (WetHairResult::WETHAIR_ERROR_PARSE, "WETHAIR_ERROR_PARSE\0"),
         (WetHairResult::WETHAIR_ERROR_UNSTABLE, "WETHAIR_ERROR_UNSTABLE\0"),
         (WetHairResult::WETHAIR_ERROR_PANIC, "WETHAIR_ERROR_PANIC\0"),
+        (WetHairResult::WETHAIR_ERROR_DEVICE, "WETHAIR_ERROR_DEVICE\0"),
+        (WetHairResult::WETHAIR_ERROR_UNSUPPORTED, "WETHAIR_ERROR_UNSUPPORTED\0"),
     ];
 }
 
@@ -85,6 +92,8 @@ impl From<Error> for Fail {
             Error::Io(_) => WetHairResult::WETHAIR_ERROR_IO,
             Error::Parse(_) => WetHairResult::WETHAIR_ERROR_PARSE,
             Error::Unstable { .. } => WetHairResult::WETHAIR_ERROR_UNSTABLE,
+            Error::Device(_) => WetHairResult::WETHAIR_ERROR_DEVICE,
+            Error::Unsupported(_) => WetHairResult::WETHAIR_ERROR_UNSUPPORTED,
         };
         Fail(code, e.to_string())
     }

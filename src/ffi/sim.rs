@@ -2,7 +2,7 @@
 
 use super::boundary::{guard, Fail, WetHairResult};
 use super::groom::WetHairGroom;
-use super::types::{WetHairSimDesc, WetHairStats, WetHairVertexLayout};
+use super::types::{WetHairBackendInfo, WetHairSimDesc, WetHairStats, WetHairVertexLayout};
 use crate::params::{VertexAttributes, MAX_WATER_CAPACITY};
 use crate::sim::Simulation;
 use glam::{Mat4, Vec3};
@@ -170,19 +170,21 @@ pub unsafe extern "C" fn wethair_sim_get_vertex_layout(
 
 /// Copies the requested attributes of every vertex into `dst` (`capacity` floats; it needs
 /// `vertex_count * stride_floats`) and stores the floats written in `written`. On any error
-/// nothing is written, `written` included.
+/// nothing is written, `written` included. On the GPU backend this is the readback: with
+/// `WETHAIR_READBACK_LATEST` it waits for the last step; with
+/// `WETHAIR_READBACK_PREVIOUS_FRAME` it returns the step before without waiting.
 ///
 /// # Safety
 /// `sim` is valid; `dst` holds `capacity` floats; `written` is writable.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_get_vertex_buffer(
-    sim: *const WetHairSim,
+    sim: *mut WetHairSim,
     dst: *mut f32,
     capacity: usize,
     written: *mut usize,
 ) -> WetHairResult {
     guard("wethair_sim_get_vertex_buffer", || {
-        let s = nonnull!(sim, "sim");
+        let s = nonnull_mut!(sim, "sim");
         if dst.is_null() || written.is_null() {
             return Err(super::boundary::null("dst or written"));
         }
@@ -251,7 +253,62 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
             clumping: st.clumping,
             threads: st.threads,
             integrator: st.integrator as u32,
+            backend: st.backend as u32,
         });
+        Ok(())
+    })
+}
+
+/// Says which backend runs `sim`, on which device, and why AUTO fell back to the CPU. The host
+/// sets `out->struct_size` first.
+///
+/// # Safety
+/// `sim` is valid; `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_get_backend_info(
+    sim: *const WetHairSim,
+    out: *mut WetHairBackendInfo,
+) -> WetHairResult {
+    guard("wethair_sim_get_backend_info", || {
+        let s = nonnull!(sim, "sim");
+        let out = check_out_size!(out, WetHairBackendInfo, "out");
+        let info = s.0.backend_info();
+        let mut rec = WetHairBackendInfo {
+            struct_size: std::mem::size_of::<WetHairBackendInfo>() as u32,
+            backend: info.backend as u32,
+            device: [0; 128],
+            fallback_reason: [0; 256],
+        };
+        copy_c_string(&info.device, &mut rec.device);
+        copy_c_string(&info.fallback_reason, &mut rec.fallback_reason);
+        out.write(rec);
+        Ok(())
+    })
+}
+
+/// Copies `s` into `dst` as a NUL-terminated string, cut at a character boundary to fit.
+fn copy_c_string(s: &str, dst: &mut [std::ffi::c_char]) {
+    let mut end = s.len().min(dst.len() - 1);
+    while !s.is_char_boundary(end) {
+        end -= 1;
+    }
+    for (d, &b) in dst.iter_mut().zip(&s.as_bytes()[..end]) {
+        *d = b as std::ffi::c_char;
+    }
+    dst[end] = 0;
+}
+
+/// Makes a GPU simulation's device fail as a lost device would, so that a host can test its
+/// error path: later calls on `sim` return `WETHAIR_ERROR_DEVICE`. No effect on the CPU
+/// backend. For tests only.
+///
+/// # Safety
+/// `sim` is valid.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_debug_lose_device(sim: *mut WetHairSim) -> WetHairResult {
+    guard("wethair_sim_debug_lose_device", || {
+        let s = nonnull_mut!(sim, "sim");
+        s.0.debug_lose_device();
         Ok(())
     })
 }

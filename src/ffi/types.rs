@@ -1,7 +1,7 @@
 //! The C-visible structs and enums, and their conversion into the Rust API's types.
 
 use super::boundary::Fail;
-use crate::params::{Integrator, SimParams, SpringParams, VertexAttributes, WaterParams};
+use crate::params::{Backend, Integrator, Readback, SimParams, SpringParams, VertexAttributes, WaterParams};
 use crate::physics::collide::Shape;
 use crate::physics::spring::DampingModel;
 use glam::Vec3;
@@ -34,6 +34,35 @@ pub enum WetHairIntegrator {
     WETHAIR_INTEGRATOR_AUTO = 3,
     /// Keeps the enum 32 bits wide.
     WETHAIR_INTEGRATOR_FORCE32 = 0x7fff_ffff,
+}
+
+/// Where the step runs (`WetHairSimDesc::backend`).
+#[repr(C)]
+#[allow(non_camel_case_types)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WetHairBackend {
+    /// A hardware GPU when one is found and runs the integrator, else the CPU (a software
+    /// adapter such as lavapipe is skipped); `wethair_sim_get_backend_info` says why.
+    WETHAIR_BACKEND_AUTO = 0,
+    /// The multi-threaded CPU backend.
+    WETHAIR_BACKEND_CPU = 1,
+    /// The GPU (wgpu) backend on any adapter; create fails when there is none.
+    WETHAIR_BACKEND_GPU = 2,
+    /// Keeps the enum 32 bits wide.
+    WETHAIR_BACKEND_FORCE32 = 0x7fff_ffff,
+}
+
+/// How vertices reach host memory on the GPU backend (`WetHairSimDesc::readback`).
+#[repr(C)]
+#[allow(non_camel_case_types)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WetHairReadback {
+    /// `wethair_sim_get_vertex_buffer` waits for the last step and returns its vertices.
+    WETHAIR_READBACK_LATEST = 0,
+    /// It returns the step before the last without waiting (double-buffered staging).
+    WETHAIR_READBACK_PREVIOUS_FRAME = 1,
+    /// Keeps the enum 32 bits wide.
+    WETHAIR_READBACK_FORCE32 = 0x7fff_ffff,
 }
 
 /// Collider shape (`WetHairCollider::shape`).
@@ -151,6 +180,10 @@ pub struct WetHairSimDesc {
     pub friction: f32,
     /// OR of `WetHairVertexAttribute` bits. Default all three.
     pub vertex_attributes: u32,
+    /// A `WetHairBackend` value. Default AUTO.
+    pub backend: u32,
+    /// A `WetHairReadback` value. Default LATEST.
+    pub readback: u32,
 }
 
 /// The host's own strands. Fill with `wethair_groom_desc_default()`.
@@ -221,6 +254,22 @@ pub struct WetHairStats {
     pub threads: u32,
     /// The `WetHairIntegrator` in use (AUTO resolved).
     pub integrator: u32,
+    /// The `WetHairBackend` in use (AUTO resolved: CPU or GPU).
+    pub backend: u32,
+}
+
+/// Which backend runs a simulation, on what, and why AUTO chose it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairBackendInfo {
+    /// `sizeof(WetHairBackendInfo)`, set by the host before the call.
+    pub struct_size: u32,
+    /// The `WetHairBackend` in use (CPU or GPU).
+    pub backend: u32,
+    /// The adapter's name and API, or the CPU's thread count; NUL-terminated, cut to fit.
+    pub device: [std::ffi::c_char; 128],
+    /// Why AUTO chose the CPU; empty when it did not fall back. NUL-terminated, cut to fit.
+    pub fallback_reason: [std::ffi::c_char; 256],
 }
 
 impl WetHairSimDesc {
@@ -260,6 +309,8 @@ impl WetHairSimDesc {
             collider_count: 0,
             friction: p.friction,
             vertex_attributes: p.attributes.0,
+            backend: p.backend as u32,
+            readback: p.readback as u32,
         }
     }
 
@@ -277,6 +328,17 @@ impl WetHairSimDesc {
             2 => Integrator::Xpbd,
             3 => Integrator::Auto,
             v => fail_invalid!("integrator {v} is not a WetHairIntegrator"),
+        };
+        let backend = match self.backend {
+            0 => Backend::Auto,
+            1 => Backend::Cpu,
+            2 => Backend::Gpu,
+            v => fail_invalid!("backend {v} is not a WetHairBackend"),
+        };
+        let readback = match self.readback {
+            0 => Readback::Latest,
+            1 => Readback::PreviousFrame,
+            v => fail_invalid!("readback {v} is not a WetHairReadback"),
         };
         let n = self.collider_count as usize;
         if n > crate::params::MAX_COLLIDERS {
@@ -337,6 +399,8 @@ impl WetHairSimDesc {
             colliders,
             friction: self.friction,
             attributes: VertexAttributes(self.vertex_attributes),
+            backend,
+            readback,
         })
     }
 }

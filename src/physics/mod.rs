@@ -6,6 +6,7 @@ pub mod adhesion;
 pub mod clumping;
 pub mod collide;
 pub mod grid;
+pub mod head;
 pub mod implicit;
 pub mod integrate;
 pub mod lanes;

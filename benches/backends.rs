@@ -1,0 +1,76 @@
+//! GPU and CPU backends side by side, one run: ms/frame on the paper scene (10,000 × 6, head
+//! collider) dry and with 1,000 particles, and on a large scene (100,000 × 32, 100,000
+//! particles). Every row names its device.
+//!
+//! A GPU step returns once submitted, so a row times `frames` steps and one blocking vertex
+//! read at the end (which waits for all of them) and divides by `frames`: throughput, the
+//! figure a host that reads every frame one frame late sees. CPU rows time the same way.
+//!
+//! Run: `cargo bench --bench backends` (`-- --quick` for fewer frames). Without a GPU adapter
+//! the GPU rows say so.
+
+use std::time::Instant;
+use wethair::groom::{paper_scene, Groom};
+use wethair::scenes::{on_hair, Lcg};
+use wethair::{Backend, SimParams, Simulation};
+
+/// ms/frame (throughput) and the device, or the reason there is no row.
+fn run(groom: &Groom, backend: Backend, particles: usize, frames: usize) -> Result<(f64, String, String), String> {
+    let mut params = SimParams {
+        backend,
+        ..SimParams::paper_scene_with_head()
+    };
+    params.water.capacity = params.water.capacity.max(particles as u32);
+    let mut sim = Simulation::new(groom, params).map_err(|e| e.to_string())?;
+    if particles > 0 {
+        let water = on_hair(groom.positions(), particles, &mut Lcg(2024));
+        sim.add_water(&water, &[]).map_err(|e| e.to_string())?;
+    }
+    let mut v = vec![0.0f32; sim.vertex_count() * sim.attributes().stride()];
+    for _ in 0..3 {
+        sim.step(1.0 / 60.0).map_err(|e| e.to_string())?;
+    }
+    sim.write_vertices(&mut v).map_err(|e| e.to_string())?;
+    let t0 = Instant::now();
+    for _ in 0..frames {
+        sim.step(1.0 / 60.0).map_err(|e| e.to_string())?;
+    }
+    sim.write_vertices(&mut v).map_err(|e| e.to_string())?;
+    let ms = t0.elapsed().as_secs_f64() * 1e3 / frames as f64;
+    let passes: Vec<&str> = sim.gpu_dispatches();
+    let what = if passes.is_empty() {
+        sim.passes().iter().map(|p| p.name()).collect::<Vec<_>>().join(" ")
+    } else {
+        passes.join(" ")
+    };
+    Ok((ms, sim.backend_info().device.clone(), what))
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let (paper_frames, big_frames) = if quick { (20, 2) } else { (100, 5) };
+    let paper = paper_scene(10_000, 6).expect("paper scene");
+    let big = paper_scene(100_000, 32).expect("large scene");
+    println!(
+        "wethair {} backends; frame = 1/60 s in 4 substeps; ms/frame = (frames + final read) / frames",
+        env!("CARGO_PKG_VERSION")
+    );
+    println!();
+    println!("| scene | water particles | backend | device | ms/frame | frames | dispatches (GPU) or passes (CPU) per step |");
+    println!("|---|---|---|---|---|---|---|");
+    let rows: [(&str, &Groom, usize, usize); 3] = [
+        ("paper 10000x6", &paper, 0, paper_frames),
+        ("paper 10000x6", &paper, 1000, paper_frames),
+        ("large 100000x32", &big, 100_000, big_frames),
+    ];
+    for (name, groom, particles, frames) in rows {
+        for backend in [Backend::Gpu, Backend::Cpu] {
+            match run(groom, backend, particles, frames) {
+                Ok((ms, device, what)) => {
+                    println!("| {name} | {particles} | {backend:?} | {device} | {ms:.2} | {frames} | {what} |")
+                }
+                Err(e) => println!("| {name} | {particles} | {backend:?} | none: {e} | - | - | - |"),
+            }
+        }
+    }
+}

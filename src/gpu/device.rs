@@ -1,0 +1,168 @@
+//! Finding an adapter and opening a device, with wgpu's errors turned into ours.
+//!
+//! wgpu reports validation errors, out-of-memory and device loss through callbacks whose
+//! defaults panic; [`GpuDevice`] installs handlers that record the first failure instead, and
+//! every step checks it, so a failure becomes [`Error::Device`] and nothing panics.
+
+use crate::error::{Error, Result};
+use std::future::Future;
+use std::sync::{Arc, Mutex};
+
+/// A wgpu device and queue with the error state its callbacks fill.
+#[derive(Debug)]
+pub struct GpuDevice {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The adapter's description (name, backend, driver).
+    pub info: wgpu::AdapterInfo,
+    /// The limits the device was opened with.
+    pub limits: wgpu::Limits,
+    /// Whether GPU timestamp queries are enabled.
+    pub timestamps: bool,
+    failure: Arc<Mutex<Option<String>>>,
+}
+
+impl GpuDevice {
+    /// Opens a device on the adapter `WGPU_ADAPTER_NAME` names (a case-insensitive substring),
+    /// or else the high-performance one, among the backends `WGPU_BACKEND` allows. With
+    /// `allow_software` false, a CPU adapter (lavapipe, WARP) is refused before a device is
+    /// opened on it.
+    pub fn open(allow_software: bool) -> Result<GpuDevice> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
+        let adapter = pick_adapter(&instance)?;
+        let info = adapter.get_info();
+        if !allow_software && info.device_type == wgpu::DeviceType::Cpu {
+            return Err(Error::Unsupported(format!(
+                "only a software adapter was found ({} ({:?})), which is slower than the CPU backend",
+                info.name, info.backend
+            )));
+        }
+        let have = adapter.limits();
+        // Large grooms need large storage bindings; ask for what the adapter has.
+        let limits = wgpu::Limits {
+            max_storage_buffer_binding_size: have.max_storage_buffer_binding_size,
+            max_buffer_size: have.max_buffer_size,
+            ..wgpu::Limits::default()
+        };
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let desc = wgpu::DeviceDescriptor {
+            label: Some("wethair"),
+            required_features: if timestamps {
+                wgpu::Features::TIMESTAMP_QUERY
+            } else {
+                wgpu::Features::empty()
+            },
+            required_limits: limits.clone(),
+            ..Default::default()
+        };
+        let (device, queue) = block_on(adapter.request_device(&desc))
+            .map_err(|e| Error::Device(format!("could not open a device on {}: {e}", info.name)))?;
+        let failure: Arc<Mutex<Option<String>>> = Arc::default();
+        let sink = failure.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| record(&sink, &e.to_string())));
+        let sink = failure.clone();
+        device.set_device_lost_callback(move |reason, msg| record(&sink, &format!("device lost ({reason:?}): {msg}")));
+        Ok(GpuDevice {
+            device,
+            queue,
+            info,
+            limits,
+            timestamps,
+            failure,
+        })
+    }
+
+    /// The adapter's name and backend, as stats report it.
+    pub fn adapter_name(&self) -> String {
+        format!("{} ({:?})", self.info.name, self.info.backend)
+    }
+
+    /// The first failure the device reported, if any.
+    pub fn failure(&self) -> Option<String> {
+        self.failure
+            .lock()
+            .map_or(Some("device error state poisoned".into()), |f| f.clone())
+    }
+
+    /// Fails with [`Error::Device`] when the device has reported a failure.
+    pub fn check(&self) -> Result<()> {
+        match self.failure() {
+            Some(m) => Err(Error::Device(m)),
+            None => Ok(()),
+        }
+    }
+
+    /// Waits for all submitted work; a failed wait is a device failure.
+    pub fn wait(&self) -> Result<()> {
+        if let Err(e) = self.device.poll(wgpu::PollType::wait_indefinitely()) {
+            record(&self.failure, &format!("waiting for the GPU failed: {e}"));
+        }
+        self.check()
+    }
+
+    /// Destroys the device, as a lost device would be (tests of the error path).
+    pub fn lose(&self) {
+        self.device.destroy();
+        let _ = self.device.poll(wgpu::PollType::Poll);
+        record(&self.failure, "device lost: destroyed on request");
+    }
+}
+
+fn record(sink: &Mutex<Option<String>>, msg: &str) {
+    if let Ok(mut f) = sink.lock() {
+        f.get_or_insert_with(|| msg.to_string());
+    }
+}
+
+/// The adapter named by `WGPU_ADAPTER_NAME`, else the one wgpu prefers for performance.
+fn pick_adapter(instance: &wgpu::Instance) -> Result<wgpu::Adapter> {
+    let adapters = block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    if let Ok(want) = std::env::var("WGPU_ADAPTER_NAME") {
+        let want = want.to_lowercase();
+        let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+        return adapters
+            .into_iter()
+            .find(|a| a.get_info().name.to_lowercase().contains(&want))
+            .ok_or_else(|| {
+                Error::Device(format!(
+                    "no adapter matches WGPU_ADAPTER_NAME={want:?} (found {names:?})"
+                ))
+            });
+    }
+    let opts = wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        ..Default::default()
+    };
+    block_on(instance.request_adapter(&opts)).map_err(|e| {
+        Error::Device(format!(
+            "no GPU adapter found ({e}); on Linux without a GPU install Mesa's lavapipe \
+             (mesa-vulkan-drivers)"
+        ))
+    })
+}
+
+/// Runs a future to completion on this thread. wgpu's native futures are ready once the
+/// device has been polled, so a spin with yields is all they need.
+pub fn block_on<F: Future>(f: F) -> F::Output {
+    use std::task::{Context, Poll, RawWaker, RawWakerVTable, Waker};
+    fn raw() -> RawWaker {
+        fn clone(_: *const ()) -> RawWaker {
+            raw()
+        }
+        fn noop(_: *const ()) {}
+        static VTABLE: RawWakerVTable = RawWakerVTable::new(clone, noop, noop, noop);
+        RawWaker::new(std::ptr::null(), &VTABLE)
+    }
+    // SAFETY: the vtable's functions do nothing and never touch the data pointer.
+    let waker = unsafe { Waker::from_raw(raw()) };
+    let mut cx = Context::from_waker(&waker);
+    let mut f = std::pin::pin!(f);
+    loop {
+        if let Poll::Ready(v) = f.as_mut().poll(&mut cx) {
+            return v;
+        }
+        std::thread::yield_now();
+    }
+}

@@ -1,0 +1,183 @@
+//! Shader modules and pipelines assembled from the scene: each module is the shared prelude
+//! plus only the passes the scene uses, so a dry scene's shader has no adhesion code and its
+//! pipelines bind no water buffer. The hair substep's body is written from the pass list, the
+//! same list [`crate::cpu::step::pass_list`] gives the CPU backend.
+
+use crate::cpu::step::Pass;
+
+const COMMON: &str = include_str!("shaders/common.wgsl");
+const HAIR: &str = include_str!("shaders/hair.wgsl");
+const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
+const WATER: &str = include_str!("shaders/water.wgsl");
+const OUTPUT: &str = include_str!("shaders/output.wgsl");
+
+/// Compile-time constants of one scene's shaders.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneConsts {
+    /// Axial (true) or relative (false) spring damping.
+    pub axial: bool,
+    /// Colliders per substep.
+    pub colliders: u32,
+}
+
+fn prelude(c: SceneConsts) -> String {
+    format!(
+        "const WG: u32 = {}u;\nconst AXIAL: bool = {};\nconst N_COLLIDERS: u32 = {}u;\nconst NC: u32 = {}u;\n{COMMON}\n",
+        super::buffers::WG,
+        c.axial,
+        c.colliders,
+        c.colliders.max(1)
+    )
+}
+
+/// The hair module: the substep kernel for `passes` (and water_integrate when wet).
+pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
+    let wet = passes.contains(&Pass::Adhesion);
+    let mut body = String::new();
+    for p in passes {
+        body.push_str(match p {
+            Pass::Drag => "    drag(v, &f);\n",
+            Pass::StretchSprings => "    stretch_springs(i, pt, x, v, &f);\n",
+            Pass::BendSprings => "    bend_springs(i, pt, x, v, &f);\n",
+            Pass::Adhesion => {
+                "    var near = 0.0;\n    f += adhesion(x, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n"
+            }
+            Pass::Integrate => "    integrate(pt, &x, &v, f);\n",
+            Pass::Collide => {
+                "    if (pt.inv_mass > 0.0) {\n        for (var c = 0u; c < N_COLLIDERS; c++) {\n            \
+                 collide(&x, &v, S.colliders[c], P.friction);\n        }\n    }\n"
+            }
+            // Dispatched as their own kernels (or not ported: the backend refuses them).
+            Pass::WaterGrid
+            | Pass::WaterIntegrate
+            | Pass::WaterCull
+            | Pass::ImplicitSolve
+            | Pass::ProjectConstraints => "",
+        });
+    }
+    format!(
+        "{}{HAIR}\n{}\n// Passes of this scene, in the CPU's order.\n@compute @workgroup_size(WG)\n\
+         fn hair_substep(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,\n\
+         \x20               @builtin(local_invocation_index) lid: u32) {{\n    let i = linear_id(wid, nwg, lid);\n\
+         \x20   if (i >= P.points) {{\n        return;\n    }}\n    let pt = points[i];\n    let s = state_in[i];\n\
+         \x20   var x = s.x.xyz;\n    var v = s.v.xyz;\n    var wet = s.x.w;\n    var f = vec3<f32>(0.0);\n\
+         {body}    check(i, x, v);\n    state_out[i] = State(vec4<f32>(x, wet), vec4<f32>(v, 0.0));\n}}\n",
+        prelude(c),
+        if wet { ADHESION } else { "" },
+    )
+}
+
+/// The water module (grid build, append, cull).
+pub fn water_source(c: SceneConsts) -> String {
+    format!("{}{WATER}", prelude(c))
+}
+
+/// The vertex output module.
+pub fn output_source(c: SceneConsts) -> String {
+    format!("{}{OUTPUT}", prelude(c))
+}
+
+/// Compiles WGSL; errors surface through the device's error handler.
+pub fn module(dev: &wgpu::Device, label: &str, src: &str) -> wgpu::ShaderModule {
+    dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(src.into()),
+    })
+}
+
+/// One bind group layout entry kind.
+#[derive(Clone, Copy)]
+pub enum Slot {
+    /// A uniform buffer.
+    Uniform,
+    /// A uniform buffer bound with a dynamic offset.
+    UniformDynamic,
+    /// A read-only storage buffer.
+    Read,
+    /// A read-write storage buffer.
+    ReadWrite,
+}
+
+/// A compute bind group layout with `slots` at bindings 0, 1, ...
+pub fn layout(dev: &wgpu::Device, label: &str, slots: &[Slot]) -> wgpu::BindGroupLayout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = slots
+        .iter()
+        .enumerate()
+        .map(|(i, s)| wgpu::BindGroupLayoutEntry {
+            binding: i as u32,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: match s {
+                    Slot::Uniform | Slot::UniformDynamic => wgpu::BufferBindingType::Uniform,
+                    Slot::Read => wgpu::BufferBindingType::Storage { read_only: true },
+                    Slot::ReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
+                },
+                has_dynamic_offset: matches!(s, Slot::UniformDynamic),
+                min_binding_size: None,
+            },
+            count: None,
+        })
+        .collect();
+    dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &entries,
+    })
+}
+
+/// A bind group over whole buffers (or, for a dynamic uniform, `dyn_size` bytes of it).
+pub fn bind(
+    dev: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[&wgpu::Buffer],
+    dyn_size: Option<(usize, u64)>,
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: match dyn_size {
+                Some((at, size)) if at == i => wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: b,
+                    offset: 0,
+                    size: std::num::NonZeroU64::new(size),
+                }),
+                _ => b.as_entire_binding(),
+            },
+        })
+        .collect();
+    dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
+/// Compute pipelines of one module sharing one pipeline layout.
+pub fn pipelines(
+    dev: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layouts: &[&wgpu::BindGroupLayout],
+    entries: &[&str],
+) -> Vec<wgpu::ComputePipeline> {
+    let bgls: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
+    let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: None,
+        bind_group_layouts: &bgls,
+        immediate_size: 0,
+    });
+    entries
+        .iter()
+        .map(|e| {
+            dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(e),
+                layout: Some(&pl),
+                module,
+                entry_point: Some(e),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        })
+        .collect()
+}

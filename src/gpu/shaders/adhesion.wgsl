@@ -1,0 +1,116 @@
+// Eq. 2 on the GPU (physics/adhesion.rs): each hair point gathers the particles of the grid
+// cells within r_max; the opposite force goes to the particle with a float atomic add, so
+// hair and water exchange exactly equal and opposite forces (up to summation order).
+
+@group(1) @binding(0) var<storage, read_write> sorted: array<Particle>;
+@group(1) @binding(1) var<storage, read_write> water_force: array<atomic<u32>>;
+@group(1) @binding(2) var<storage, read> grid: array<u32>;
+
+// Grid header layout in `grid` (written by grid_setup in water.wgsl).
+const G_LO: u32 = 0u;       // lo.xyz as f32 bits
+const G_CELL: u32 = 3u;     // cell side
+const G_INV: u32 = 4u;      // 1 / cell
+const G_DIMS: u32 = 5u;     // dims.xyz
+const G_CELLS: u32 = 8u;    // dims.x * dims.y * dims.z
+const G_COUNT: u32 = 9u;    // particles
+const G_START: u32 = 16u;   // start[c] at G_START + c, start[cells] = count
+
+fn grid_lo() -> vec3<f32> {
+    return vec3<f32>(bitcast<f32>(grid[G_LO]), bitcast<f32>(grid[G_LO + 1u]), bitcast<f32>(grid[G_LO + 2u]));
+}
+
+fn grid_dims() -> vec3<i32> {
+    return vec3<i32>(i32(grid[G_DIMS]), i32(grid[G_DIMS + 1u]), i32(grid[G_DIMS + 2u]));
+}
+
+// Eq. 4 with clamping (physics/grid.rs `cell_of`).
+fn cell_of(p: vec3<f32>, lo: vec3<f32>, inv_cell: f32, dims: vec3<i32>) -> vec3<i32> {
+    let c = clamp((p - lo) * inv_cell, vec3<f32>(0.0), vec3<f32>(dims - vec3<i32>(1)));
+    return min(max(vec3<i32>(c), vec3<i32>(0)), dims - vec3<i32>(1));
+}
+
+// Eq. 2's factor (physics/adhesion.rs `force_scale`): s g(d) / d within [1e-9, r_max], else 0.
+fn force_scale(d2: f32) -> f32 {
+    if (d2 > P.r_max * P.r_max || d2 < 1.0e-18) {
+        return 0.0;
+    }
+    let d = sqrt(d2);
+    let u = (2.0 * d - P.r_min - P.r_max) / (P.r_min - P.r_max);
+    return P.adhesion * (1.0 - u * u) / d;
+}
+
+fn atomic_add_f32(i: u32, v: f32) {
+    var old = atomicLoad(&water_force[i]);
+    loop {
+        let r = atomicCompareExchangeWeak(&water_force[i], old, bitcast<u32>(bitcast<f32>(old) + v));
+        if (r.exchanged) {
+            break;
+        }
+        old = r.old_value;
+    }
+}
+
+// Pass adhesion: returns the force on the hair point and sets `near` when a particle is
+// within r_max (for wetting).
+fn adhesion(x: vec3<f32>, near: ptr<function, f32>) -> vec3<f32> {
+    var acc = vec3<f32>(0.0);
+    if (grid[G_COUNT] == 0u) {
+        return acc;
+    }
+    let lo = grid_lo();
+    let inv = bitcast<f32>(grid[G_INV]);
+    let dims = grid_dims();
+    let r = P.r_max;
+    let c0 = cell_of(x - vec3<f32>(r), lo, inv, dims);
+    let c1 = cell_of(x + vec3<f32>(r), lo, inv, dims);
+    for (var cx = c0.x; cx <= c1.x; cx++) {
+        for (var cy = c0.y; cy <= c1.y; cy++) {
+            let row = (cx * dims.y + cy) * dims.z;
+            let s = grid[G_START + u32(row + c0.z)];
+            let e = grid[G_START + u32(row + c1.z) + 1u];
+            for (var k = s; k < e; k++) {
+                let d = sorted[k].x.xyz - x;
+                let d2 = dot(d, d);
+                if (d2 > r * r) {
+                    continue;
+                }
+                *near = 1.0;
+                let m = force_scale(d2);
+                if (m == 0.0) {
+                    continue;
+                }
+                let g = m * d;
+                acc += g;
+                atomic_add_f32(4u * k, -g.x);
+                atomic_add_f32(4u * k + 1u, -g.y);
+                atomic_add_f32(4u * k + 2u, -g.z);
+            }
+        }
+    }
+    return acc;
+}
+
+// Pass water_integrate (cpu/water.rs `Water::integrate`): symplectic Euler for each particle
+// with drag, the hair's reactions and gravity, then the colliders. Runs in grid order.
+@compute @workgroup_size(WG)
+fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+                   @builtin(local_invocation_index) lid: u32) {
+    let k = linear_id(wid, nwg, lid);
+    if (k >= grid[G_COUNT]) {
+        return;
+    }
+    let p = sorted[k];
+    let react = vec3<f32>(bitcast<f32>(atomicLoad(&water_force[4u * k])),
+                          bitcast<f32>(atomicLoad(&water_force[4u * k + 1u])),
+                          bitcast<f32>(atomicLoad(&water_force[4u * k + 2u])));
+    let f = -P.water_drag * p.v.xyz + react;
+    var v = p.v.xyz + P.h * (f * P.particle_inv_mass + P.g.xyz);
+    var x = p.x.xyz + P.h * v;
+    for (var c = 0u; c < N_COLLIDERS; c++) {
+        collide(&x, &v, S.colliders[c], P.friction);
+    }
+    if (non_finite(dot(v, v) + x.x + x.y + x.z)) {
+        atomicOr(&status[1], 2u);
+    }
+    sorted[k] = Particle(vec4<f32>(x, 0.0), vec4<f32>(v, 0.0));
+}

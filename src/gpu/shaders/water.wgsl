@@ -1,0 +1,270 @@
+// The water passes (cpu/water.rs and physics/grid.rs): append new particles, rebuild the
+// dense clamped grid by counting sort (bounds, setup, count, prefix sum, scatter into grid
+// order), and remove particles that left the domain. The scatter writes the particles in grid
+// order into the other buffer, which the hair substep then reads and water_integrate updates.
+
+@group(0) @binding(0) var<uniform> P: Params;
+@group(0) @binding(1) var<storage, read_write> cur: array<Particle>;
+@group(0) @binding(2) var<storage, read_write> other: array<Particle>;
+@group(0) @binding(3) var<storage, read_write> water_force: array<u32>;
+// [0..3) max of ~key(lo), [3..6) max of key(hi), [8 + c] particles in cell c.
+@group(0) @binding(4) var<storage, read_write> grid_count: array<atomic<u32>>;
+@group(0) @binding(5) var<storage, read_write> grid: array<u32>;
+// [0] particles, [1] kept by the cull, [2] removed since reset.
+@group(0) @binding(6) var<storage, read_write> water_state: array<atomic<u32>, 4>;
+@group(0) @binding(7) var<storage, read> incoming: array<Particle>;
+// The prefix sum's indirect dispatch size: bound only for grid_setup, as a buffer cannot be
+// storage and indirect in one dispatch.
+@group(1) @binding(0) var<storage, read_write> grid_dispatch: array<u32, 3>;
+
+const G_LO: u32 = 0u;
+const G_CELL: u32 = 3u;
+const G_INV: u32 = 4u;
+const G_DIMS: u32 = 5u;
+const G_CELLS: u32 = 8u;
+const G_COUNT: u32 = 9u;
+const G_START: u32 = 16u;
+const SCAN_BLOCK: u32 = 1024u;
+
+// Float bits mapped so that unsigned order is float order.
+fn order_key(f: f32) -> u32 {
+    let b = bitcast<u32>(f);
+    if ((b & 0x80000000u) != 0u) {
+        return ~b;
+    }
+    return b | 0x80000000u;
+}
+
+fn order_value(k: u32) -> f32 {
+    if ((k & 0x80000000u) != 0u) {
+        return bitcast<f32>(k & 0x7fffffffu);
+    }
+    return bitcast<f32>(~k);
+}
+
+fn grid_lo() -> vec3<f32> {
+    return vec3<f32>(bitcast<f32>(grid[G_LO]), bitcast<f32>(grid[G_LO + 1u]), bitcast<f32>(grid[G_LO + 2u]));
+}
+
+fn grid_dims() -> vec3<i32> {
+    return vec3<i32>(i32(grid[G_DIMS]), i32(grid[G_DIMS + 1u]), i32(grid[G_DIMS + 2u]));
+}
+
+// Eqs. 4-5 with clamping (physics/grid.rs `cell_of`, `index`).
+fn cell_index(p: vec3<f32>) -> u32 {
+    let dims = grid_dims();
+    let c = clamp((p - grid_lo()) * bitcast<f32>(grid[G_INV]), vec3<f32>(0.0), vec3<f32>(dims - vec3<i32>(1)));
+    let ci = min(max(vec3<i32>(c), vec3<i32>(0)), dims - vec3<i32>(1));
+    return u32((ci.x * dims.y + ci.y) * dims.z + ci.z);
+}
+
+// Pass water_append: new particles go after the live ones.
+@compute @workgroup_size(WG)
+fn water_append(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+                @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    if (i >= P.incoming) {
+        return;
+    }
+    let slot = atomicAdd(&water_state[0], 1u);
+    if (slot < P.capacity) {
+        cur[slot] = incoming[i];
+    }
+}
+
+var<workgroup> wg_bounds: array<atomic<u32>, 6>;
+
+// Pass water_grid, part 1: the particles' bounds (a workgroup reduction, then one atomic per
+// workgroup and axis).
+@compute @workgroup_size(WG)
+fn grid_bounds(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+               @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    if (i < atomicLoad(&water_state[0])) {
+        let x = cur[i].x.xyz;
+        for (var a = 0u; a < 3u; a++) {
+            atomicMax(&wg_bounds[a], ~order_key(x[a]));
+            atomicMax(&wg_bounds[3u + a], order_key(x[a]));
+        }
+    }
+    workgroupBarrier();
+    if (lid < 6u) {
+        let k = atomicLoad(&wg_bounds[lid]);
+        if (k != 0u) {
+            atomicMax(&grid_count[lid], k);
+        }
+    }
+}
+
+// Pass water_grid, part 2 (one invocation): box, cell size and dims as `Grid::build` chooses
+// them; the prefix sum's indirect dispatch size; bounds cleared for the next build.
+@compute @workgroup_size(1)
+fn grid_setup() {
+    let n = atomicLoad(&water_state[0]);
+    var lo = vec3<f32>(0.0);
+    var hi = vec3<f32>(0.0);
+    if (n > 0u) {
+        for (var a = 0u; a < 3u; a++) {
+            lo[a] = order_value(~atomicLoad(&grid_count[a]));
+            hi[a] = order_value(atomicLoad(&grid_count[3u + a]));
+        }
+    }
+    let extent = hi - lo;
+    var cell = P.r_max;
+    var dims = max(vec3<i32>(extent / cell), vec3<i32>(0)) + vec3<i32>(1);
+    let max_cells = f32(clamp(64u * n, 4096u, P.max_cells));
+    for (var round = 0; round < 256; round++) {
+        if (f32(dims.x) * f32(dims.y) * f32(dims.z) <= max_cells) {
+            break;
+        }
+        cell *= 1.26;
+        dims = max(vec3<i32>(extent / cell), vec3<i32>(0)) + vec3<i32>(1);
+    }
+    let cells = u32(dims.x * dims.y * dims.z);
+    for (var a = 0u; a < 3u; a++) {
+        grid[G_LO + a] = bitcast<u32>(lo[a]);
+        grid[G_DIMS + a] = u32(dims[a]);
+        atomicStore(&grid_count[a], 0u);
+        atomicStore(&grid_count[3u + a], 0u);
+    }
+    grid[G_CELL] = bitcast<u32>(cell);
+    grid[G_INV] = bitcast<u32>(1.0 / cell);
+    grid[G_CELLS] = cells;
+    grid[G_COUNT] = n;
+    grid_dispatch[0] = (cells + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    grid_dispatch[1] = 1u;
+    grid_dispatch[2] = 1u;
+}
+
+// Pass water_grid, part 3: particles per cell.
+@compute @workgroup_size(WG)
+fn grid_count_cells(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+                    @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    if (i >= grid[G_COUNT]) {
+        return;
+    }
+    atomicAdd(&grid_count[8u + cell_index(cur[i].x.xyz)], 1u);
+}
+
+var<workgroup> scan: array<u32, 256>;
+
+// Pass water_grid, part 4a: exclusive prefix sum of the counts within blocks of 1,024 cells.
+@compute @workgroup_size(256)
+fn grid_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let cells = grid[G_CELLS];
+    let base = wid.x * SCAN_BLOCK + lid * 4u;
+    var c = array<u32, 4>(0u, 0u, 0u, 0u);
+    var sum = 0u;
+    for (var k = 0u; k < 4u; k++) {
+        if (base + k < cells) {
+            c[k] = atomicLoad(&grid_count[8u + base + k]);
+        }
+        sum += c[k];
+    }
+    scan[lid] = sum;
+    workgroupBarrier();
+    for (var off = 1u; off < 256u; off <<= 1u) {
+        var add = 0u;
+        if (lid >= off) {
+            add = scan[lid - off];
+        }
+        workgroupBarrier();
+        scan[lid] += add;
+        workgroupBarrier();
+    }
+    var run = scan[lid] - sum;
+    for (var k = 0u; k < 4u; k++) {
+        if (base + k < cells) {
+            grid[G_START + base + k] = run;
+        }
+        run += c[k];
+    }
+    if (lid == 255u) {
+        grid[G_START + P.max_cells + 1u + wid.x] = scan[255];
+    }
+}
+
+// Pass water_grid, part 4b (one workgroup): exclusive prefix sum of the block sums.
+@compute @workgroup_size(256)
+fn grid_scan_sums(@builtin(local_invocation_index) lid: u32) {
+    let blocks = (grid[G_CELLS] + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    let at = G_START + P.max_cells + 1u;
+    var own = 0u;
+    if (lid < blocks) {
+        own = grid[at + lid];
+    }
+    scan[lid] = own;
+    workgroupBarrier();
+    for (var off = 1u; off < 256u; off <<= 1u) {
+        var add = 0u;
+        if (lid >= off) {
+            add = scan[lid - off];
+        }
+        workgroupBarrier();
+        scan[lid] += add;
+        workgroupBarrier();
+    }
+    if (lid < blocks) {
+        grid[at + lid] = scan[lid] - own;
+    }
+    if (lid == 255u) {
+        grid[G_START + grid[G_CELLS]] = scan[255];
+    }
+}
+
+// Pass water_grid, part 4c: block offsets added to every cell's start.
+@compute @workgroup_size(256)
+fn grid_scan_add(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let cells = grid[G_CELLS];
+    let add = grid[G_START + P.max_cells + 1u + wid.x];
+    let base = wid.x * SCAN_BLOCK + lid * 4u;
+    for (var k = 0u; k < 4u; k++) {
+        if (base + k < cells) {
+            grid[G_START + base + k] += add;
+        }
+    }
+}
+
+// Pass water_grid, part 5: each particle to its slot in grid order (counts drop back to 0,
+// ready for the next build); its reaction-force sum starts at 0.
+@compute @workgroup_size(WG)
+fn grid_scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+                @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    if (i >= grid[G_COUNT]) {
+        return;
+    }
+    let p = cur[i];
+    let c = cell_index(p.x.xyz);
+    let slot = grid[G_START + c] + atomicSub(&grid_count[8u + c], 1u) - 1u;
+    other[slot] = p;
+    water_force[4u * slot] = 0u;
+    water_force[4u * slot + 1u] = 0u;
+    water_force[4u * slot + 2u] = 0u;
+}
+
+// Pass water_cull (once per step): particles farther than the domain radius from its centre
+// are dropped; the rest are compacted into the other buffer.
+@compute @workgroup_size(WG)
+fn water_cull(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+              @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    if (i >= atomicLoad(&water_state[0])) {
+        return;
+    }
+    let p = cur[i];
+    let d = p.x.xyz - P.domain_center.xyz;
+    if (dot(d, d) > P.domain_r2) {
+        atomicAdd(&water_state[2], 1u);
+        return;
+    }
+    other[atomicAdd(&water_state[1], 1u)] = p;
+}
+
+// Pass water_cull, part 2 (one invocation): the kept count becomes the count.
+@compute @workgroup_size(1)
+fn water_cull_finish() {
+    atomicStore(&water_state[0], atomicLoad(&water_state[1]));
+    atomicStore(&water_state[1], 0u);
+}
