@@ -48,6 +48,28 @@ struct WaterGpu {
     removed: u64,
 }
 
+impl WaterGpu {
+    /// Encodes pass water_grid over the held particles: bounds, setup, count, prefix sum and,
+    /// with `scatter`, the scatter into grid order (without it the counts stay for a test).
+    fn encode_grid(&self, pass: &mut wgpu::ComputePass, scatter: bool) {
+        let (gx, gy) = groups(self.bound.max(1));
+        pass.set_bind_group(0, &self.build_bg[self.cur], &[]);
+        let last = if scatter { 8 } else { 7 };
+        for (k, p) in self.pipes[1..last].iter().enumerate() {
+            pass.set_pipeline(p);
+            match WATER_ENTRIES[k + 1] {
+                "grid_setup" => {
+                    pass.set_bind_group(1, &self.dispatch_bg, &[]);
+                    pass.dispatch_workgroups(1, 1, 1)
+                }
+                "grid_scan_sums" => pass.dispatch_workgroups(1, 1, 1),
+                "grid_scan_blocks" | "grid_scan_add" => pass.dispatch_workgroups_indirect(&self.dispatch, 0),
+                _ => pass.dispatch_workgroups(gx, gy, 1),
+            }
+        }
+    }
+}
+
 const WATER_ENTRIES: [&str; 10] = [
     "water_append",
     "grid_bounds",
@@ -613,21 +635,8 @@ impl GpuBackend {
                 let off = [(s as u64 * self.sub_stride) as u32];
                 if let (true, Some(w)) = (wet, self.water.as_mut()) {
                     // Pass water_grid.
+                    w.encode_grid(&mut pass, true);
                     let (gx, gy) = groups(w.bound);
-                    let bg = &w.build_bg[w.cur];
-                    pass.set_bind_group(0, bg, &[]);
-                    for (k, p) in w.pipes[1..8].iter().enumerate() {
-                        pass.set_pipeline(p);
-                        match WATER_ENTRIES[k + 1] {
-                            "grid_setup" => {
-                                pass.set_bind_group(1, &w.dispatch_bg, &[]);
-                                pass.dispatch_workgroups(1, 1, 1)
-                            }
-                            "grid_scan_sums" => pass.dispatch_workgroups(1, 1, 1),
-                            "grid_scan_blocks" | "grid_scan_add" => pass.dispatch_workgroups_indirect(&w.dispatch, 0),
-                            _ => pass.dispatch_workgroups(gx, gy, 1),
-                        }
-                    }
                     // Forces, adhesion, integrate, collide; then the particles move.
                     pass.set_pipeline(&w.wet_hair[0]);
                     pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
@@ -931,20 +940,7 @@ impl GpuBackend {
         let mut enc = self.dev.device.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_bind_group(0, &w.build_bg[w.cur], &[]);
-            let (gx, gy) = groups(w.bound.max(1));
-            for (k, p) in w.pipes[1..7].iter().enumerate() {
-                pass.set_pipeline(p);
-                match WATER_ENTRIES[k + 1] {
-                    "grid_setup" => {
-                        pass.set_bind_group(1, &w.dispatch_bg, &[]);
-                        pass.dispatch_workgroups(1, 1, 1)
-                    }
-                    "grid_scan_sums" => pass.dispatch_workgroups(1, 1, 1),
-                    "grid_scan_blocks" | "grid_scan_add" => pass.dispatch_workgroups_indirect(&w.dispatch, 0),
-                    _ => pass.dispatch_workgroups(gx, gy, 1),
-                }
-            }
+            w.encode_grid(&mut pass, false);
         }
         self.dev.queue.submit([enc.finish()]);
         let bytes = self.read_buffers(&[(&w.grid, w.grid.size())], None)?;
