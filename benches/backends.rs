@@ -12,12 +12,19 @@
 use std::time::Instant;
 use wethair::groom::{paper_scene, Groom};
 use wethair::scenes::{on_hair, Lcg};
-use wethair::{Backend, SimParams, Simulation};
+use wethair::{Backend, Integrator, SimParams, Simulation};
 
 /// ms/frame (throughput) and the device, or the reason there is no row.
-fn run(groom: &Groom, backend: Backend, particles: usize, frames: usize) -> Result<(f64, String, String), String> {
+fn run(
+    groom: &Groom,
+    backend: Backend,
+    integrator: Integrator,
+    particles: usize,
+    frames: usize,
+) -> Result<(f64, String, String), String> {
     let mut params = SimParams {
         backend,
+        integrator,
         ..SimParams::paper_scene_with_head()
     };
     params.water.capacity = params.water.capacity.max(particles as u32);
@@ -56,20 +63,25 @@ fn main() {
         env!("CARGO_PKG_VERSION")
     );
     println!();
-    println!("| scene | water particles | backend | device | ms/frame | frames | dispatches (GPU) or passes (CPU) per step |");
-    println!("|---|---|---|---|---|---|---|");
-    let rows: [(&str, &Groom, usize, usize); 3] = [
-        ("paper 10000x6", &paper, 0, paper_frames),
-        ("paper 10000x6", &paper, 1000, paper_frames),
-        ("large 100000x32", &big, 100_000, big_frames),
+    println!(
+        "| scene | water particles | integrator | backend | device | ms/frame | frames | dispatches (GPU) or passes (CPU) per step |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    let se = Integrator::SymplecticEuler;
+    let rows: [(&str, &Groom, Integrator, usize, usize); 4] = [
+        ("paper 10000x6", &paper, se, 0, paper_frames),
+        ("paper 10000x6", &paper, se, 1000, paper_frames),
+        ("paper 10000x6", &paper, Integrator::ImplicitEuler, 0, paper_frames),
+        ("large 100000x32", &big, se, 100_000, big_frames),
     ];
-    for (name, groom, particles, frames) in rows {
+    for (name, groom, integrator, particles, frames) in rows {
         for backend in [Backend::Gpu, Backend::Cpu] {
-            match run(groom, backend, particles, frames) {
+            let i = format!("{integrator:?}");
+            match run(groom, backend, integrator, particles, frames) {
                 Ok((ms, device, what)) => {
-                    println!("| {name} | {particles} | {backend:?} | {device} | {ms:.2} | {frames} | {what} |")
+                    println!("| {name} | {particles} | {i} | {backend:?} | {device} | {ms:.2} | {frames} | {what} |")
                 }
-                Err(e) => println!("| {name} | {particles} | {backend:?} | none: {e} | - | - | - |"),
+                Err(e) => println!("| {name} | {particles} | {i} | {backend:?} | none: {e} | - | - | - |"),
             }
         }
     }

@@ -538,7 +538,7 @@ fn choose_engine(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Engin
         }
         #[cfg(feature = "gpu")]
         Backend::Auto => {
-            if integrator != Integrator::SymplecticEuler {
+            if integrator == Integrator::Xpbd {
                 return cpu(format!("{integrator:?} runs on the CPU backend only"));
             }
             match crate::gpu::GpuDevice::open(false) {

@@ -36,8 +36,8 @@ struct WaterGpu {
     hair_bg: [wgpu::BindGroup; 2],
     /// Pipelines by entry point (see `WATER_ENTRIES`).
     pipes: Vec<wgpu::ComputePipeline>,
-    /// Wet hair module: hair_substep, water_integrate.
-    wet_hair: Vec<wgpu::ComputePipeline>,
+    /// The hair kernels of the wet scene.
+    wet_hair: HairKernels,
     /// Which particle buffer holds the particles.
     cur: usize,
     /// An upper bound on the particles held (exact after a status read).
@@ -66,6 +66,85 @@ impl WaterGpu {
                 "grid_scan_blocks" | "grid_scan_add" => pass.dispatch_workgroups_indirect(&self.dispatch, 0),
                 _ => pass.dispatch_workgroups(gx, gy, 1),
             }
+        }
+    }
+}
+
+/// The hair kernels of one scene variant (dry or wet).
+#[derive(Debug)]
+struct HairKernels {
+    /// hair_forces: implicit Euler's explicit forces (only with drag or water).
+    forces: Option<wgpu::ComputePipeline>,
+    /// hair_substep (symplectic Euler) or implicit_solve (one invocation per strand).
+    solve: wgpu::ComputePipeline,
+    /// Whether `solve` is implicit_solve.
+    implicit: bool,
+    /// water_integrate (wet only).
+    water: Option<wgpu::ComputePipeline>,
+}
+
+impl HairKernels {
+    /// Compiles the hair module for `passes`. `water`: the water group's layout when wet;
+    /// `strands`: the strand table's layout for implicit Euler.
+    fn new(
+        d: &wgpu::Device,
+        consts: SceneConsts,
+        passes: &[Pass],
+        hair: &wgpu::BindGroupLayout,
+        water: Option<&wgpu::BindGroupLayout>,
+        strands: Option<&wgpu::BindGroupLayout>,
+    ) -> HairKernels {
+        let implicit = passes.contains(&Pass::ImplicitSolve);
+        let module = pl::module(d, "hair", &pl::hair_source(consts, passes));
+        let main: Vec<Option<&wgpu::BindGroupLayout>> = vec![Some(hair), water];
+        let one = |layouts: &[Option<&wgpu::BindGroupLayout>], e: &str| {
+            pl::pipelines_sparse(d, &module, layouts, &[e]).remove(0)
+        };
+        HairKernels {
+            forces: (implicit && pl::has_forces(passes)).then(|| one(&main, "hair_forces")),
+            solve: if implicit {
+                one(&[Some(hair), None, strands], "implicit_solve")
+            } else {
+                one(&main, "hair_substep")
+            },
+            implicit,
+            water: water.map(|_| one(&main, "water_integrate")),
+        }
+    }
+
+    /// Encodes one substep's hair kernels (not water_integrate).
+    #[allow(clippy::too_many_arguments)]
+    fn encode(
+        &self,
+        pass: &mut wgpu::ComputePass,
+        hair: &wgpu::BindGroup,
+        off: &[u32],
+        water: Option<&wgpu::BindGroup>,
+        strands: Option<&wgpu::BindGroup>,
+        points: u32,
+        n_strands: u32,
+    ) {
+        let (px, py) = groups(points);
+        pass.set_bind_group(0, hair, off);
+        if let Some(f) = &self.forces {
+            pass.set_pipeline(f);
+            if let Some(w) = water {
+                pass.set_bind_group(1, w, &[]);
+            }
+            pass.dispatch_workgroups(px, py, 1);
+        }
+        pass.set_pipeline(&self.solve);
+        if self.implicit {
+            if let Some(s) = strands {
+                pass.set_bind_group(2, s, &[]);
+            }
+            let (sx, sy) = groups(n_strands);
+            pass.dispatch_workgroups(sx, sy, 1);
+        } else {
+            if let Some(w) = water {
+                pass.set_bind_group(1, w, &[]);
+            }
+            pass.dispatch_workgroups(px, py, 1);
         }
     }
 }
@@ -128,7 +207,10 @@ pub struct GpuBackend {
     hair_layout: wgpu::BindGroupLayout,
     /// Hair bind groups: [in = A, out = B], [in = B, out = A].
     hair_bg: [wgpu::BindGroup; 2],
-    dry_hair: wgpu::ComputePipeline,
+    dry_hair: HairKernels,
+    /// The strand table's layout and bind group (implicit Euler only).
+    strands_layout: Option<wgpu::BindGroupLayout>,
+    strands_bg: Option<wgpu::BindGroup>,
     output: wgpu::ComputePipeline,
     output_bg: [wgpu::BindGroup; 2],
     cur: usize,
@@ -151,9 +233,9 @@ impl GpuBackend {
         integrator: Integrator,
         head: &Affine3A,
     ) -> Result<Self> {
-        if integrator != Integrator::SymplecticEuler {
+        if !matches!(integrator, Integrator::SymplecticEuler | Integrator::ImplicitEuler) {
             return Err(Error::Unsupported(format!(
-                "the GPU backend runs symplectic Euler only; {integrator:?} runs on the CPU backend"
+                "the GPU backend runs symplectic and implicit Euler; {integrator:?} runs on the CPU backend"
             )));
         }
         let d = &dev.device;
@@ -192,9 +274,14 @@ impl GpuBackend {
                 });
             }
         }
+        let rows = groom.max_strand_points();
+        let bend = rows > 2 && (params.bend.stiffness > 0.0 || params.bend.damping > 0.0);
         let consts = SceneConsts {
             axial: params.damping_model == crate::DampingModel::Axial,
             colliders: params.colliders.len() as u32,
+            bend,
+            max_points: rows as u32,
+            iterations: params.solver_iterations,
         };
         let n_sub = params.substeps as usize;
         let align = dev.limits.min_uniform_buffer_offset_alignment as u64;
@@ -253,11 +340,23 @@ impl GpuBackend {
             )
         };
         let output_bg = [mk_out(0), mk_out(1)];
-        let rows = groom.max_strand_points();
-        let bend = rows > 2 && (params.bend.stiffness > 0.0 || params.bend.damping > 0.0);
         let dry_passes = pass_list(params, integrator, bend, false);
-        let hair_mod = pl::module(d, "hair (dry)", &pl::hair_source(consts, &dry_passes));
-        let dry_hair = pl::pipelines(d, &hair_mod, &[&hair_layout], &["hair_substep"]).remove(0);
+        let strand_table = (integrator == Integrator::ImplicitEuler).then(|| {
+            let buf = b::buffer(d, "strand_first", groom.strand_first.len() as u64 * 4, STORAGE);
+            dev.queue
+                .write_buffer(&buf, 0, bytemuck::cast_slice(&groom.strand_first));
+            let layout = pl::layout(d, "strands", &[Slot::Read]);
+            let bg = pl::bind(d, "strands", &layout, &[&buf], None);
+            (layout, bg)
+        });
+        let dry_hair = HairKernels::new(
+            d,
+            consts,
+            &dry_passes,
+            &hair_layout,
+            None,
+            strand_table.as_ref().map(|s| &s.0),
+        );
         let out_mod = pl::module(d, "output", &pl::output_source(consts));
         let output = pl::pipelines(d, &out_mod, &[&out_layout], &["write_vertices"]).remove(0);
         let (lo, hi) = groom.bounds();
@@ -287,6 +386,8 @@ impl GpuBackend {
             hair_layout,
             hair_bg,
             dry_hair,
+            strands_layout: strand_table.as_ref().map(|s| s.0.clone()),
+            strands_bg: strand_table.map(|s| s.1),
             output,
             output_bg,
             cur: 0,
@@ -337,7 +438,16 @@ impl GpuBackend {
         if wet {
             v.extend_from_slice(&WATER_ENTRIES[1..8]);
         }
-        v.push("hair_substep");
+        let k = if wet {
+            self.water.as_ref().map(|w| &w.wet_hair)
+        } else {
+            None
+        }
+        .unwrap_or(&self.dry_hair);
+        if k.forces.is_some() {
+            v.push("hair_forces");
+        }
+        v.push(if k.implicit { "implicit_solve" } else { "hair_substep" });
         if wet {
             v.extend_from_slice(&["water_integrate", "water_cull", "water_cull_finish"]);
         }
@@ -521,12 +631,13 @@ impl GpuBackend {
             })
             .collect();
         let wet_passes = pass_list(&self.params, self.integrator, self.bend, true);
-        let hair_mod = pl::module(d, "hair (wet)", &pl::hair_source(self.consts, &wet_passes));
-        let wet_hair = pl::pipelines(
+        let wet_hair = HairKernels::new(
             d,
-            &hair_mod,
-            &[&self.hair_layout, &hair_layout],
-            &["hair_substep", "water_integrate"],
+            self.consts,
+            &wet_passes,
+            &self.hair_layout,
+            Some(&hair_layout),
+            self.strands_layout.as_ref(),
         );
         self.dev.check()?;
         Ok(WaterGpu {
@@ -638,19 +749,32 @@ impl GpuBackend {
                     w.encode_grid(&mut pass, true);
                     let (gx, gy) = groups(w.bound);
                     // Forces, adhesion, integrate, collide; then the particles move.
-                    pass.set_pipeline(&w.wet_hair[0]);
-                    pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
-                    pass.set_bind_group(1, &w.hair_bg[w.cur], &[]);
-                    let (px, py) = groups(self.points);
-                    pass.dispatch_workgroups(px, py, 1);
-                    pass.set_pipeline(&w.wet_hair[1]);
-                    pass.dispatch_workgroups(gx, gy, 1);
+                    let k = &w.wet_hair;
+                    k.encode(
+                        &mut pass,
+                        &self.hair_bg[self.cur],
+                        &off,
+                        Some(&w.hair_bg[w.cur]),
+                        self.strands_bg.as_ref(),
+                        self.points,
+                        self.strands,
+                    );
+                    if let Some(p) = &k.water {
+                        pass.set_pipeline(p);
+                        pass.set_bind_group(1, &w.hair_bg[w.cur], &[]);
+                        pass.dispatch_workgroups(gx, gy, 1);
+                    }
                     w.cur = 1 - w.cur;
                 } else {
-                    pass.set_pipeline(&self.dry_hair);
-                    pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
-                    let (px, py) = groups(self.points);
-                    pass.dispatch_workgroups(px, py, 1);
+                    self.dry_hair.encode(
+                        &mut pass,
+                        &self.hair_bg[self.cur],
+                        &off,
+                        None,
+                        self.strands_bg.as_ref(),
+                        self.points,
+                        self.strands,
+                    );
                 }
                 self.cur = 1 - self.cur;
             }

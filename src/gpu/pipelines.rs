@@ -10,6 +10,7 @@ const HAIR: &str = include_str!("shaders/hair.wgsl");
 const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
 const WATER: &str = include_str!("shaders/water.wgsl");
 const OUTPUT: &str = include_str!("shaders/output.wgsl");
+const IMPLICIT: &str = include_str!("shaders/implicit.wgsl");
 
 /// Compile-time constants of one scene's shaders.
 #[derive(Clone, Copy, Debug)]
@@ -18,21 +19,37 @@ pub struct SceneConsts {
     pub axial: bool,
     /// Colliders per substep.
     pub colliders: u32,
+    /// The scene has bend springs.
+    pub bend: bool,
+    /// Points of the longest strand (sizes implicit Euler's per-strand system).
+    pub max_points: u32,
+    /// Newton iterations of implicit Euler.
+    pub iterations: u32,
 }
 
 fn prelude(c: SceneConsts) -> String {
     format!(
-        "const WG: u32 = {}u;\nconst AXIAL: bool = {};\nconst N_COLLIDERS: u32 = {}u;\nconst NC: u32 = {}u;\n{COMMON}\n",
+        "const WG: u32 = {}u;\nconst AXIAL: bool = {};\nconst BEND: bool = {};\nconst N_COLLIDERS: u32 = {}u;\n\
+         const NC: u32 = {}u;\n{COMMON}\n",
         super::buffers::WG,
         c.axial,
+        c.bend,
         c.colliders,
         c.colliders.max(1)
     )
 }
 
+/// Whether implicit Euler needs the `hair_forces` kernel (drag or adhesion present).
+pub fn has_forces(passes: &[Pass]) -> bool {
+    passes.iter().any(|p| matches!(p, Pass::Drag | Pass::Adhesion))
+}
+
 /// The hair module: the substep kernel for `passes` (and water_integrate when wet).
 pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
     let wet = passes.contains(&Pass::Adhesion);
+    if passes.contains(&Pass::ImplicitSolve) {
+        return implicit_source(c, passes);
+    }
     let mut body = String::new();
     for p in passes {
         body.push_str(match p {
@@ -65,6 +82,43 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
         prelude(c),
         if wet { ADHESION } else { "" },
     )
+}
+
+/// Implicit Euler's hair module: `hair_forces` (drag, adhesion, wetting; per point, only when
+/// the scene has them) writes the explicit forces into state_out, then `implicit_solve` (per
+/// strand) integrates and collides.
+fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
+    let wet = passes.contains(&Pass::Adhesion);
+    let forces = has_forces(passes);
+    let mut out = format!(
+        "{}{HAIR}\n{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
+         const COLLIDE: bool = {};\n{IMPLICIT}\n",
+        prelude(c),
+        if wet { ADHESION } else { "" },
+        c.max_points.max(2),
+        c.iterations.max(1),
+        passes.contains(&Pass::Collide),
+    );
+    if forces {
+        let mut body = String::new();
+        if passes.contains(&Pass::Drag) {
+            body.push_str("    drag(v, &f);\n");
+        }
+        if wet {
+            body.push_str(
+                "    var near = 0.0;\n    f += adhesion(x, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n",
+            );
+        }
+        out.push_str(&format!(
+            "// Explicit forces of this scene, in the CPU's order, parked in state_out.\n@compute @workgroup_size(WG)\n\
+             fn hair_forces(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,\n\
+             \x20              @builtin(local_invocation_index) lid: u32) {{\n    let i = linear_id(wid, nwg, lid);\n\
+             \x20   if (i >= P.points) {{\n        return;\n    }}\n    let s = state_in[i];\n    let x = s.x.xyz;\n\
+             \x20   let v = s.v.xyz;\n    var wet = s.x.w;\n    var f = vec3<f32>(0.0);\n{body}\
+             \x20   state_out[i] = State(vec4<f32>(f, wet), vec4<f32>(0.0));\n}}\n"
+        ));
+    }
+    out
 }
 
 /// The water module (grid build, append, cull).
@@ -162,9 +216,19 @@ pub fn pipelines(
     entries: &[&str],
 ) -> Vec<wgpu::ComputePipeline> {
     let bgls: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
+    pipelines_sparse(dev, module, &bgls, entries)
+}
+
+/// Like [`pipelines`], with unused bind group slots left `None`.
+pub fn pipelines_sparse(
+    dev: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    bgls: &[Option<&wgpu::BindGroupLayout>],
+    entries: &[&str],
+) -> Vec<wgpu::ComputePipeline> {
     let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: None,
-        bind_group_layouts: &bgls,
+        bind_group_layouts: bgls,
         immediate_size: 0,
     });
     entries
