@@ -5,6 +5,8 @@
 //! A GPU step returns once submitted, so a row times `frames` steps and one blocking vertex
 //! read at the end (which waits for all of them) and divides by `frames`: throughput, the
 //! figure a host that reads every frame one frame late sees. CPU rows time the same way.
+//! Where the adapter has timestamp queries, a second column gives the GPU time of the step's
+//! compute pass (median of up to 20 steps, each read back before the next).
 //!
 //! Run: `cargo bench --bench backends` (`-- --quick` for fewer frames). Without a GPU adapter
 //! the GPU rows say so.
@@ -21,7 +23,7 @@ fn run(
     integrator: Integrator,
     particles: usize,
     frames: usize,
-) -> Result<(f64, String, String), String> {
+) -> Result<(f64, String, String, String), String> {
     let mut params = SimParams {
         backend,
         integrator,
@@ -44,13 +46,28 @@ fn run(
     }
     sim.write_vertices(&mut v).map_err(|e| e.to_string())?;
     let ms = t0.elapsed().as_secs_f64() * 1e3 / frames as f64;
+    // GPU time per step from timestamp queries, where the adapter has them: a separate,
+    // synchronised pass over a few frames (reading a timestamp waits for the step).
+    let gpu_ms = if sim.enable_gpu_timing() {
+        let mut t = Vec::new();
+        for _ in 0..frames.min(20) {
+            sim.step(1.0 / 60.0).map_err(|e| e.to_string())?;
+            if let Some(r) = sim.last_step_gpu_ms() {
+                t.push(r.map_err(|e| e.to_string())?);
+            }
+        }
+        t.sort_by(|a, b| a.total_cmp(b));
+        t.get(t.len() / 2).map_or("-".into(), |m| format!("{m:.2}"))
+    } else {
+        "-".into()
+    };
     let passes: Vec<&str> = sim.gpu_dispatches();
     let what = if passes.is_empty() {
         sim.passes().iter().map(|p| p.name()).collect::<Vec<_>>().join(" ")
     } else {
         passes.join(" ")
     };
-    Ok((ms, sim.backend_info().device.clone(), what))
+    Ok((ms, gpu_ms, sim.backend_info().device.clone(), what))
 }
 
 fn main() {
@@ -64,9 +81,9 @@ fn main() {
     );
     println!();
     println!(
-        "| scene | water particles | integrator | backend | device | ms/frame | frames | dispatches (GPU) or passes (CPU) per step |"
+        "| scene | water particles | integrator | backend | device | ms/frame | GPU timestamps ms/step (median) | frames | dispatches (GPU) or passes (CPU) per step |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|");
     let se = Integrator::SymplecticEuler;
     let rows: [(&str, &Groom, Integrator, usize, usize); 4] = [
         ("paper 10000x6", &paper, se, 0, paper_frames),
@@ -78,10 +95,10 @@ fn main() {
         for backend in [Backend::Gpu, Backend::Cpu] {
             let i = format!("{integrator:?}");
             match run(groom, backend, integrator, particles, frames) {
-                Ok((ms, device, what)) => {
-                    println!("| {name} | {particles} | {i} | {backend:?} | {device} | {ms:.2} | {frames} | {what} |")
+                Ok((ms, gpu_ms, device, what)) => {
+                    println!("| {name} | {particles} | {i} | {backend:?} | {device} | {ms:.2} | {gpu_ms} | {frames} | {what} |")
                 }
-                Err(e) => println!("| {name} | {particles} | {i} | {backend:?} | none: {e} | - | - | - |"),
+                Err(e) => println!("| {name} | {particles} | {i} | {backend:?} | none: {e} | - | - | - | - |"),
             }
         }
     }

@@ -500,6 +500,26 @@ impl Simulation {
         }
     }
 
+    /// Starts measuring each step's GPU time with timestamp queries (GPU backend, adapters with
+    /// timestamps). Returns whether it could; costs one query resolve per step after.
+    pub fn enable_gpu_timing(&mut self) -> bool {
+        match &mut self.engine {
+            Engine::Cpu(_) => false,
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => g.enable_timing(),
+        }
+    }
+
+    /// GPU time of the last step, ms, once [`Simulation::enable_gpu_timing`] succeeded (a
+    /// blocking read; for benchmarks).
+    pub fn last_step_gpu_ms(&self) -> Option<Result<f64>> {
+        match &self.engine {
+            Engine::Cpu(_) => None,
+            #[cfg(feature = "gpu")]
+            Engine::Gpu(g) => g.last_step_gpu_ms(),
+        }
+    }
+
     /// Builds a GPU grid over the particles held now and returns its dims and per-cell counts
     /// (tests compare them with the CPU grid's). `None` on the CPU backend or without water.
     pub fn gpu_grid_counts(&mut self) -> Option<Result<(glam::IVec3, Vec<u32>)>> {

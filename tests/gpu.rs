@@ -58,6 +58,20 @@ fn gpu_backend_reports_its_adapter() {
 }
 
 #[test]
+fn gpu_timestamps_time_a_step_where_the_adapter_has_them() {
+    let groom = paper_scene(2000, 6).unwrap();
+    let Some(mut sim) = gpu(&groom, SimParams::default()) else { return };
+    assert!(sim.last_step_gpu_ms().is_none(), "no timing until asked for");
+    if sim.enable_gpu_timing() {
+        sim.step(1.0 / 60.0).unwrap();
+        let ms = sim.last_step_gpu_ms().unwrap().unwrap();
+        assert!(ms > 0.0 && ms < 10_000.0, "{ms} ms");
+    } else {
+        assert!(sim.last_step_gpu_ms().is_none());
+    }
+}
+
+#[test]
 fn auto_falls_back_with_a_reason() {
     let groom = paper_scene(64, 6).unwrap();
     let sim = Simulation::new(&groom, SimParams::default()).unwrap();

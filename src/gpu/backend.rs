@@ -222,6 +222,16 @@ pub struct GpuBackend {
     last: Status,
     /// Whether the vertex buffer holds the current state.
     vertices_current: bool,
+    /// GPU timestamps around each step's compute pass (only once asked for).
+    timing: Option<Timing>,
+}
+
+/// Timestamp queries around the step's compute pass, resolved into a small buffer.
+#[derive(Debug)]
+struct Timing {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    period_ns: f32,
 }
 
 impl GpuBackend {
@@ -398,6 +408,7 @@ impl GpuBackend {
             frame: 0,
             last: Status::default(),
             vertices_current: false,
+            timing: None,
         };
         be.reset(head);
         be.dev.wait()?;
@@ -733,7 +744,15 @@ impl GpuBackend {
         enc.clear_buffer(&self.status, 0, Some(4));
         let wet = self.wet();
         {
-            let mut pass = enc.begin_compute_pass(&Default::default());
+            let desc = wgpu::ComputePassDescriptor {
+                label: Some("step"),
+                timestamp_writes: self.timing.as_ref().map(|t| wgpu::ComputePassTimestampWrites {
+                    query_set: &t.queries,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: Some(1),
+                }),
+            };
+            let mut pass = enc.begin_compute_pass(&desc);
             if let Some(w) = self.water.as_mut().filter(|w| w.pending > 0) {
                 pass.set_pipeline(&w.pipes[0]);
                 pass.set_bind_group(0, &w.build_bg[w.cur], &[]);
@@ -788,6 +807,9 @@ impl GpuBackend {
                 pass.dispatch_workgroups(1, 1, 1);
                 w.cur = 1 - w.cur;
             }
+        }
+        if let Some(t) = &self.timing {
+            enc.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
         }
         self.frame += 1;
         self.vertices_current = false;
@@ -1078,6 +1100,41 @@ impl GpuBackend {
         self.dev.queue.submit([enc.finish()]);
         self.dev.wait()?;
         Ok((dims, counts))
+    }
+
+    /// Starts timing each step on the GPU with timestamp queries. Returns false when the
+    /// adapter has none (then only wall-clock timing is possible).
+    pub fn enable_timing(&mut self) -> bool {
+        if !self.dev.timestamps {
+            return false;
+        }
+        if self.timing.is_none() {
+            let d = &self.dev.device;
+            self.timing = Some(Timing {
+                queries: d.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("step timestamps"),
+                    ty: wgpu::QueryType::Timestamp,
+                    count: 2,
+                }),
+                resolve: b::buffer(
+                    d,
+                    "timestamps",
+                    16,
+                    wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                ),
+                period_ns: self.dev.queue.get_timestamp_period(),
+            });
+        }
+        true
+    }
+
+    /// GPU time of the last step's compute pass, ms (waits for it), once timing is enabled.
+    pub fn last_step_gpu_ms(&self) -> Option<Result<f64>> {
+        let t = self.timing.as_ref()?;
+        Some(self.read_buffers(&[(&t.resolve, 16)], None).map(|bytes| {
+            let q: &[u64] = bytemuck::cast_slice(&bytes[..16]);
+            q[1].saturating_sub(q[0]) as f64 * t.period_ns as f64 * 1e-6
+        }))
     }
 
     /// Makes the device fail as a lost device would (tests of the error path).
