@@ -1,9 +1,46 @@
-//! Extreme cases: each ends in a finite, bounded state or in the exact documented error.
+//! Extreme cases: each ends in a finite, bounded state or in the exact documented error, on
+//! the CPU backend and, where an adapter exists (always under `WETHAIR_REQUIRE_GPU=1`), on the
+//! GPU backend for the integrators it runs.
 
 use glam::{Mat4, Quat, Vec3};
 use wethair::groom::{paper_scene, Groom};
 use wethair::scenes::Lcg;
-use wethair::{Error, Integrator, SimParams, Simulation};
+use wethair::{Backend, Error, Integrator, SimParams, Simulation};
+
+/// Tests in this file run one at a time: each starts worker pools and (software) GPU devices
+/// whose threads, run side by side on a 2-core machine, starve one another.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The backends to test: the CPU, and the GPU when it starts (it must under
+/// `WETHAIR_REQUIRE_GPU=1`).
+fn backends() -> Vec<Backend> {
+    let probe = Simulation::new(
+        &paper_scene(8, 3).unwrap(),
+        SimParams {
+            backend: Backend::Gpu,
+            ..Default::default()
+        },
+    );
+    match probe {
+        Ok(_) => vec![Backend::Cpu, Backend::Gpu],
+        Err(e) if std::env::var("WETHAIR_REQUIRE_GPU").as_deref() == Ok("1") => {
+            panic!("WETHAIR_REQUIRE_GPU=1 but the GPU backend failed: {e}")
+        }
+        Err(e) => {
+            eprintln!("no GPU adapter, extreme cases run on the CPU only: {e}");
+            vec![Backend::Cpu]
+        }
+    }
+}
+
+/// Whether `backend` runs `integrator` (the GPU does not run XPBD).
+fn runs(backend: Backend, integrator: Integrator) -> bool {
+    !(backend == Backend::Gpu && integrator == Integrator::Xpbd)
+}
 
 fn all_finite(sim: &Simulation) -> bool {
     sim.positions()
@@ -13,11 +50,15 @@ fn all_finite(sim: &Simulation) -> bool {
         && sim.water_positions().iter().all(|p| p.is_finite())
 }
 
-/// Steps `frames` frames; returns Ok when every step succeeded with a finite state, or the
-/// first error (which must then be `Unstable`, with no non-finite vertex handed out).
+/// Steps `frames` frames, reading the vertices after each (on the GPU, the read reports what
+/// the step found); returns Ok when every step succeeded with a finite state, or the first
+/// error (which must then be `Unstable`, with no non-finite vertex handed out).
 fn run(sim: &mut Simulation, frames: usize, dt: f32) -> Result<(), Error> {
+    let mut v = vec![0.0f32; sim.vertex_count() * sim.attributes().stride()];
     for _ in 0..frames {
         sim.step(dt)?;
+        sim.write_vertices(&mut v)?;
+        assert!(v.iter().all(|x| x.is_finite()), "a non-finite vertex was handed out");
         assert!(all_finite(sim), "a step returned Ok with a non-finite state");
     }
     Ok(())
@@ -25,13 +66,19 @@ fn run(sim: &mut Simulation, frames: usize, dt: f32) -> Result<(), Error> {
 
 #[test]
 fn long_strands_of_64_and_128_points() {
-    for points in [64, 128] {
-        for integrator in [Integrator::SymplecticEuler, Integrator::ImplicitEuler] {
+    let _serial = serial();
+    for (points, integrator, backend) in [64, 128].into_iter().flat_map(|p| {
+        [Integrator::SymplecticEuler, Integrator::ImplicitEuler]
+            .into_iter()
+            .flat_map(move |i| backends().into_iter().map(move |b| (p, i, b)))
+    }) {
+        {
             let groom = paper_scene(64, points).unwrap();
             let mut sim = Simulation::new(
                 &groom,
                 SimParams {
                     integrator,
+                    backend,
                     ..SimParams::paper_scene_with_head()
                 },
             )
@@ -48,8 +95,18 @@ fn long_strands_of_64_and_128_points() {
 
 #[test]
 fn a_hundred_thousand_particles_in_a_5cm_box() {
+    let _serial = serial();
+    for backend in backends() {
+        hundred_thousand_particles(backend);
+    }
+}
+
+fn hundred_thousand_particles(backend: Backend) {
     let groom = paper_scene(2000, 6).unwrap();
-    let mut params = SimParams::paper_scene_with_head();
+    let mut params = SimParams {
+        backend,
+        ..SimParams::paper_scene_with_head()
+    };
     params.water.capacity = 100_000;
     let mut sim = Simulation::new(&groom, params).unwrap();
     let mut rng = Lcg(42);
@@ -71,6 +128,7 @@ fn a_hundred_thousand_particles_in_a_5cm_box() {
                 capacity: 10,
                 ..params_water()
             },
+            backend,
             ..Default::default()
         },
     )
@@ -84,23 +142,42 @@ fn params_water() -> wethair::WaterParams {
 
 #[test]
 fn particle_on_a_hair_point_and_coincident_particles() {
-    let groom = paper_scene(100, 6).unwrap();
-    let mut sim = Simulation::new(&groom, SimParams::paper_scene_with_head()).unwrap();
-    let on = groom.positions()[3]; // exactly on a free hair point: d = 0
-    sim.add_water(&[on, on, on, groom.positions()[9], groom.positions()[9]], &[])
+    let _serial = serial();
+    for backend in backends() {
+        let groom = paper_scene(100, 6).unwrap();
+        let mut sim = Simulation::new(
+            &groom,
+            SimParams {
+                backend,
+                ..SimParams::paper_scene_with_head()
+            },
+        )
         .unwrap();
-    run(&mut sim, 60, 1.0 / 60.0).unwrap();
-    assert!(all_finite(&sim));
+        let on = groom.positions()[3]; // exactly on a free hair point: d = 0
+        sim.add_water(&[on, on, on, groom.positions()[9], groom.positions()[9]], &[])
+            .unwrap();
+        run(&mut sim, 60, 1.0 / 60.0).unwrap_or_else(|e| panic!("{backend:?}: {e}"));
+        assert!(all_finite(&sim));
+    }
 }
 
 #[test]
 fn head_teleported_one_metre_then_spun_at_ten_revolutions_per_second() {
-    for integrator in [Integrator::SymplecticEuler, Integrator::ImplicitEuler, Integrator::Xpbd] {
+    let _serial = serial();
+    let all = [Integrator::SymplecticEuler, Integrator::ImplicitEuler, Integrator::Xpbd];
+    for (integrator, backend) in all
+        .into_iter()
+        .flat_map(|i| backends().into_iter().map(move |b| (i, b)))
+    {
+        if !runs(backend, integrator) {
+            continue;
+        }
         let groom = paper_scene(500, 6).unwrap();
         let mut sim = Simulation::new(
             &groom,
             SimParams {
                 integrator,
+                backend,
                 ..SimParams::paper_scene_with_head()
             },
         )
@@ -142,6 +219,7 @@ fn head_teleported_one_metre_then_spun_at_ten_revolutions_per_second() {
 
 #[test]
 fn zero_length_segments_are_accepted_and_stay_finite() {
+    let _serial = serial();
     // Documented rule: coincident points are kept; a spring with no length has no direction
     // and exerts no force until its ends separate.
     let pos = vec![
@@ -151,23 +229,45 @@ fn zero_length_segments_are_accepted_and_stay_finite() {
         Vec3::new(0.0, 0.0, -0.04),
     ];
     let groom = Groom::new(pos, &[4], None, None, 1e-3).unwrap();
-    for integrator in [Integrator::SymplecticEuler, Integrator::ImplicitEuler, Integrator::Xpbd] {
+    let all = [Integrator::SymplecticEuler, Integrator::ImplicitEuler, Integrator::Xpbd];
+    for (integrator, backend) in all
+        .into_iter()
+        .flat_map(|i| backends().into_iter().map(move |b| (i, b)))
+    {
+        if !runs(backend, integrator) {
+            continue;
+        }
         let mut sim = Simulation::new(
             &groom,
             SimParams {
                 integrator,
+                backend,
                 ..Default::default()
             },
         )
         .unwrap();
-        run(&mut sim, 120, 1.0 / 60.0).unwrap_or_else(|e| panic!("{integrator:?}: {e}"));
+        run(&mut sim, 120, 1.0 / 60.0).unwrap_or_else(|e| panic!("{integrator:?} on {backend:?}: {e}"));
     }
 }
 
 #[test]
 fn time_steps_of_zero_negative_nan_and_one_second() {
+    let _serial = serial();
+    for backend in backends() {
+        time_steps(backend);
+    }
+}
+
+fn time_steps(backend: Backend) {
     let groom = paper_scene(100, 6).unwrap();
-    let mut sim = Simulation::new(&groom, SimParams::default()).unwrap();
+    let mut sim = Simulation::new(
+        &groom,
+        SimParams {
+            backend,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     for dt in [0.0, -1.0 / 60.0, f32::NAN, f32::INFINITY, 1.5] {
         assert!(matches!(sim.step(dt), Err(Error::InvalidArgument(_))), "dt {dt}");
     }
@@ -186,6 +286,7 @@ fn time_steps_of_zero_negative_nan_and_one_second() {
         &groom,
         SimParams {
             integrator: Integrator::ImplicitEuler,
+            backend,
             ..Default::default()
         },
     )

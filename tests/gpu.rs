@@ -11,6 +11,14 @@ use wethair::physics::grid::Grid;
 use wethair::scenes::{on_hair, Lcg};
 use wethair::{Backend, Error, Readback, SimParams, Simulation};
 
+/// Tests in this file run one at a time: each starts worker pools and (software) GPU devices
+/// whose threads, run side by side on a 2-core machine, starve one another.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// A GPU simulation, or None (with a note) when no adapter exists and none is required.
 fn gpu(groom: &Groom, params: SimParams) -> Option<Simulation> {
     match Simulation::new(
@@ -47,6 +55,7 @@ fn max_diff(a: &[Vec3], b: &[Vec3]) -> f32 {
 
 #[test]
 fn gpu_backend_reports_its_adapter() {
+    let _serial = serial();
     let groom = paper_scene(64, 6).unwrap();
     let Some(sim) = gpu(&groom, SimParams::default()) else {
         return;
@@ -59,8 +68,11 @@ fn gpu_backend_reports_its_adapter() {
 
 #[test]
 fn gpu_timestamps_time_a_step_where_the_adapter_has_them() {
+    let _serial = serial();
     let groom = paper_scene(2000, 6).unwrap();
-    let Some(mut sim) = gpu(&groom, SimParams::default()) else { return };
+    let Some(mut sim) = gpu(&groom, SimParams::default()) else {
+        return;
+    };
     assert!(sim.last_step_gpu_ms().is_none(), "no timing until asked for");
     if sim.enable_gpu_timing() {
         sim.step(1.0 / 60.0).unwrap();
@@ -73,6 +85,7 @@ fn gpu_timestamps_time_a_step_where_the_adapter_has_them() {
 
 #[test]
 fn auto_falls_back_with_a_reason() {
+    let _serial = serial();
     let groom = paper_scene(64, 6).unwrap();
     let sim = Simulation::new(&groom, SimParams::default()).unwrap();
     let info = sim.backend_info();
@@ -106,6 +119,7 @@ fn auto_falls_back_with_a_reason() {
 /// Dry paper scene (10,000 strands x 6 points, head collider), 100 frames at 60 Hz.
 #[test]
 fn dry_paper_scene_matches_the_cpu_after_100_frames() {
+    let _serial = serial();
     let groom = paper_scene(10_000, 6).unwrap();
     let params = SimParams::paper_scene_with_head();
     let Some(mut g) = gpu(&groom, params.clone()) else {
@@ -137,6 +151,7 @@ fn dry_paper_scene_matches_the_cpu_after_100_frames() {
 /// frames), so after the contact phase the GPU is held to that floor, and to the statistics.
 #[test]
 fn wet_paper_scene_matches_the_cpu() {
+    let _serial = serial();
     let groom = paper_scene(10_000, 6).unwrap();
     let params = SimParams::paper_scene_with_head();
     let Some(mut g) = gpu(&groom, params.clone()) else {
@@ -191,6 +206,7 @@ fn wet_paper_scene_matches_the_cpu() {
 
 #[test]
 fn grid_cell_counts_equal_the_cpu_grid() {
+    let _serial = serial();
     let groom = paper_scene(500, 6).unwrap();
     let mut params = SimParams::default();
     params.water.capacity = 20_000;
@@ -216,6 +232,7 @@ fn grid_cell_counts_equal_the_cpu_grid() {
 
 #[test]
 fn pipelines_hold_only_the_scene_passes() {
+    let _serial = serial();
     let groom = paper_scene(100, 6).unwrap();
     let Some(mut g) = gpu(&groom, SimParams::default()) else {
         return;
@@ -249,6 +266,7 @@ fn pipelines_hold_only_the_scene_passes() {
 
 #[test]
 fn previous_frame_readback_lags_exactly_one_step() {
+    let _serial = serial();
     let groom = paper_scene(200, 6).unwrap();
     let Some(mut now) = gpu(&groom, SimParams::default()) else {
         return;
@@ -281,6 +299,7 @@ fn previous_frame_readback_lags_exactly_one_step() {
 
 #[test]
 fn a_lost_device_is_an_error_code_not_a_panic() {
+    let _serial = serial();
     let groom = paper_scene(100, 6).unwrap();
     let Some(mut g) = gpu(&groom, SimParams::default()) else {
         return;
@@ -305,6 +324,7 @@ fn a_lost_device_is_an_error_code_not_a_panic() {
 /// Extreme cases of the accuracy issue that apply to symplectic Euler.
 #[test]
 fn gpu_unstable_step_is_reported_and_never_reaches_the_vertices() {
+    let _serial = serial();
     let groom = paper_scene(100, 6).unwrap();
     let mut params = SimParams::default();
     params.stretch.stiffness = 1e9; // far past the explicit limit at 4 substeps
@@ -327,6 +347,7 @@ fn gpu_unstable_step_is_reported_and_never_reaches_the_vertices() {
 
 #[test]
 fn gpu_water_on_hair_points_and_a_dense_box_stay_finite() {
+    let _serial = serial();
     let groom = paper_scene(500, 6).unwrap();
     let mut params = SimParams::paper_scene_with_head();
     params.water.capacity = 100_000;
@@ -355,6 +376,7 @@ fn gpu_water_on_hair_points_and_a_dense_box_stay_finite() {
 /// (f64 solve): the wet paper scene's first frames and a dry 100-frame run.
 #[test]
 fn implicit_euler_matches_the_cpu() {
+    let _serial = serial();
     let groom = paper_scene(2000, 6).unwrap();
     let params = SimParams {
         integrator: wethair::Integrator::ImplicitEuler,
@@ -408,6 +430,7 @@ fn implicit_euler_matches_the_cpu() {
 /// strand within 5% of its rest length.
 #[test]
 fn gpu_implicit_survives_stiff_springs_at_frame_rate() {
+    let _serial = serial();
     let h = 1.0 / 30.0;
     let k = 1e6 * 1e-3 / (h * h);
     let groom = paper_scene(200, 6).unwrap();
