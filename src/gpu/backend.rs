@@ -224,6 +224,9 @@ pub struct GpuBackend {
     vertices_current: bool,
     /// GPU timestamps around each step's compute pass (only once asked for).
     timing: Option<Timing>,
+    /// Head transform per substep, and their upload bytes (reused every step).
+    heads: Vec<Affine3A>,
+    sub_bytes: Vec<u8>,
 }
 
 /// Timestamp queries around the step's compute pass, resolved into a small buffer.
@@ -409,6 +412,8 @@ impl GpuBackend {
             last: Status::default(),
             vertices_current: false,
             timing: None,
+            heads: vec![*head; n_sub],
+            sub_bytes: vec![0; sub_stride as usize * n_sub],
         };
         be.reset(head);
         be.dev.wait()?;
@@ -709,10 +714,12 @@ impl GpuBackend {
             .write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&rec));
     }
 
-    fn write_substeps(&self, heads: &[Affine3A]) {
+    /// Uploads each substep's head transform and placed colliders (from `self.heads`, through
+    /// `self.sub_bytes`: no allocation per step).
+    fn write_substeps(&mut self) {
         let nc = self.params.colliders.len();
-        let mut bytes = vec![0u8; self.sub_stride as usize * heads.len()];
-        for (s, head) in heads.iter().enumerate() {
+        let bytes = &mut self.sub_bytes;
+        for (s, head) in self.heads.iter().enumerate() {
             let at = s * self.sub_stride as usize;
             let m = glam::Mat4::from(*head).to_cols_array();
             bytes[at..at + 64].copy_from_slice(bytemuck::cast_slice(&m));
@@ -727,7 +734,7 @@ impl GpuBackend {
             }
             debug_assert!(64 + 32 * nc <= self.sub_stride as usize);
         }
-        self.dev.queue.write_buffer(&self.sub_buf, 0, &bytes);
+        self.dev.queue.write_buffer(&self.sub_buf, 0, bytes);
     }
 
     /// Advances by `dt` in the configured substeps while the head moves `from` → `to`.
@@ -735,8 +742,8 @@ impl GpuBackend {
     pub fn step(&mut self, dt: f32, from: &Affine3A, to: &Affine3A) -> Result<()> {
         self.dev.check()?;
         let h = dt / self.n_sub as f32;
-        let heads = crate::physics::head::substep_heads(from, to, self.n_sub);
-        self.write_substeps(&heads);
+        crate::physics::head::substep_heads_into(from, to, &mut self.heads);
+        self.write_substeps();
         let incoming = self.water.as_ref().map_or(0, |w| w.pending);
         self.write_params(h, incoming, to);
         let mut enc = self.dev.device.create_command_encoder(&Default::default());

@@ -19,10 +19,3 @@ pub fn substep_heads_into(from: &Affine3A, to: &Affine3A, out: &mut [Affine3A]) 
         };
     }
 }
-
-/// The head transform at the end of each of `n` substeps.
-pub fn substep_heads(from: &Affine3A, to: &Affine3A, n: usize) -> Vec<Affine3A> {
-    let mut v = vec![Affine3A::IDENTITY; n];
-    substep_heads_into(from, to, &mut v);
-    v
-}
