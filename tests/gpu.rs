@@ -367,6 +367,10 @@ fn gpu_water_on_hair_points_and_a_dense_box_stay_finite() {
     g.write_vertices(&mut v).unwrap();
     assert!(v.iter().all(|x| x.is_finite()));
     assert!(g.water_positions().iter().all(|p| p.is_finite()));
+    // Adding nothing is fine; bad particles are refused whole.
+    g.add_water(&[], &[]).unwrap();
+    let e = g.add_water(&[Vec3::ZERO, Vec3::NAN], &[]).unwrap_err();
+    assert!(matches!(e, Error::InvalidArgument(_)), "{e}");
     // Capacity is enforced on the device path too.
     let e = g.add_water(&vec![Vec3::ZERO; 100_000], &[]).unwrap_err();
     assert!(matches!(e, Error::Capacity(_)), "{e}");

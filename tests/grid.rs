@@ -82,3 +82,27 @@ fn grid_counting_sort_counts_every_point_once() {
     seen.sort_unstable();
     assert_eq!(seen, (0..pts.len() as u32).collect::<Vec<_>>());
 }
+
+/// Queries of radius exactly one cell from points on cell boundaries: rounding can put a face
+/// of the query cube just past a boundary (4 columns a side); the walk must still cover every
+/// point within r (found by the clumping measure on GPU tips).
+#[test]
+fn queries_of_one_cell_radius_from_cell_boundaries() {
+    let pts: Vec<glam::Vec3> = (0..12)
+        .flat_map(|i| (0..12).map(move |j| glam::Vec3::new(i as f32 * 0.1, j as f32 * 0.1, (i + j) as f32 * 0.05)))
+        .collect();
+    let mut grid = wethair::physics::grid::Grid::new(pts.len(), 0.1);
+    grid.build(&pts);
+    let r = grid.cell();
+    for &p in &pts {
+        for q in [p, p + glam::Vec3::splat(1e-7), p - glam::Vec3::splat(1e-7)] {
+            let mut found = vec![false; pts.len()];
+            grid.for_each_candidate(q, r, |j| found[j as usize] = true);
+            for (j, &x) in pts.iter().enumerate() {
+                if (x - q).length() <= r {
+                    assert!(found[j], "point {j} within r of {q} was not visited");
+                }
+            }
+        }
+    }
+}

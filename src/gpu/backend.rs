@@ -535,6 +535,9 @@ impl GpuBackend {
     /// first call.
     pub fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
         crate::cpu::water::check_new_particles(pos, vel)?;
+        if pos.is_empty() {
+            return Ok(());
+        }
         let cap = self.params.water.capacity;
         if self.water.is_none() {
             if pos.len() > cap as usize {

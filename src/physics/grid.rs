@@ -217,10 +217,12 @@ impl Grid {
     /// the points within `r` of `p` (`r` at most the cell size), each visited once.
     #[inline(always)]
     pub fn for_each_candidate(&self, p: Vec3, r: f32, mut f: impl FnMut(u32)) {
-        let mut runs = [(0u32, 0u32); 9];
+        // A cube of side 2r <= 2 cells spans 3 columns per axis, or 4 when rounding puts a
+        // face just past a cell boundary: 4 x 4 always suffices.
+        let mut runs = [(0u32, 0u32); 16];
         let n = self
             .runs_in_box(p - r, p + r, &mut runs)
-            .expect("r <= cell: a cube spans 3 x 3 columns");
+            .expect("r <= cell: a cube spans at most 4 x 4 columns");
         for &(s, e) in &runs[..n] {
             self.sorted[s as usize..e as usize].iter().for_each(|&i| f(i));
         }
