@@ -171,6 +171,7 @@ fn wet_paper_scene_matches_the_cpu() {
         }
         if f == 4 {
             let d = max_diff(&g.positions(), &c.positions());
+            eprintln!("wet parity after 5 frames: {d} m");
             assert!(d < 1e-3 * len, "after 5 wet frames: {d} m (strand {len} m)");
         }
     }
