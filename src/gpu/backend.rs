@@ -921,17 +921,11 @@ impl GpuBackend {
             .buf
             .get_mapped_range(..STATUS_BYTES)
             .map_err(|e| Error::Device(format!("reading back: {e}")))?;
-        let w: &[u32] = bytemuck::cast_slice(&view);
-        let st = Status {
-            max_speed: f32::from_bits(w[0]).sqrt(),
-            failed_point: (w[1] & 1 != 0).then_some(w[2]),
-            water_failed: w[1] & 2 != 0,
-            particles: w[4],
-        };
+        let (st, removed) = decode_status(bytemuck::cast_slice(&view), self.water.is_some());
         drop(view);
         if let Some(wt) = &mut self.water {
             wt.bound = st.particles;
-            wt.removed = w_removed(&self.staging[k].buf)?;
+            wt.removed = removed;
         }
         self.last = st;
         Ok(st)
@@ -1010,14 +1004,7 @@ impl GpuBackend {
     /// Reads the status of the last submitted step (waits for it) and the particles removed.
     pub fn peek_status(&self) -> Result<(Status, u64)> {
         let bytes = self.read_buffers(&[(&self.status, 16)], self.water.as_ref().map(|w| &w.state))?;
-        let w: &[u32] = bytemuck::cast_slice(&bytes);
-        let st = Status {
-            max_speed: f32::from_bits(w[0]).sqrt(),
-            failed_point: (w[1] & 1 != 0).then_some(w[2]),
-            water_failed: w[1] & 2 != 0,
-            particles: if self.water.is_some() { w[4] } else { 0 },
-        };
-        Ok((st, if self.water.is_some() { w[6] as u64 } else { 0 }))
+        Ok(decode_status(bytemuck::cast_slice(&bytes[..32]), self.water.is_some()))
     }
 
     /// The error a status stands for (a non-finite point or particle), if any.
@@ -1153,13 +1140,16 @@ impl GpuBackend {
     }
 }
 
-/// Reads the removed-particle counter from a mapped staging buffer's status block.
-fn w_removed(buf: &wgpu::Buffer) -> Result<u64> {
-    let view = buf
-        .get_mapped_range(16..32)
-        .map_err(|e| Error::Device(format!("reading back: {e}")))?;
-    let w: &[u32] = bytemuck::cast_slice(&view);
-    Ok(w[2] as u64)
+/// Decodes the status block (hair status, then water state when `wet`): the status and the
+/// particles removed since reset.
+fn decode_status(w: &[u32], wet: bool) -> (Status, u64) {
+    let st = Status {
+        max_speed: f32::from_bits(w[0]).sqrt(),
+        failed_point: (w[1] & 1 != 0).then_some(w[2]),
+        water_failed: w[1] & 2 != 0,
+        particles: if wet { w[4] } else { 0 },
+    };
+    (st, if wet { w[6] as u64 } else { 0 })
 }
 
 impl Drop for GpuBackend {

@@ -149,6 +149,22 @@ fn grid_count_cells(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgrou
 
 var<workgroup> scan: array<u32, 256>;
 
+// Inclusive prefix sum of one value per invocation over the workgroup (Hillis-Steele) into
+// `scan`; every invocation of the workgroup must call it.
+fn scan_inclusive(lid: u32, v: u32) {
+    scan[lid] = v;
+    workgroupBarrier();
+    for (var off = 1u; off < 256u; off <<= 1u) {
+        var add = 0u;
+        if (lid >= off) {
+            add = scan[lid - off];
+        }
+        workgroupBarrier();
+        scan[lid] += add;
+        workgroupBarrier();
+    }
+}
+
 // Pass water_grid, part 4a: exclusive prefix sum of the counts within blocks of 1,024 cells.
 @compute @workgroup_size(256)
 fn grid_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
@@ -162,17 +178,7 @@ fn grid_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invoca
         }
         sum += c[k];
     }
-    scan[lid] = sum;
-    workgroupBarrier();
-    for (var off = 1u; off < 256u; off <<= 1u) {
-        var add = 0u;
-        if (lid >= off) {
-            add = scan[lid - off];
-        }
-        workgroupBarrier();
-        scan[lid] += add;
-        workgroupBarrier();
-    }
+    scan_inclusive(lid, sum);
     var run = scan[lid] - sum;
     for (var k = 0u; k < 4u; k++) {
         if (base + k < cells) {
@@ -194,17 +200,7 @@ fn grid_scan_sums(@builtin(local_invocation_index) lid: u32) {
     if (lid < blocks) {
         own = grid[at + lid];
     }
-    scan[lid] = own;
-    workgroupBarrier();
-    for (var off = 1u; off < 256u; off <<= 1u) {
-        var add = 0u;
-        if (lid >= off) {
-            add = scan[lid - off];
-        }
-        workgroupBarrier();
-        scan[lid] += add;
-        workgroupBarrier();
-    }
+    scan_inclusive(lid, own);
     if (lid < blocks) {
         grid[at + lid] = scan[lid] - own;
     }
