@@ -134,6 +134,9 @@ typedef struct WetHairGroom WetHairGroom;
 // Opaque simulation; create with `wethair_sim_create`, free with `wethair_sim_destroy`.
 typedef struct WetHairSim WetHairSim;
 
+// Requirements for a host's physical device; create with `wethair_vulkan_requirements_create`.
+typedef struct WetHairVulkanRequirements WetHairVulkanRequirements;
+
 // The host's own strands. Fill with `wethair_groom_desc_default()`.
 typedef struct WetHairGroomDesc {
   // `sizeof(WetHairGroomDesc)`.
@@ -296,6 +299,129 @@ typedef struct WetHairBackendInfo {
   char fallback_reason[256];
 } WetHairBackendInfo;
 
+// The host's Vulkan objects (`wethair_vulkan_device_default` fills it empty). wethair never
+// destroys any of them; they must outlive every simulation made on them.
+typedef struct WetHairVulkanDevice {
+  // `sizeof(WetHairVulkanDevice)`.
+  uint32_t struct_size;
+  // `VkApplicationInfo::apiVersion` the instance was created with (at least Vulkan 1.1).
+  uint32_t api_version;
+  // The loader's `vkGetInstanceProcAddr` (`PFN_vkGetInstanceProcAddr` cast to `void*`).
+  const void *get_instance_proc_addr;
+  // `VkInstance`.
+  void *instance;
+  // `VkPhysicalDevice` the device is (or will be) created on.
+  void *physical_device;
+  // `VkDevice`; may be NULL for `wethair_vulkan_requirements_create`.
+  void *device;
+  // Queue family of the queue wethair submits to (wgpu needs a family with graphics and
+  // compute; family 0 on every driver it supports).
+  uint32_t queue_family_index;
+  // Index of that queue within its family.
+  uint32_t queue_index;
+  // Entries in `instance_extensions`.
+  uint32_t instance_extension_count;
+  // Entries in `device_extensions`.
+  uint32_t device_extension_count;
+  // Instance extensions the host enabled (`VkInstanceCreateInfo::ppEnabledExtensionNames`).
+  const char *const *instance_extensions;
+  // Device extensions the host enabled (`VkDeviceCreateInfo::ppEnabledExtensionNames`).
+  const char *const *device_extensions;
+  // The `VkDeviceCreateInfo` the device was created with, or the `VkPhysicalDeviceFeatures2`
+  // chain it enabled; read during the call only, to check that every required feature is
+  // on. NULL skips the check (for engines that do not expose it; the host then vouches).
+  const void *enabled_features;
+  // Locks the queue before wethair submits or waits on it; NULL when the host never uses
+  // the queue from another thread while calling wethair. Set both or neither.
+  void (*queue_lock)(void *user_data);
+  // Unlocks the queue.
+  void (*queue_unlock)(void *user_data);
+  // Passed to `queue_lock` and `queue_unlock`. The callbacks may be called from any thread
+  // that calls wethair on a simulation made on this device.
+  void *queue_user_data;
+} WetHairVulkanDevice;
+
+// What the host's instance must have before it can share its device with wethair.
+typedef struct WetHairVulkanInstanceRequirements {
+  // `sizeof(WetHairVulkanInstanceRequirements)`, set by the host before the call.
+  uint32_t struct_size;
+  // The lowest `apiVersion` (a `VK_MAKE_API_VERSION` value).
+  uint32_t min_api_version;
+  // Entries in `extensions`.
+  uint32_t extension_count;
+  // Instance extensions to enable (static strings).
+  const char *const *extensions;
+} WetHairVulkanInstanceRequirements;
+
+// What the host's device must have: extensions to enable, and a feature chain to pass as
+// `VkDeviceCreateInfo::pNext` (with `pEnabledFeatures` NULL). Hosts that enable features of
+// their own can instead OR `feature_names` into their structs.
+typedef struct WetHairVulkanRequirementsInfo {
+  // `sizeof(WetHairVulkanRequirementsInfo)`, set by the host before the call.
+  uint32_t struct_size;
+  // Entries in `device_extensions`.
+  uint32_t device_extension_count;
+  // Device extensions to enable (swapchain is never among them: wethair does not present).
+  const char *const *device_extensions;
+  // A `const VkPhysicalDeviceFeatures2*` whose chain enables every feature wethair needs.
+  const void *features;
+  // Entries in `feature_names`.
+  uint32_t feature_count;
+  // Reserved, 0.
+  uint32_t reserved;
+  // The Vulkan feature members (`robustBufferAccess`, `timelineSemaphore`, ...) the chain
+  // sets, for logs and for hosts that merge them into their own structs.
+  const char *const *feature_names;
+} WetHairVulkanRequirementsInfo;
+
+// The vertex buffer as a Vulkan resource, and the frame's synchronisation. The buffer holds
+// the last step's vertices, strand after strand, `stride_bytes` apart. It was created with
+// vertex, storage and transfer-source usage and stays the same `VkBuffer` until the
+// simulation is destroyed (steps and resets keep it).
+//
+// Synchronisation: wait on `ready_semaphore` (timeline) for `ready_value` before reading
+// (`VK_PIPELINE_STAGE_VERTEX_INPUT_BIT` or the stage that reads), and signal
+// `release_semaphore` (timeline) to `release_value` once those reads are submitted; the
+// next step's write waits for that signal. Both are wethair's semaphores, destroyed with the
+// simulation. A host that gets the buffer must signal the release before the next step's
+// work can run.
+typedef struct WetHairVulkanBuffer {
+  // `sizeof(WetHairVulkanBuffer)`, set by the host before the call.
+  uint32_t struct_size;
+  // Vertices in the buffer (every point of every strand).
+  uint32_t vertex_count;
+  // `VkBuffer`.
+  uint64_t buffer;
+  // Byte offset of the first vertex in `buffer`.
+  uint64_t offset;
+  // Bytes of vertex data.
+  uint64_t size;
+  // Bytes from one vertex to the next.
+  uint32_t stride_bytes;
+  // Strands (`vertex_count` is their points' total).
+  uint32_t strand_count;
+  // Byte offset of the position in a vertex, or -1.
+  int32_t position_offset;
+  // `VkFormat` of the position (`VK_FORMAT_R32G32B32_SFLOAT` = 106), 0 when absent.
+  uint32_t position_format;
+  // Byte offset of the unit tangent, or -1.
+  int32_t tangent_offset;
+  // `VkFormat` of the tangent (106), 0 when absent.
+  uint32_t tangent_format;
+  // Byte offset of the wetness (0..1), or -1.
+  int32_t wetness_offset;
+  // `VkFormat` of the wetness (`VK_FORMAT_R32_SFLOAT` = 100), 0 when absent.
+  uint32_t wetness_format;
+  // Timeline `VkSemaphore` to wait on.
+  uint64_t ready_semaphore;
+  // Value to wait for.
+  uint64_t ready_value;
+  // Timeline `VkSemaphore` to signal when done reading.
+  uint64_t release_semaphore;
+  // Value to signal.
+  uint64_t release_value;
+} WetHairVulkanBuffer;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -447,6 +573,61 @@ enum WetHairResult wethair_sim_get_backend_info(const struct WetHairSim *sim, st
 // # Safety
 // `sim` is valid.
 enum WetHairResult wethair_sim_debug_lose_device(struct WetHairSim *sim);
+
+// Fills `device` with NULL handles, empty lists and its `struct_size`. NULL is ignored.
+//
+// # Safety
+// `device` is NULL or writable.
+void wethair_vulkan_device_default(struct WetHairVulkanDevice *device);
+
+// What the host's VkInstance must have: the lowest API version and the instance extensions.
+// Callable before any Vulkan object exists. The host sets `out->struct_size` first.
+//
+// # Safety
+// `out` is writable.
+enum WetHairResult wethair_vulkan_get_instance_requirements(struct WetHairVulkanInstanceRequirements *out);
+
+// Finds what wethair needs of a device on `host->physical_device` (`host->device` may be
+// NULL): device extensions and a feature chain for `VkDeviceCreateInfo`. Free with
+// `wethair_vulkan_requirements_destroy`; the info's pointers live as long as `*out`.
+//
+// # Safety
+// `host` is filled by `wethair_vulkan_device_default` and then with live handles; `out` is
+// writable.
+enum WetHairResult wethair_vulkan_requirements_create(const struct WetHairVulkanDevice *host, struct WetHairVulkanRequirements **out);
+
+// Describes the requirements. The host sets `out->struct_size` first.
+//
+// # Safety
+// `req` came from `wethair_vulkan_requirements_create`; `out` is writable.
+enum WetHairResult wethair_vulkan_requirements_get_info(const struct WetHairVulkanRequirements *req, struct WetHairVulkanRequirementsInfo *out);
+
+// Frees requirements. NULL is ignored.
+//
+// # Safety
+// `req` came from `wethair_vulkan_requirements_create` and is not used again.
+void wethair_vulkan_requirements_destroy(struct WetHairVulkanRequirements *req);
+
+// Creates a simulation whose GPU backend runs on the host's VkDevice. `desc->backend` must be
+// `WETHAIR_BACKEND_AUTO` or `WETHAIR_BACKEND_GPU`. Fails with `WETHAIR_ERROR_UNSUPPORTED`,
+// naming what is missing, when the host's instance or device lacks a required extension or
+// (when `host->enabled_features` is set) feature. Destroying the simulation leaves the host's
+// objects alive and usable.
+//
+// # Safety
+// `desc` and `host` are filled by their `_default()` functions, `host` with live handles; `out`
+// is writable.
+enum WetHairResult wethair_sim_create_vulkan(const struct WetHairSimDesc *desc, const struct WetHairVulkanDevice *host, struct WetHairSim **out);
+
+// Hands out the vertex buffer holding the last step's vertices, with its layout and the
+// semaphore values of this frame (see `WetHairVulkanBuffer`). Only for simulations made by
+// `wethair_sim_create_vulkan` (else `WETHAIR_ERROR_UNSUPPORTED`). The host sets
+// `out->struct_size` first. A failed step is never written to the buffer: it keeps the last
+// good frame, and the failure is reported here once a read has seen it.
+//
+// # Safety
+// `sim` is valid; `out` is writable.
+enum WetHairResult wethair_sim_get_vulkan_buffer(struct WetHairSim *sim, struct WetHairVulkanBuffer *out);
 
 #ifdef __cplusplus
 }  // extern "C"

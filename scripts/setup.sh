@@ -12,6 +12,11 @@ ldconfig -p 2>/dev/null | grep -q libasan || need+=(libasan8)
 # on machines without a GPU.
 ldconfig -p 2>/dev/null | grep -q libvulkan.so.1 || need+=(libvulkan1)
 [ -e /usr/share/vulkan/icd.d/lvp_icd.x86_64.json ] || need+=(mesa-vulkan-drivers)
+# The Vulkan C host: headers and link library, the GLSL compiler for its shaders, and the
+# Khronos validation layer it runs under in the tests.
+[ -e /usr/include/vulkan/vulkan.h ] || need+=(libvulkan-dev)
+command -v glslangValidator >/dev/null 2>&1 || need+=(glslang-tools)
+[ -e /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json ] || need+=(vulkan-validationlayers)
 if [ ${#need[@]} -gt 0 ]; then
     if [ "$(id -u)" != 0 ]; then
         echo "setup: missing ${need[*]}; run as root or install them" >&2

@@ -35,6 +35,13 @@ test -s out/test-render.png
 ./examples/c/build/render --out out/test-render-gpu.png --frames 60 --backend gpu
 test -s out/test-render-gpu.png
 
+step "Vulkan host: wethair on the host's VkDevice, drawn from the shared VkBuffer, under validation"
+# Fails on any validation error (bar Debian's known false InconsistentSpirv report), on a
+# shared buffer that differs from the copy path's bytes, on a refusal that is not refused, and
+# on an image without hair.
+./examples/c/build/vulkan_host --validate --compare --check-errors --frames 30 --out out/test-vulkan.png
+test -s out/test-vulkan.png
+
 step "C hosts under AddressSanitizer + UBSan (leaks fail the run)"
 make -C examples/c --quiet BUILD=build-asan CFLAGS="-O1 -g -fno-omit-frame-pointer" SAN="-fsanitize=address,undefined -fno-sanitize-recover=all"
 # The CPU backend: Mesa's lavapipe allocates for the process's lifetime, which LeakSanitizer
@@ -42,11 +49,16 @@ make -C examples/c --quiet BUILD=build-asan CFLAGS="-O1 -g -fno-omit-frame-point
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/smoke 120 4000 --backend cpu
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/render --out out/asan-render.png --frames 30 --backend cpu
 ASAN_OPTIONS=detect_leaks=1 ./examples/c/build-asan/header_check_c
+# The Vulkan host on lavapipe: lavapipe is preloaded so that the loader's dlclose keeps its
+# frames named, and lsan.supp drops only the driver's, loader's and LLVM's own allocations.
+LD_PRELOAD="$(gcc -print-file-name=libasan.so) /usr/lib/x86_64-linux-gnu/libvulkan_lvp.so" \
+    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions=$PWD/examples/c/lsan.supp:print_suppressions=0 \
+    ./examples/c/build-asan/vulkan_host --compare --check-errors --frames 10 --out out/asan-vulkan.png
 
 step "C smoke under Valgrind (memcheck; definite leaks and errors fail)"
 valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite --errors-for-leak-kinds=definite \
     ./examples/c/build/smoke 60 1000 --backend cpu
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
-c_checks=12  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, 3 under ASan, valgrind, fmt+clippy
+c_checks=14  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, Vulkan host, 4 under ASan, valgrind, fmt+clippy
 printf '\nwethair tests: %d passed, 0 failed\n' "$((rust + c_checks))"

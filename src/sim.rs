@@ -1,9 +1,13 @@
 //! [`Simulation`]: the Rust API every front end (C ABI, examples, tests) goes through.
 
-use crate::cpu::step::{resolve_integrator, CpuBackend, Pass};
+#[cfg(feature = "gpu")]
+use crate::cpu::step::resolve_integrator;
+use crate::cpu::step::{CpuBackend, Pass};
 use crate::error::{invalid, Error, Result};
 use crate::groom::Groom;
-use crate::params::{Backend, Integrator, SimParams, VertexAttributes};
+#[cfg(feature = "gpu")]
+use crate::params::Integrator;
+use crate::params::{Backend, SimParams, VertexAttributes};
 use crate::physics::clumping::mean_nearest_tip_distance;
 use crate::physics::spring::spring_energy;
 use glam::{Affine3A, DVec3, Mat4, Vec3};
@@ -148,6 +152,53 @@ impl Simulation {
             steps: 0,
             failed: None,
         })
+    }
+
+    /// Creates a simulation on the host's own VkDevice (feature `vulkan`): the GPU backend runs
+    /// there, and [`Simulation::vulkan_frame`] hands out the vertex `VkBuffer`. The host must
+    /// have enabled what [`crate::gpu::vulkan::requirements`] lists; `params.backend` must not
+    /// be [`Backend::Cpu`].
+    #[cfg(feature = "vulkan")]
+    pub fn new_on_vulkan(groom: &Groom, params: SimParams, host: &crate::gpu::vulkan::HostVulkan) -> Result<Self> {
+        params.validate()?;
+        if params.backend == Backend::Cpu {
+            return Err(invalid!(
+                "a simulation on the host's VkDevice runs the GPU backend, not the CPU one"
+            ));
+        }
+        let head = Affine3A::IDENTITY;
+        let integrator = resolve_integrator(&params, groom);
+        let dev = crate::gpu::vulkan::open(host)?;
+        let (engine, info) = gpu_engine(dev, groom, &params, integrator, &head, String::new())?;
+        Ok(Simulation {
+            params,
+            engine,
+            info,
+            host: HostPoints::new(groom),
+            head,
+            head_prev: head,
+            last_step_ms: 0.0,
+            max_speed: 0.0,
+            steps: 0,
+            failed: None,
+        })
+    }
+
+    /// The vertex buffer as the host's Vulkan sees it, holding the last step's vertices, and
+    /// the semaphore values that order the host's reads against the next step's write. Only
+    /// for simulations made with [`Simulation::new_on_vulkan`].
+    #[cfg(feature = "vulkan")]
+    pub fn vulkan_frame(&mut self) -> Result<crate::gpu::vulkan::SharedFrame> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
+        let r = match &mut self.engine {
+            Engine::Gpu(g) => g.shared_frame(),
+            Engine::Cpu(_) => Err(Error::Unsupported(
+                "the vertex VkBuffer is shared only by simulations created on the host's VkDevice".into(),
+            )),
+        };
+        self.settle(r)
     }
 
     /// The parameters the simulation was created with.
@@ -533,6 +584,7 @@ impl Simulation {
 
 /// Picks the backend the parameters ask for (see [`Backend`]).
 fn choose_engine(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Engine, BackendInfo)> {
+    #[cfg(feature = "gpu")]
     let integrator = resolve_integrator(p, groom);
     let cpu = |reason: String| -> Result<(Engine, BackendInfo)> {
         let c = CpuBackend::new(groom, p, head)?;

@@ -12,7 +12,7 @@
 #include "wethair.h"
 
 /* Exits with the library's message when a call fails. */
-static void wh_check(WetHairResult r, const char *what) {
+static inline void wh_check(WetHairResult r, const char *what) {
     if (r != WETHAIR_OK) {
         fprintf(stderr, "%s failed: %s: %s\n", what, wethair_result_string((uint32_t)r),
                 wethair_last_error_message());
@@ -21,20 +21,20 @@ static void wh_check(WetHairResult r, const char *what) {
 }
 
 /* Milliseconds on a monotonic clock. */
-static double wh_now_ms(void) {
+static inline double wh_now_ms(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
 /* Next value in [0, 1) of a 32-bit LCG. */
-static float wh_rand(uint32_t *state) {
+static inline float wh_rand(uint32_t *state) {
     *state = *state * 1664525u + 1013904223u;
     return (float)(*state >> 8) / (float)(1u << 24);
 }
 
 /* `count` particles in a disc of radius 0.16 m at 0.3 m above the head, falling at 1 m/s. */
-static void wh_shower(uint32_t *state, uint32_t count, float *pos, float *vel) {
+static inline void wh_shower(uint32_t *state, uint32_t count, float *pos, float *vel) {
     for (uint32_t i = 0; i < count; i++) {
         float r = 0.16f * sqrtf(wh_rand(state));
         float th = wh_rand(state) * 6.28318530718f;
@@ -48,7 +48,7 @@ static void wh_shower(uint32_t *state, uint32_t count, float *pos, float *vel) {
 }
 
 /* A `--backend` value: auto, cpu or gpu; exits on anything else. */
-static uint32_t wh_parse_backend(const char *s) {
+static inline uint32_t wh_parse_backend(const char *s) {
     if (!strcmp(s, "auto")) return WETHAIR_BACKEND_AUTO;
     if (!strcmp(s, "cpu")) return WETHAIR_BACKEND_CPU;
     if (!strcmp(s, "gpu")) return WETHAIR_BACKEND_GPU;
@@ -57,7 +57,7 @@ static uint32_t wh_parse_backend(const char *s) {
 }
 
 /* "GPU: llvmpipe (...)" or "CPU: 2 threads (AUTO fell back: ...)". */
-static void wh_print_backend(const WetHairSim *sim) {
+static inline void wh_print_backend(const WetHairSim *sim) {
     WetHairBackendInfo info;
     memset(&info, 0, sizeof info);
     info.struct_size = sizeof info;
@@ -69,7 +69,7 @@ static void wh_print_backend(const WetHairSim *sim) {
 
 /* A simulation of `groom` with the default (paper scene) parameters and the head as a sphere
  * collider of radius 0.1 m at the origin, on `backend` (a WetHairBackend). */
-static WetHairSim *wh_create_paper_sim(const WetHairGroom *groom, uint32_t threads, uint32_t backend) {
+static inline WetHairSim *wh_create_paper_sim(const WetHairGroom *groom, uint32_t threads, uint32_t backend) {
     WetHairSimDesc desc;
     wethair_sim_desc_default(&desc);
     WetHairCollider head = {WETHAIR_COLLIDER_SPHERE, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.1f};
@@ -84,7 +84,7 @@ static WetHairSim *wh_create_paper_sim(const WetHairGroom *groom, uint32_t threa
 }
 
 /* Reads a simulation's stats (sets struct_size first, as the API asks). */
-static WetHairStats wh_stats(const WetHairSim *sim) {
+static inline WetHairStats wh_stats(const WetHairSim *sim) {
     WetHairStats st = {0};
     st.struct_size = sizeof st;
     wh_check(wethair_sim_get_stats(sim, &st), "wethair_sim_get_stats");

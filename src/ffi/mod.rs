@@ -18,9 +18,11 @@ mod groom;
 mod meta;
 mod sim;
 mod types;
+mod vulkan;
 
 pub use boundary::WetHairResult;
 pub use groom::*;
 pub use meta::*;
 pub use sim::*;
 pub use types::*;
+pub use vulkan::*;

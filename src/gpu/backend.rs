@@ -187,7 +187,6 @@ pub struct Status {
 /// The GPU backend's state.
 #[derive(Debug)]
 pub struct GpuBackend {
-    dev: GpuDevice,
     params: SimParams,
     consts: SceneConsts,
     integrator: Integrator,
@@ -227,6 +226,10 @@ pub struct GpuBackend {
     /// Head transform per substep, and their upload bytes (reused every step).
     heads: Vec<Affine3A>,
     sub_bytes: Vec<u8>,
+    /// Whether the encoder being filled writes the vertex buffer (the host's ready signal).
+    wrote_vertices: bool,
+    /// Last, so that every buffer and pipeline above is released before the device.
+    dev: GpuDevice,
 }
 
 /// Timestamp queries around the step's compute pass, resolved into a small buffer.
@@ -414,6 +417,7 @@ impl GpuBackend {
             timing: None,
             heads: vec![*head; n_sub],
             sub_bytes: vec![0; sub_stride as usize * n_sub],
+            wrote_vertices: false,
         };
         be.reset(head);
         be.dev.wait()?;
@@ -824,13 +828,15 @@ impl GpuBackend {
         self.frame += 1;
         self.vertices_current = false;
         let deferred = self.params.readback == Readback::PreviousFrame && !self.staging.is_empty();
-        if deferred {
+        if deferred || self.shares_vertices() {
             self.encode_vertices(&mut enc);
+        }
+        if deferred {
             let k = (self.frame % 2) as usize;
             self.settle(k);
             self.encode_copy(&mut enc, k);
         }
-        self.dev.queue.submit([enc.finish()]);
+        self.submit(enc);
         if deferred {
             self.map(((self.frame % 2) as usize, self.frame));
         }
@@ -847,6 +853,56 @@ impl GpuBackend {
         let (gx, gy) = groups(self.points);
         pass.dispatch_workgroups(gx, gy, 1);
         self.vertices_current = true;
+        self.wrote_vertices = true;
+    }
+
+    /// Submits `enc`, telling the device whether it writes the vertices.
+    fn submit(&mut self, enc: wgpu::CommandEncoder) {
+        let wrote = std::mem::take(&mut self.wrote_vertices);
+        self.dev.submit(enc.finish(), wrote);
+    }
+
+    /// Whether the host draws straight from the vertex buffer (a host-shared device): then
+    /// every step writes it.
+    fn shares_vertices(&self) -> bool {
+        #[cfg(feature = "vulkan")]
+        return self.dev.shared.is_some();
+        #[cfg(not(feature = "vulkan"))]
+        false
+    }
+
+    /// Hands the host the vertex buffer of the last step, with the semaphore values that
+    /// order its reads against our next write (see [`crate::gpu::vulkan::SharedSync`]).
+    #[cfg(feature = "vulkan")]
+    pub fn shared_frame(&mut self) -> Result<crate::gpu::vulkan::SharedFrame> {
+        use crate::gpu::vulkan::{raw_buffer, raw_semaphore, SharedFrame};
+        self.dev.check()?;
+        if self.dev.shared.is_none() {
+            return Err(Error::Unsupported(
+                "the vertex VkBuffer is shared only by simulations created on the host's VkDevice".into(),
+            ));
+        }
+        if !self.vertices_current || self.dev.shared.as_ref().is_some_and(|s| s.ready_value() == 0) {
+            let mut enc = self.dev.device.create_command_encoder(&Default::default());
+            self.vertices_current = false;
+            self.encode_vertices(&mut enc);
+            self.submit(enc);
+        }
+        let buffer =
+            raw_buffer(&self.vertices).ok_or_else(|| Error::Device("the vertex buffer has no Vulkan handle".into()))?;
+        let Some(sync) = self.dev.shared.as_ref() else {
+            return Err(Error::Unsupported("no shared device".into()));
+        };
+        let (ready, release) = sync.acquire();
+        self.dev.check()?;
+        Ok(SharedFrame {
+            buffer,
+            size: self.vertices.size(),
+            ready_semaphore: raw_semaphore(sync.ready),
+            ready_value: ready,
+            release_semaphore: raw_semaphore(sync.release),
+            release_value: release,
+        })
     }
 
     fn ensure_staging(&mut self) {
@@ -970,7 +1026,7 @@ impl GpuBackend {
                 let mut enc = self.dev.device.create_command_encoder(&Default::default());
                 self.encode_vertices(&mut enc);
                 self.encode_copy(&mut enc, k);
-                self.dev.queue.submit([enc.finish()]);
+                self.submit(enc);
                 self.map((k, self.frame));
                 k
             }
@@ -1043,7 +1099,7 @@ impl GpuBackend {
         if let Some(t) = tail {
             enc.copy_buffer_to_buffer(t, 0, &tmp, at, Some(16));
         }
-        self.dev.queue.submit([enc.finish()]);
+        self.dev.submit(enc.finish(), false);
         let ok = Arc::new(AtomicBool::new(false));
         let flag = ok.clone();
         tmp.map_async(wgpu::MapMode::Read, .., move |r| {
@@ -1085,7 +1141,7 @@ impl GpuBackend {
             let mut pass = enc.begin_compute_pass(&Default::default());
             w.encode_grid(&mut pass, false);
         }
-        self.dev.queue.submit([enc.finish()]);
+        self.dev.submit(enc.finish(), false);
         let bytes = self.read_buffers(&[(&w.grid, w.grid.size())], None)?;
         let g: &[u32] = bytemuck::cast_slice(&bytes);
         let dims = glam::IVec3::new(g[5] as i32, g[6] as i32, g[7] as i32);
@@ -1094,7 +1150,7 @@ impl GpuBackend {
         // Without the scatter the counts stay: clear them for the next build.
         let mut enc = self.dev.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&w.grid_count, 0, None);
-        self.dev.queue.submit([enc.finish()]);
+        self.dev.submit(enc.finish(), false);
         self.dev.wait()?;
         Ok((dims, counts))
     }

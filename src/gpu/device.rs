@@ -22,6 +22,24 @@ pub struct GpuDevice {
     /// Whether GPU timestamp queries are enabled.
     pub timestamps: bool,
     failure: Arc<Mutex<Option<String>>>,
+    /// The semaphores shared with the host when the device is the host's (feature `vulkan`).
+    #[cfg(feature = "vulkan")]
+    pub shared: Option<crate::gpu::vulkan::SharedSync>,
+    /// Held from `drop` until every wgpu object above is gone (they touch the host's queue).
+    #[cfg(feature = "vulkan")]
+    queue_guard: Option<crate::gpu::vulkan::QueueGuard>,
+}
+
+#[cfg(feature = "vulkan")]
+impl Drop for GpuDevice {
+    fn drop(&mut self) {
+        // Finish our work under the host's queue lock; the fields then drop in order (the
+        // wgpu queue waits for idle on drop), and the guard, last, unlocks.
+        if let Some(lock) = self.shared.as_ref().and_then(|s| s.lock.clone()) {
+            self.queue_guard = Some(lock.guard());
+        }
+        let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
+    }
 }
 
 impl GpuDevice {
@@ -39,39 +57,54 @@ impl GpuDevice {
                 info.name, info.backend
             )));
         }
-        let have = adapter.limits();
-        // Large grooms need large storage bindings; ask for what the adapter has.
-        let limits = wgpu::Limits {
-            max_storage_buffer_binding_size: have.max_storage_buffer_binding_size,
-            max_buffer_size: have.max_buffer_size,
-            ..wgpu::Limits::default()
-        };
-        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let desc = wgpu::DeviceDescriptor {
-            label: Some("wethair"),
-            required_features: if timestamps {
-                wgpu::Features::TIMESTAMP_QUERY
-            } else {
-                wgpu::Features::empty()
-            },
-            required_limits: limits.clone(),
-            ..Default::default()
-        };
+        let (features, limits) = wanted(adapter.features(), &adapter.limits());
+        let desc = descriptor(features, &limits);
         let (device, queue) = block_on(adapter.request_device(&desc))
             .map_err(|e| Error::Device(format!("could not open a device on {}: {e}", info.name)))?;
+        Ok(Self::from_parts(info, device, queue, limits, features))
+    }
+
+    /// Wraps an opened device: installs the error handlers.
+    pub(crate) fn from_parts(
+        info: wgpu::AdapterInfo,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        limits: wgpu::Limits,
+        features: wgpu::Features,
+    ) -> GpuDevice {
+        let timestamps = features.contains(wgpu::Features::TIMESTAMP_QUERY);
         let failure: Arc<Mutex<Option<String>>> = Arc::default();
         let sink = failure.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| record(&sink, &e.to_string())));
         let sink = failure.clone();
         device.set_device_lost_callback(move |reason, msg| record(&sink, &format!("device lost ({reason:?}): {msg}")));
-        Ok(GpuDevice {
+        GpuDevice {
             device,
             queue,
             info,
             limits,
             timestamps,
             failure,
-        })
+            #[cfg(feature = "vulkan")]
+            shared: None,
+            #[cfg(feature = "vulkan")]
+            queue_guard: None,
+        }
+    }
+
+    /// Submits one command buffer. On a host's device this holds the host's queue lock and
+    /// adds the shared semaphores (see [`crate::gpu::vulkan::SharedSync`]); `wrote_vertices`
+    /// says whether it writes the vertex buffer the host draws from.
+    pub fn submit(&self, commands: wgpu::CommandBuffer, wrote_vertices: bool) {
+        #[cfg(feature = "vulkan")]
+        if let Some(s) = &self.shared {
+            let _held = s.lock.as_ref().map(|l| l.guard());
+            s.stage(&self.queue, wrote_vertices);
+            self.queue.submit([commands]);
+            return;
+        }
+        let _ = wrote_vertices;
+        self.queue.submit([commands]);
     }
 
     /// The adapter's name and backend, as stats report it.
@@ -107,6 +140,27 @@ impl GpuDevice {
         self.device.destroy();
         let _ = self.device.poll(wgpu::PollType::Poll);
         record(&self.failure, "device lost: destroyed on request");
+    }
+}
+
+/// The features and limits wethair asks of an adapter: timestamps where offered, and storage
+/// bindings as large as the adapter allows (large grooms need them).
+pub(crate) fn wanted(have: wgpu::Features, have_limits: &wgpu::Limits) -> (wgpu::Features, wgpu::Limits) {
+    let limits = wgpu::Limits {
+        max_storage_buffer_binding_size: have_limits.max_storage_buffer_binding_size,
+        max_buffer_size: have_limits.max_buffer_size,
+        ..wgpu::Limits::default()
+    };
+    (have & wgpu::Features::TIMESTAMP_QUERY, limits)
+}
+
+/// The device descriptor for [`wanted`]'s features and limits.
+pub(crate) fn descriptor(features: wgpu::Features, limits: &wgpu::Limits) -> wgpu::DeviceDescriptor<'static> {
+    wgpu::DeviceDescriptor {
+        label: Some("wethair"),
+        required_features: features,
+        required_limits: limits.clone(),
+        ..Default::default()
     }
 }
 

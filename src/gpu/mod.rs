@@ -6,6 +6,8 @@ pub mod backend;
 pub mod buffers;
 pub mod device;
 pub mod pipelines;
+#[cfg(feature = "vulkan")]
+pub mod vulkan;
 
 pub use backend::GpuBackend;
 pub use device::GpuDevice;
