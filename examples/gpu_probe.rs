@@ -1,10 +1,17 @@
 //! The paper scene (10,000 x 6... here 1,000 x 16) on the CPU, the GPU, and the CPU with its
 //! water nudged by 1e-7 m: how far the GPU is from the CPU next to how far the CPU is from
 //! itself (the chaos floor). `cargo run --release --example gpu_probe`; tests assert parity.
+//! `-- dry`: the dry paper scene (10,000 x 6), the third simulation's head moved by 1e-7 m.
 use wethair::{groom::paper_scene, Backend, SimParams, Simulation};
 
 fn main() {
-    let groom = paper_scene(1000, 16).expect("paper scene");
+    let dry = std::env::args().any(|a| a == "dry");
+    let groom = if dry {
+        paper_scene(10_000, 6)
+    } else {
+        paper_scene(1000, 16)
+    }
+    .expect("paper scene");
     let mut sims: Vec<Simulation> = [Backend::Cpu, Backend::Gpu, Backend::Cpu]
         .iter()
         .map(|&b| {
@@ -20,8 +27,12 @@ fn main() {
         .collect();
     println!("{:?}", sims[1].backend_info());
     let water = wethair::scenes::on_hair(&sims[0].positions(), 1000, &mut wethair::scenes::Lcg(3));
+    if dry {
+        let nudge = glam::Mat4::from_translation(glam::Vec3::splat(1e-7));
+        sims[2].set_head_transform(nudge).expect("head");
+    }
     for f in 0..100 {
-        if f == 10 {
+        if f == 10 && !dry {
             for (k, sim) in sims.iter_mut().enumerate() {
                 // The third simulation gets water nudged by 1e-7 m: the CPU against itself.
                 let w: Vec<_> = water

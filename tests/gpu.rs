@@ -125,15 +125,30 @@ fn dry_paper_scene_matches_the_cpu_after_100_frames() {
     let Some(mut g) = gpu(&groom, params.clone()) else {
         return;
     };
-    let mut c = cpu(&groom, params);
+    let mut c = cpu(&groom, params.clone());
+    // The chaos floor: the CPU against itself with the head moved by 1e-7 m. Strands touching
+    // the head sphere amplify any rounding difference; this run says by how much.
+    let mut nudged = cpu(&groom, params);
+    nudged
+        .set_head_transform(glam::Mat4::from_translation(glam::Vec3::splat(1e-7)))
+        .unwrap();
     for _ in 0..100 {
         g.step(1.0 / 60.0).unwrap();
         c.step(1.0 / 60.0).unwrap();
+        nudged.step(1.0 / 60.0).unwrap();
     }
     let len = groom.max_strand_length();
     let d = max_diff(&g.positions(), &c.positions());
-    // Bound: 1e-3 of the strand length (measured: ~1e-6 m, float rounding of sqrt and division).
-    assert!(d < 1e-3 * len, "max position difference {d} m, strand {len} m");
+    let floor = max_diff(&nudged.positions(), &c.positions());
+    eprintln!("dry 100 frames: GPU-CPU {d:.3e} m, chaos floor {floor:.3e} m");
+    // Bound: 1e-3 of the strand length, or twice the chaos floor where that is larger. Measured
+    // 2026-11-22: lavapipe ~1e-6 m (IEEE ops like the CPU's); NVIDIA H100 2.9e-4 m, whose
+    // division and sqrt round differently, against a floor of 1.6e-3 m.
+    let bound = (1e-3 * len).max(2.0 * floor);
+    assert!(
+        d < bound,
+        "max position difference {d} m, bound {bound} m (strand {len} m, floor {floor} m)"
+    );
     let (sg, sc) = (g.stats(), c.stats());
     assert!(
         (sg.clumping - sc.clumping).abs() < 0.05 * sc.clumping,

@@ -162,6 +162,11 @@ const WATER_ENTRIES: [&str; 10] = [
     "water_cull_finish",
 ];
 
+/// Longest strand the GPU's implicit solve takes. One invocation solves one strand with its
+/// banded system in private memory, about 168 bytes per point: 64 points need 10.75 KiB, and
+/// NVIDIA's driver (H100, 580.159) loses the device at 96 points (16 KiB).
+pub const MAX_IMPLICIT_POINTS: usize = 64;
+
 /// One staging buffer of the readback ring.
 #[derive(Debug)]
 struct Staging {
@@ -252,6 +257,13 @@ impl GpuBackend {
         if !matches!(integrator, Integrator::SymplecticEuler | Integrator::ImplicitEuler) {
             return Err(Error::Unsupported(format!(
                 "the GPU backend runs symplectic and implicit Euler; {integrator:?} runs on the CPU backend"
+            )));
+        }
+        if integrator == Integrator::ImplicitEuler && groom.max_strand_points() > MAX_IMPLICIT_POINTS {
+            return Err(Error::Unsupported(format!(
+                "the GPU's implicit solve takes strands of up to {MAX_IMPLICIT_POINTS} points (this groom has {}); \
+                 longer strands run implicit Euler on the CPU backend",
+                groom.max_strand_points()
             )));
         }
         let d = &dev.device;
