@@ -35,6 +35,10 @@ test -s out/test-render.png
 ./examples/c/build/render --out out/test-render-gpu.png --frames 60 --backend gpu
 test -s out/test-render-gpu.png
 
+step "Render-side shaders for engines: HLSL through glslang's HLSL front end (GLSL is built above, WGSL in the Rust tests)"
+glslangValidator -D -V --quiet -e VSMain -S vert bindings/shaders/kajiya_kay.hlsl -o target/kk_hlsl_vs.spv
+glslangValidator -D -V --quiet -e PSMain -S frag bindings/shaders/kajiya_kay.hlsl -o target/kk_hlsl_ps.spv
+
 step "Vulkan host: wethair on the host's VkDevice, drawn from the shared VkBuffer, under validation"
 # Fails on any validation error (bar Debian's known false InconsistentSpirv report), on a
 # shared buffer that differs from the copy path's bytes, on a refusal that is not refused, and
@@ -60,5 +64,5 @@ valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definit
     ./examples/c/build/smoke 60 1000 --backend cpu
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
-c_checks=14  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, Vulkan host, 4 under ASan, valgrind, fmt+clippy
+c_checks=15  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, HLSL, Vulkan host, 4 under ASan, valgrind, fmt+clippy
 printf '\nwethair tests: %d passed, 0 failed\n' "$((rust + c_checks))"
