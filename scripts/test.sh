@@ -35,6 +35,27 @@ test -s out/test-render.png
 ./examples/c/build/render --out out/test-render-gpu.png --frames 60 --backend gpu
 test -s out/test-render-gpu.png
 
+step "C++ wrapper (bindings/cpp/wethair.hpp, g++ -std=c++17 -Wall -Wextra -Werror): the paper scene"
+./examples/c/build/cpp_paper_scene
+
+step "Packaging: install into a temporary prefix; C programs built with pkg-config alone run"
+prefix=$(mktemp -d)
+bash scripts/install.sh "$prefix"
+readelf -d "$prefix/lib/libwethair.so" | grep -q "SONAME.*\[libwethair.so.0.1\]"
+export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
+# Shared: the program needs libwethair.so.0.1 (the SONAME), found in the prefix.
+cc -std=c11 -D_POSIX_C_SOURCE=199309L -Wall -Wextra -Werror examples/c/smoke.c -o target/smoke-pkgconfig \
+    $(pkg-config --cflags --libs wethair) -lm
+readelf -d target/smoke-pkgconfig | grep -q "NEEDED.*\[libwethair.so.0.1\]"
+LD_LIBRARY_PATH="$prefix/lib" ./target/smoke-pkgconfig --backend cpu
+# Static: the archive plus what pkg-config --static lists; nothing of wethair loaded at run time.
+cc -std=c11 -D_POSIX_C_SOURCE=199309L examples/c/smoke.c -o target/smoke-static $(pkg-config --cflags wethair) \
+    "$prefix/lib/libwethair.a" $(pkg-config --static --libs-only-l wethair | sed 's/-lwethair//')
+! ldd target/smoke-static | grep -q wethair
+./target/smoke-static --backend cpu
+unset PKG_CONFIG_PATH
+rm -rf "$prefix"
+
 step "Render-side shaders for engines: HLSL through glslang's HLSL front end (GLSL is built above, WGSL in the Rust tests)"
 glslangValidator -D -V --quiet -e VSMain -S vert bindings/shaders/kajiya_kay.hlsl -o target/kk_hlsl_vs.spv
 glslangValidator -D -V --quiet -e PSMain -S frag bindings/shaders/kajiya_kay.hlsl -o target/kk_hlsl_ps.spv
@@ -53,6 +74,7 @@ make -C examples/c --quiet BUILD=build-asan CFLAGS="-O1 -g -fno-omit-frame-point
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/smoke 120 4000 --backend cpu
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/render --out out/asan-render.png --frames 30 --backend cpu
 ASAN_OPTIONS=detect_leaks=1 ./examples/c/build-asan/header_check_c
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/cpp_paper_scene
 # The Vulkan host on lavapipe: lavapipe is preloaded so that the loader's dlclose keeps its
 # frames named, and lsan.supp drops only the driver's, loader's and LLVM's own allocations.
 LD_PRELOAD="$(gcc -print-file-name=libasan.so) /usr/lib/x86_64-linux-gnu/libvulkan_lvp.so" \
@@ -64,5 +86,5 @@ valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definit
     ./examples/c/build/smoke 60 1000 --backend cpu
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
-c_checks=15  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, HLSL, Vulkan host, 4 under ASan, valgrind, fmt+clippy
+c_checks=19  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, HLSL, Vulkan host, 5 under ASan, valgrind, fmt+clippy
 printf '\nwethair tests: %d passed, 0 failed\n' "$((rust + c_checks))"
