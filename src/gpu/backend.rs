@@ -840,6 +840,12 @@ impl GpuBackend {
         self.frame += 1;
         self.vertices_current = false;
         let deferred = self.params.readback == Readback::PreviousFrame && !self.staging.is_empty();
+        if self.shares_vertices() {
+            // The host may still be drawing the last frame: only the vertex write waits for its
+            // release, so the step's passes go in a submission of their own and run meanwhile.
+            self.submit(enc);
+            enc = self.dev.device.create_command_encoder(&Default::default());
+        }
         if deferred || self.shares_vertices() {
             self.encode_vertices(&mut enc);
         }

@@ -475,21 +475,23 @@ impl SharedSync {
         })
     }
 
-    /// Adds the pending wait on `release` and, when the submission writes the vertices, a
-    /// signal of `ready`'s next value, to wgpu's next submission on `queue`.
+    /// When the submission writes the vertices: the pending wait on `release` (the host's
+    /// reads of the frame it acquired) and a signal of `ready`'s next value, staged on wgpu's
+    /// next submission on `queue`. Submissions that only read the buffer need neither.
     pub(crate) fn stage(&self, queue: &wgpu::Queue, wrote_vertices: bool) {
+        if !wrote_vertices {
+            return;
+        }
         let Ok(mut st) = self.state.lock() else { return };
         // SAFETY: the queue is a Vulkan queue; the semaphores are ours, on its device.
         let Some(hal) = (unsafe { queue.as_hal::<Vulkan>() }) else {
             return;
         };
         if let Some(v) = st.release_wait.take() {
-            hal.add_wait_semaphore(self.release, Some(v), vk::PipelineStageFlags::ALL_COMMANDS);
+            hal.add_wait_semaphore(self.release, Some(v), vk::PipelineStageFlags::COMPUTE_SHADER);
         }
-        if wrote_vertices {
-            st.ready += 1;
-            hal.add_signal_semaphore(self.ready, Some(st.ready));
-        }
+        st.ready += 1;
+        hal.add_signal_semaphore(self.ready, Some(st.ready));
     }
 
     /// The frame the host may now read: `ready`'s value to wait for, and the value it must
