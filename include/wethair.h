@@ -299,6 +299,28 @@ typedef struct WetHairBackendInfo {
   char fallback_reason[256];
 } WetHairBackendInfo;
 
+// What the Unity plugin knows (`wethair_unity_get_status`).
+typedef struct WetHairUnityStatus {
+  // `sizeof(WetHairUnityStatus)`, set by the host before the call.
+  uint32_t struct_size;
+  // 1 between `UnityPluginLoad` and `UnityPluginUnload`.
+  uint32_t loaded;
+  // Unity's `UnityGfxRenderer` (21 = Vulkan, 2 = D3D11, 18 = D3D12, 16 = Metal, 17 = OpenGL
+  // core, 4 = null), or -1 before the graphics device is known.
+  int32_t renderer;
+  // 1 when simulations are created on Unity's own VkDevice.
+  uint32_t on_unity_device;
+  // First of the render event ids reserved for wethair (`wethair_unity_get_render_event_func`).
+  int32_t event_id_base;
+  // Reserved, 0.
+  uint32_t reserved;
+  // Why simulations are not on Unity's device (empty when they are), NUL-terminated.
+  uint8_t reason[256];
+} WetHairUnityStatus;
+
+// The render event function type (`UnityRenderingEventAndData`).
+typedef void (*WetHairUnityRenderEvent)(int32_t event_id, void *data);
+
 // The host's Vulkan objects (`wethair_vulkan_device_default` fills it empty). wethair never
 // destroys any of them; they must outlive every simulation made on them.
 typedef struct WetHairVulkanDevice {
@@ -421,6 +443,30 @@ typedef struct WetHairVulkanBuffer {
   // Value to signal.
   uint64_t release_value;
 } WetHairVulkanBuffer;
+
+// `UnityInterfaceGUID`.
+typedef struct UnityInterfaceGuid {
+  // High 64 bits.
+  uint64_t high;
+  // Low 64 bits.
+  uint64_t low;
+} UnityInterfaceGuid;
+
+// One render-thread step (`GL.IssuePluginEventAndData` / `CommandBuffer.IssuePluginEventAndData`
+// with the event id `event_id_base` and a pointer to this, pinned by the caller).
+typedef struct WetHairUnityStep {
+  // `sizeof(WetHairUnityStep)`.
+  uint32_t struct_size;
+  // Seconds to advance.
+  float dt;
+  // The simulation.
+  struct WetHairSim *sim;
+  // Written by the event: the step's `WetHairResult` (the render thread has no caller to
+  // return it to); read it on the main thread a frame later.
+  uint32_t result;
+  // Reserved, 0.
+  uint32_t reserved;
+} WetHairUnityStep;
 
 #ifdef __cplusplus
 extern "C" {
@@ -573,6 +619,23 @@ enum WetHairResult wethair_sim_get_backend_info(const struct WetHairSim *sim, st
 // # Safety
 // `sim` is valid.
 enum WetHairResult wethair_sim_debug_lose_device(struct WetHairSim *sim);
+
+// Describes the plugin's state. The host sets `out->struct_size` first.
+//
+// # Safety
+// `out` is writable.
+enum WetHairResult wethair_unity_get_status(struct WetHairUnityStatus *out);
+
+// Creates a simulation for Unity: on Unity's own VkDevice when the plugin intercepted its
+// creation (see `wethair_unity_get_status`), else as `wethair_sim_create` does.
+//
+// # Safety
+// As `wethair_sim_create`.
+enum WetHairResult wethair_unity_sim_create(const struct WetHairSimDesc *desc, struct WetHairSim **out);
+
+// The render event function to pass to `GL.IssuePluginEventAndData` /
+// `CommandBuffer.IssuePluginEventAndData`, with event id `event_id_base`.
+WetHairUnityRenderEvent wethair_unity_get_render_event_func(void);
 
 // Fills `device` with NULL handles, empty lists and its `struct_size`. NULL is ignored.
 //

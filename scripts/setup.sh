@@ -17,6 +17,9 @@ ldconfig -p 2>/dev/null | grep -q libvulkan.so.1 || need+=(libvulkan1)
 [ -e /usr/include/vulkan/vulkan.h ] || need+=(libvulkan-dev)
 command -v glslangValidator >/dev/null 2>&1 || need+=(glslang-tools)
 [ -e /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json ] || need+=(vulkan-validationlayers)
+# The Unity bindings' C# is built and run with mono in the tests.
+command -v mcs >/dev/null 2>&1 || need+=(mono-mcs)
+command -v mono >/dev/null 2>&1 || need+=(mono-runtime)
 if [ ${#need[@]} -gt 0 ]; then
     if [ "$(id -u)" != 0 ]; then
         echo "setup: missing ${need[*]}; run as root or install them" >&2

@@ -18,6 +18,7 @@ mod groom;
 mod meta;
 mod sim;
 mod types;
+mod unity;
 mod vulkan;
 
 pub use boundary::WetHairResult;
@@ -25,4 +26,5 @@ pub use groom::*;
 pub use meta::*;
 pub use sim::*;
 pub use types::*;
+pub use unity::*;
 pub use vulkan::*;

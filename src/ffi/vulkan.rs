@@ -289,6 +289,7 @@ unsafe fn host_vulkan(d: &WetHairVulkanDevice, need_device: bool) -> Result<crat
         )?,
         device_extensions: read_names(d.device_extensions, d.device_extension_count, "host->device_extensions")?,
         enabled_features: d.enabled_features,
+        enabled_feature_names: None,
         queue_lock,
     })
 }

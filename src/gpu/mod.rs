@@ -5,6 +5,8 @@
 pub mod backend;
 pub mod buffers;
 pub mod device;
+#[cfg(feature = "unity")]
+pub mod intercept;
 pub mod pipelines;
 #[cfg(feature = "vulkan")]
 pub mod vulkan;

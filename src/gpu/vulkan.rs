@@ -78,8 +78,12 @@ pub struct HostVulkan {
     /// Device extensions the host enabled.
     pub device_extensions: Vec<CString>,
     /// The `VkPhysicalDeviceFeatures2` chain, or the `VkDeviceCreateInfo`, the device was
-    /// created with; null leaves the feature check to the host.
+    /// created with; null leaves the feature check to the host (or to
+    /// `enabled_feature_names`).
     pub enabled_features: *const c_void,
+    /// The features enabled, by member name (`timeline_semaphore`), when recorded at device
+    /// creation (see `gpu::intercept`); used when `enabled_features` is null.
+    pub enabled_feature_names: Option<Vec<String>>,
     /// The host's queue lock, if it has one.
     pub queue_lock: Option<QueueLock>,
 }
@@ -118,6 +122,26 @@ impl Requirements {
     /// `self` lives.
     pub fn features_chain(&self) -> *const c_void {
         &self.chain.head as *const vk::PhysicalDeviceFeatures2 as *const c_void
+    }
+
+    /// The core features wethair needs.
+    #[cfg(feature = "unity")]
+    pub(crate) fn core(&self) -> vk::PhysicalDeviceFeatures {
+        self.chain.head.features
+    }
+
+    /// The extension structs of the chain (after the `VkPhysicalDeviceFeatures2` head), in
+    /// order; they live in `self`, which a caller may relink while it holds `&mut self`.
+    #[cfg(feature = "unity")]
+    pub(crate) fn chained(&mut self) -> Vec<*mut vk::BaseOutStructure<'static>> {
+        let mut out = Vec::new();
+        let mut p = self.chain.head.p_next as *mut vk::BaseOutStructure<'static>;
+        while !p.is_null() {
+            out.push(p);
+            // SAFETY: the chain was built from valid structs in our box.
+            p = unsafe { (*p).p_next };
+        }
+        out
     }
 }
 
@@ -200,6 +224,20 @@ fn hal_adapter(host: &HostVulkan) -> Result<HalAdapter> {
                 .into(),
         )
     })?;
+    // wgpu uses the device's Vulkan version (its 1.2/1.3 entry points, its SPIR-V version), which
+    // Vulkan only allows up to the instance's apiVersion.
+    let dv = exposed.adapter.physical_device_capabilities().properties().api_version;
+    let (dmaj, dmin) = (vk::api_version_major(dv), vk::api_version_minor(dv).min(3));
+    let (imaj, imin) = (
+        vk::api_version_major(host.api_version),
+        vk::api_version_minor(host.api_version),
+    );
+    if (imaj, imin) < (dmaj, dmin) {
+        return Err(Error::Unsupported(format!(
+            "the host's instance uses Vulkan {imaj}.{imin} but its device offers {dmaj}.{dmin}, which wgpu uses: \
+             create the instance with apiVersion {dmaj}.{dmin} or later"
+        )));
+    }
     let (features, limits) = wanted(exposed.features, &exposed.capabilities.limits);
     let mut extensions = exposed.adapter.required_device_extensions(features);
     // No surface: wethair never presents, so neither swapchain nor its dependants.
@@ -247,7 +285,7 @@ impl FeatureChain {
 }
 
 /// `robust_buffer_access` → `robustBufferAccess`, as the Vulkan spec names features.
-fn camel(snake: &str) -> String {
+pub(crate) fn camel(snake: &str) -> String {
     let mut out = String::new();
     let mut up = false;
     for c in snake.chars() {
@@ -321,7 +359,7 @@ unsafe fn struct_names(p: *const c_void) -> Vec<String> {
 ///
 /// # Safety
 /// `p` points to one of those, with a valid chain.
-unsafe fn enabled_names(p: *const c_void) -> Vec<String> {
+pub(crate) unsafe fn enabled_names(p: *const c_void) -> Vec<String> {
     let mut out = Vec::new();
     let mut next = p as *const vk::BaseInStructure;
     let first = &*next;
@@ -364,10 +402,14 @@ pub fn open(host: &HostVulkan) -> Result<GpuDevice> {
             names(&missing)
         )));
     }
-    if !host.enabled_features.is_null() {
-        let need = requirements(host)?;
+    let have = if !host.enabled_features.is_null() {
         // SAFETY: the host passes the chain (or create info) its device was made with.
-        let have = unsafe { enabled_names(host.enabled_features) };
+        Some(unsafe { enabled_names(host.enabled_features) })
+    } else {
+        host.enabled_feature_names.clone()
+    };
+    if let Some(have) = have {
+        let need = requirements(host)?;
         let lacking: Vec<String> = need
             .feature_names
             .iter()

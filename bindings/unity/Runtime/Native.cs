@@ -1,0 +1,200 @@
+// P/Invoke declarations and blittable structs mirroring include/wethair.h, field for field
+// (names as in C, so the layout check can compare them: bindings/unity/Tests~/Drive.cs).
+using System;
+using System.Runtime.InteropServices;
+
+namespace WetHair
+{
+    /// <summary>Result codes of every fallible call (WetHairResult).</summary>
+    public enum Result : uint
+    {
+        Ok = 0,
+        NullPointer = 1,
+        InvalidArgument = 2,
+        StructSize = 3,
+        Capacity = 4,
+        BufferTooSmall = 5,
+        Io = 6,
+        Parse = 7,
+        Unstable = 8,
+        Panic = 9,
+        Device = 10,
+        Unsupported = 11,
+    }
+
+    /// <summary>Where the step runs (WetHairBackend).</summary>
+    public enum Backend : uint { Auto = 0, Cpu = 1, Gpu = 2 }
+
+    /// <summary>How each substep advances the strands (WetHairIntegrator).</summary>
+    public enum Integrator : uint { SymplecticEuler = 0, ImplicitEuler = 1, Xpbd = 2, Auto = 3 }
+
+    /// <summary>Collider shapes (WetHairColliderType).</summary>
+    public enum ColliderShape : uint { Sphere = 0, Capsule = 1 }
+
+    /// <summary>A spring's stiffness (N/m) and damping (N s/m).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairSpring
+    {
+        public float stiffness;
+        public float damping;
+    }
+
+    /// <summary>Water parameters (see the C header for units).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairWaterDesc
+    {
+        public float r_min;
+        public float r_max;
+        public float adhesion;
+        public float particle_mass;
+        public float drag;
+        public uint capacity;
+        public float wetting_rate;
+        public float domain_radius;
+    }
+
+    /// <summary>A sphere (a, radius) or capsule (a to b, radius) in head space.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public unsafe struct WetHairCollider
+    {
+        public uint shape;
+        public fixed float a[3];
+        public fixed float b[3];
+        public float radius;
+    }
+
+    /// <summary>The host's own strands.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairGroomDesc
+    {
+        public uint struct_size;
+        public uint strand_count;
+        public IntPtr strand_point_counts;
+        public IntPtr positions;
+        public uint point_count;
+        public IntPtr pinned;
+        public IntPtr masses;
+        public float default_mass;
+    }
+
+    /// <summary>A simulation's description; start from Native.wethair_sim_desc_default.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public unsafe struct WetHairSimDesc
+    {
+        public uint struct_size;
+        public uint damping_model;
+        public IntPtr groom;
+        public WetHairSpring stretch;
+        public WetHairSpring bend;
+        public fixed float gravity[3];
+        public float air_drag;
+        public uint substeps;
+        public uint integrator;
+        public uint solver_iterations;
+        public uint threads;
+        public WetHairWaterDesc water;
+        public IntPtr colliders;
+        public uint collider_count;
+        public float friction;
+        public uint vertex_attributes;
+        public uint backend;
+        public uint readback;
+    }
+
+    /// <summary>The vertex buffer's layout (byte offsets, -1 when absent).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairVertexLayout
+    {
+        public uint struct_size;
+        public uint vertex_count;
+        public uint strand_count;
+        public uint stride_floats;
+        public int position_offset;
+        public int tangent_offset;
+        public int wetness_offset;
+    }
+
+    /// <summary>Counters and measures of a simulation.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairStats
+    {
+        public uint struct_size;
+        public uint strands;
+        public uint points;
+        public uint particles;
+        public ulong particles_removed;
+        public ulong steps;
+        public float last_step_ms;
+        public float max_speed;
+        public float clumping;
+        public uint threads;
+        public uint integrator;
+        public uint backend;
+    }
+
+    /// <summary>Which backend runs the simulation, its device, and why AUTO chose it.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public unsafe struct WetHairBackendInfo
+    {
+        public uint struct_size;
+        public uint backend;
+        public fixed byte device[128];
+        public fixed byte fallback_reason[256];
+    }
+
+    /// <summary>The shared vertex VkBuffer and its synchronisation (see the C header).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairVulkanBuffer
+    {
+        public uint struct_size;
+        public uint vertex_count;
+        public ulong buffer;
+        public ulong offset;
+        public ulong size;
+        public uint stride_bytes;
+        public uint strand_count;
+        public int position_offset;
+        public uint position_format;
+        public int tangent_offset;
+        public uint tangent_format;
+        public int wetness_offset;
+        public uint wetness_format;
+        public ulong ready_semaphore;
+        public ulong ready_value;
+        public ulong release_semaphore;
+        public ulong release_value;
+    }
+
+    /// <summary>The C functions, one to one.</summary>
+    public static unsafe class Native
+    {
+        const string Lib = "wethair";
+
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern uint wethair_version();
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern IntPtr wethair_version_string();
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern IntPtr wethair_result_string(uint result);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern IntPtr wethair_last_error_message();
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern void wethair_sim_desc_default(WetHairSimDesc* desc);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern void wethair_groom_desc_default(WetHairGroomDesc* desc);
+
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_groom_create(WetHairGroomDesc* desc, out GroomHandle groom);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_groom_create_paper_scene(uint strands, uint points, out GroomHandle groom);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_groom_load([MarshalAs(UnmanagedType.LPUTF8Str)] string path, float pointMass, out GroomHandle groom);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_groom_get_counts(GroomHandle groom, out uint strands, out uint points);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern void wethair_groom_destroy(IntPtr groom);
+
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_create(WetHairSimDesc* desc, out SimulationHandle sim);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern void wethair_sim_destroy(IntPtr sim);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_head_transform(SimulationHandle sim, float* matrix);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_add_water(SimulationHandle sim, float* positions, float* velocities, uint count);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_clear_water(SimulationHandle sim);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_step(SimulationHandle sim, float dt);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_reset(SimulationHandle sim);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vertex_layout(SimulationHandle sim, WetHairVertexLayout* layout);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vertex_buffer(SimulationHandle sim, float* dst, UIntPtr capacity, out UIntPtr written);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_water(SimulationHandle sim, float* dst, uint capacity, out uint written);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_stats(SimulationHandle sim, WetHairStats* stats);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_backend_info(SimulationHandle sim, WetHairBackendInfo* info);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vulkan_buffer(SimulationHandle sim, WetHairVulkanBuffer* buffer);
+    }
+}

@@ -1,0 +1,104 @@
+// A console program that drives the real library through the Unity package's bindings, built
+// with mono's C# compiler in the tests (no Unity needed):
+//   mono drive.exe           create, add water, step, read vertices, the documented exception
+//   mono drive.exe --layout  every binding struct's size and field offsets, for comparison
+//                            with the C header's (scripts/test.sh compiles the C side)
+using System;
+using System.Reflection;
+using System.Runtime.InteropServices;
+using WetHair;
+
+static class Drive
+{
+    static int Fail(string what)
+    {
+        Console.Error.WriteLine("FAILED: " + what);
+        return 1;
+    }
+
+    static int Layout()
+    {
+        foreach (Type t in typeof(Native).Assembly.GetTypes())
+        {
+            if (!t.IsValueType || t.IsEnum || !t.Name.StartsWith("WetHair")) continue;
+            Console.WriteLine("size " + t.Name + " " + Marshal.SizeOf(t));
+            foreach (FieldInfo f in t.GetFields(BindingFlags.Public | BindingFlags.Instance))
+                Console.WriteLine("offset " + t.Name + " " + f.Name + " " + Marshal.OffsetOf(t, f.Name));
+        }
+        return 0;
+    }
+
+    static unsafe int Main(string[] args)
+    {
+        if (args.Length > 0 && args[0] == "--layout") return Layout();
+        Console.WriteLine("wethair " + Marshal.PtrToStringAnsi(Native.wethair_version_string()) + " through the C# bindings");
+        using (Groom groom = Groom.PaperScene(2000, 6))
+        {
+            var desc = Simulation.DefaultDesc();
+            desc.backend = (uint)Backend.Cpu;
+            var head = new WetHairCollider { shape = (uint)ColliderShape.Sphere, radius = 0.1f };
+            using (var sim = new Simulation(groom, desc, new[] { head }))
+            {
+                Console.WriteLine("backend: " + sim.BackendDescription);
+                var pos = new float[3 * 200];
+                var vel = new float[3 * 200];
+                var rnd = new Random(7);
+                for (int i = 0; i < 200; i++)
+                {
+                    double r = 0.12 * Math.Sqrt(rnd.NextDouble()), th = 2 * Math.PI * rnd.NextDouble();
+                    pos[3 * i] = (float)(r * Math.Cos(th));
+                    pos[3 * i + 1] = (float)(r * Math.Sin(th));
+                    pos[3 * i + 2] = 0.3f;
+                    vel[3 * i + 2] = -1.0f;
+                }
+                sim.AddWater(pos, vel);
+                for (int f = 0; f < 30; f++) sim.Step(1.0f / 60.0f);
+                var layout = sim.Layout;
+                var verts = new float[sim.VertexFloats];
+                int written = sim.ReadVertices(verts);
+                if (written != verts.Length || layout.vertex_count != 12000) return Fail("vertex count " + written);
+                foreach (float v in verts)
+                    if (float.IsNaN(v) || float.IsInfinity(v)) return Fail("non-finite vertex");
+                var st = sim.Stats;
+                Console.WriteLine("stepped 30 frames: " + st.points + " points, " + st.particles + " particles held, clumping " + st.clumping.ToString("F5") + " m, " + written + " floats read");
+                if (st.steps != 30) return Fail("steps " + st.steps);
+
+                // The error path: a NaN dt raises WetHairException(InvalidArgument).
+                try
+                {
+                    sim.Step(float.NaN);
+                    return Fail("a NaN dt did not throw");
+                }
+                catch (WetHairException e)
+                {
+                    if (e.Code != Result.InvalidArgument) return Fail("code " + e.Code);
+                    Console.WriteLine("threw as documented: " + e.Message);
+                }
+                // A too-small destination raises BufferTooSmall and writes nothing.
+                var small = new float[8];
+                for (int i = 0; i < small.Length; i++) small[i] = 42.0f;
+                try
+                {
+                    sim.ReadVertices(small);
+                    return Fail("a short buffer did not throw");
+                }
+                catch (WetHairException e)
+                {
+                    if (e.Code != Result.BufferTooSmall) return Fail("code " + e.Code);
+                    foreach (float v in small)
+                        if (v != 42.0f) return Fail("a failed read wrote into the buffer");
+                    Console.WriteLine("threw as documented: " + e.Message);
+                }
+            }
+        }
+        // A handle that was never made (null groom) is refused before reaching C.
+        try
+        {
+            new Simulation(null, Simulation.DefaultDesc());
+            return Fail("null groom accepted");
+        }
+        catch (ArgumentNullException) { }
+        Console.WriteLine("C# bindings: OK");
+        return 0;
+    }
+}
