@@ -115,73 +115,93 @@ unsafe fn simulate_through_render_event(event_base: i32) {
 #[test]
 fn plugin_loads_falls_back_and_unloads_without_leaks() {
     unsafe {
-        // Warm up what allocates once per process (thread-locals, the error store).
+        // Warm up what allocates once per process (thread-locals, the error store, pools).
         let st = status();
         assert_eq!(st.loaded, 0);
         simulate_through_render_event(0);
-        let before = LIVE.load(Ordering::SeqCst);
-
-        // 1. No interfaces at all.
-        UnityPluginLoad(std::ptr::null_mut());
-        let st = status();
-        assert_eq!((st.loaded, st.renderer, st.on_unity_device), (1, -1, 0));
-        UnityPluginUnload();
-        assert_eq!(status().loaded, 0);
-
-        // 2. A registry without a graphics interface (no graphics device: batch mode).
-        let mut none = IUnityInterfaces {
-            get_interface: None,
-            register_interface: None,
-            get_interface_split: Some(get_nothing),
-            register_interface_split: None,
-        };
-        UnityPluginLoad(&mut none);
-        let st = status();
-        assert_eq!((st.loaded, st.renderer, st.on_unity_device), (1, -1, 0));
-        UnityPluginUnload();
-
-        // 3. A graphics device reporting D3D11 (2): not Vulkan, so simulations use their own.
-        let mut graphics = IUnityGraphics {
-            get_renderer: Some(get_renderer),
-            register_device_event_callback: Some(register),
-            unregister_device_event_callback: Some(unregister),
-            reserve_event_id_range: Some(reserve),
-        };
-        GRAPHICS.store(&mut graphics as *mut _ as *mut c_void, Ordering::SeqCst);
-        let mut interfaces = IUnityInterfaces {
-            get_interface: None,
-            register_interface: None,
-            get_interface_split: Some(get_split),
-            register_interface_split: None,
-        };
-        UnityPluginLoad(&mut interfaces);
-        assert_eq!(REGISTERED.load(Ordering::SeqCst), 1);
-        let st = status();
-        assert_eq!(
-            (st.loaded, st.renderer, st.on_unity_device, st.event_id_base),
-            (1, 2, 0, 7000)
-        );
-        assert!(reason(&st).contains("not Vulkan"), "{}", reason(&st));
-        simulate_through_render_event(7000);
-        // Unity's shutdown event, then a device that comes back as Vulkan without the
-        // interception (the plugin was not loaded at startup): still the fallback, with why.
-        let cb: unsafe extern "system" fn(i32) = std::mem::transmute(CALLBACK.load(Ordering::SeqCst));
-        cb(1);
-        assert_eq!(status().renderer, -1);
-        RENDERER.store(21, Ordering::SeqCst);
-        cb(0);
-        let st = status();
-        assert_eq!((st.renderer, st.on_unity_device), (21, 0));
-        assert!(
-            reason(&st).contains("Vulkan instance data is not available"),
-            "{}",
-            reason(&st)
-        );
-        UnityPluginUnload();
-        assert_eq!(UNREGISTERED.load(Ordering::SeqCst), 1);
-        assert_eq!(status().loaded, 0);
-
-        let after = LIVE.load(Ordering::SeqCst);
-        assert_eq!(after, before, "load/unload cycles leaked {} bytes", after - before);
+        cycle();
+        // A leak grows every cycle; a worker thread's late free (a simulation's pool ends as
+        // it is joined) can land either side of a reading once. So: some cycle must end where
+        // it began, out of three.
+        let mut deltas = Vec::new();
+        for _ in 0..3 {
+            let before = LIVE.load(Ordering::SeqCst);
+            cycle();
+            let d = LIVE.load(Ordering::SeqCst) - before;
+            if d == 0 {
+                return;
+            }
+            deltas.push(d);
+        }
+        panic!("every load/unload cycle left bytes allocated: {deltas:?}");
     }
+}
+
+/// No interfaces; no graphics interface; a D3D11 device with a simulation stepped by the render
+/// event, its shutdown, and a Vulkan device without the interception; each unloaded.
+unsafe fn cycle() {
+    REGISTERED.store(0, Ordering::SeqCst);
+    UNREGISTERED.store(0, Ordering::SeqCst);
+    RENDERER.store(2, Ordering::SeqCst);
+
+    // 1. No interfaces at all.
+    UnityPluginLoad(std::ptr::null_mut());
+    let st = status();
+    assert_eq!((st.loaded, st.renderer, st.on_unity_device), (1, -1, 0));
+    UnityPluginUnload();
+    assert_eq!(status().loaded, 0);
+
+    // 2. A registry without a graphics interface (no graphics device: batch mode).
+    let mut none = IUnityInterfaces {
+        get_interface: None,
+        register_interface: None,
+        get_interface_split: Some(get_nothing),
+        register_interface_split: None,
+    };
+    UnityPluginLoad(&mut none);
+    let st = status();
+    assert_eq!((st.loaded, st.renderer, st.on_unity_device), (1, -1, 0));
+    UnityPluginUnload();
+
+    // 3. A graphics device reporting D3D11 (2): not Vulkan, so simulations use their own.
+    let mut graphics = IUnityGraphics {
+        get_renderer: Some(get_renderer),
+        register_device_event_callback: Some(register),
+        unregister_device_event_callback: Some(unregister),
+        reserve_event_id_range: Some(reserve),
+    };
+    GRAPHICS.store(&mut graphics as *mut _ as *mut c_void, Ordering::SeqCst);
+    let mut interfaces = IUnityInterfaces {
+        get_interface: None,
+        register_interface: None,
+        get_interface_split: Some(get_split),
+        register_interface_split: None,
+    };
+    UnityPluginLoad(&mut interfaces);
+    assert_eq!(REGISTERED.load(Ordering::SeqCst), 1);
+    let st = status();
+    assert_eq!(
+        (st.loaded, st.renderer, st.on_unity_device, st.event_id_base),
+        (1, 2, 0, 7000)
+    );
+    assert!(reason(&st).contains("not Vulkan"), "{}", reason(&st));
+    simulate_through_render_event(7000);
+    // Unity's shutdown event, then a device that comes back as Vulkan without the
+    // interception (the plugin was not loaded at startup): still the fallback, with why.
+    let cb: unsafe extern "system" fn(i32) = std::mem::transmute(CALLBACK.load(Ordering::SeqCst));
+    cb(1);
+    assert_eq!(status().renderer, -1);
+    RENDERER.store(21, Ordering::SeqCst);
+    cb(0);
+    let st = status();
+    assert_eq!((st.renderer, st.on_unity_device), (21, 0));
+    assert!(
+        reason(&st).contains("Vulkan instance data is not available"),
+        "{}",
+        reason(&st)
+    );
+    UnityPluginUnload();
+    assert_eq!(UNREGISTERED.load(Ordering::SeqCst), 1);
+    assert_eq!(status().loaded, 0);
+    GRAPHICS.store(std::ptr::null_mut(), Ordering::SeqCst);
 }
