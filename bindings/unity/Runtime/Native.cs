@@ -165,6 +165,31 @@ namespace WetHair
         public ulong release_value;
     }
 
+    /// <summary>The Unity plugin's state (wethair_unity_get_status).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public unsafe struct WetHairUnityStatus
+    {
+        public uint struct_size;
+        public uint loaded;
+        public int renderer;
+        public uint on_unity_device;
+        public int event_id_base;
+        public uint reserved;
+        public fixed byte reason[256];
+    }
+
+    /// <summary>One render-thread step: pass its pinned address with event_id_base to
+    /// CommandBuffer.IssuePluginEventAndData; the event writes result.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairUnityStep
+    {
+        public uint struct_size;
+        public float dt;
+        public IntPtr sim;
+        public uint result;
+        public uint reserved;
+    }
+
     /// <summary>The C functions, one to one.</summary>
     public static unsafe class Native
     {
@@ -196,5 +221,9 @@ namespace WetHair
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_stats(SimulationHandle sim, WetHairStats* stats);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_backend_info(SimulationHandle sim, WetHairBackendInfo* info);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vulkan_buffer(SimulationHandle sim, WetHairVulkanBuffer* buffer);
+
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_unity_get_status(WetHairUnityStatus* status);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_unity_sim_create(WetHairSimDesc* desc, out SimulationHandle sim);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern IntPtr wethair_unity_get_render_event_func();
     }
 }

@@ -78,8 +78,10 @@ namespace WetHair
         }
 
         /// <summary>Creates a simulation of <paramref name="groom"/> (copied) with
-        /// <paramref name="desc"/> and optional colliders (head space).</summary>
-        public Simulation(Groom groom, WetHairSimDesc desc, WetHairCollider[] colliders = null)
+        /// <paramref name="desc"/> and optional colliders (head space). With
+        /// <paramref name="onUnityDevice"/>, through the Unity plugin: on Unity's own VkDevice
+        /// when the plugin intercepted its creation, else as usual (UnityStatus says which).</summary>
+        public Simulation(Groom groom, WetHairSimDesc desc, WetHairCollider[] colliders = null, bool onUnityDevice = false)
         {
             if (groom == null) throw new ArgumentNullException(nameof(groom));
             bool added = false;
@@ -91,7 +93,9 @@ namespace WetHair
                     desc.groom = groom.Handle.DangerousGetHandle();
                     desc.colliders = (IntPtr)c;
                     desc.collider_count = colliders == null ? 0u : (uint)colliders.Length;
-                    WetHairException.Check(Native.wethair_sim_create(&desc, out handle));
+                    WetHairException.Check(onUnityDevice
+                        ? Native.wethair_unity_sim_create(&desc, out handle)
+                        : Native.wethair_sim_create(&desc, out handle));
                 }
             }
             finally
@@ -197,5 +201,20 @@ namespace WetHair
         }
 
         public void Dispose() => handle.Dispose();
+
+        /// <summary>The Unity plugin's state: renderer, whether simulations go on Unity's
+        /// device and why not, the render event id.</summary>
+        public static WetHairUnityStatus UnityStatus
+        {
+            get
+            {
+                var st = new WetHairUnityStatus { struct_size = (uint)sizeof(WetHairUnityStatus) };
+                WetHairException.Check(Native.wethair_unity_get_status(&st));
+                return st;
+            }
+        }
+
+        /// <summary>The plugin's render event (UnityRenderingEventAndData).</summary>
+        public static IntPtr RenderEventFunc => Native.wethair_unity_get_render_event_func();
     }
 }

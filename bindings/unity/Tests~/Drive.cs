@@ -10,6 +10,9 @@ using WetHair;
 
 static class Drive
 {
+    [UnmanagedFunctionPointer(CallingConvention.Cdecl)]
+    delegate void RenderEvent(int eventId, ref WetHairUnityStep step);
+
     static int Fail(string what)
     {
         Console.Error.WriteLine("FAILED: " + what);
@@ -89,6 +92,22 @@ static class Drive
                         if (v != 42.0f) return Fail("a failed read wrote into the buffer");
                     Console.WriteLine("threw as documented: " + e.Message);
                 }
+            }
+        }
+        // The Unity entry outside Unity: not loaded, so simulations are made as usual.
+        var us = Simulation.UnityStatus;
+        if (us.loaded != 0) return Fail("plugin reported loaded outside Unity");
+        using (Groom g2 = Groom.PaperScene(100, 6))
+        {
+            var d2 = Simulation.DefaultDesc();
+            d2.backend = (uint)Backend.Cpu;
+            using (var s2 = new Simulation(g2, d2, null, onUnityDevice: true))
+            {
+                var step = new WetHairUnityStep { struct_size = (uint)Marshal.SizeOf(typeof(WetHairUnityStep)), dt = 1.0f / 60.0f, sim = s2.Handle.DangerousGetHandle(), result = 99 };
+                var ev = (RenderEvent)Marshal.GetDelegateForFunctionPointer(Simulation.RenderEventFunc, typeof(RenderEvent));
+                ev(us.event_id_base, ref step);
+                if (step.result != 0 || s2.Stats.steps != 1) return Fail("render event step: result " + step.result);
+                Console.WriteLine("render event stepped a simulation made through the Unity entry");
             }
         }
         // A handle that was never made (null groom) is refused before reaching C.
