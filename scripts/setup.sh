@@ -17,6 +17,12 @@ ldconfig -p 2>/dev/null | grep -q libvulkan.so.1 || need+=(libvulkan1)
 [ -e /usr/include/vulkan/vulkan.h ] || need+=(libvulkan-dev)
 command -v glslangValidator >/dev/null 2>&1 || need+=(glslang-tools)
 [ -e /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json ] || need+=(vulkan-validationlayers)
+# The viewer: GLFW and GL headers, Mesa's software GL, and a virtual X display for its tests.
+[ -e /usr/include/GLFW/glfw3.h ] || need+=(libglfw3-dev)
+[ -e /usr/include/GL/glcorearb.h ] || need+=(libgl-dev)
+[ -e /usr/lib/x86_64-linux-gnu/dri/swrast_dri.so ] || need+=(libgl1-mesa-dri)
+command -v xvfb-run >/dev/null 2>&1 || need+=(xvfb)
+command -v xauth >/dev/null 2>&1 || need+=(xauth)
 # The Unity bindings' C# is built and run with mono in the tests.
 command -v mcs >/dev/null 2>&1 || need+=(mono-mcs)
 command -v mono >/dev/null 2>&1 || need+=(mono-runtime)

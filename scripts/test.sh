@@ -76,6 +76,21 @@ LD_LIBRARY_PATH=target/release mono target/cs/drive.exe
 LD_LIBRARY_PATH=target/release mono target/cs/drive.exe --layout >target/cs/layout.txt
 bash 'bindings/unity/Tests~/check_layout.sh' target/cs/layout.txt include
 
+step "Viewer (GLFW + OpenGL 3.3) under xvfb on llvmpipe: a scripted session"
+make -C examples/c --quiet build/viewer
+xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --script examples/c/viewer_test.script \
+    --size 640x360 | tee target/viewer.log | grep -v "^wethair |"
+# The frames show hair, the wet one differs from the dry one where the hair is, and the
+# clumping measure dropped.
+./examples/c/build/image_check out/viewer-dry.ppm out/viewer-wet.ppm
+dry=$(sed -n 's/.*viewer-dry.ppm: clumping \([0-9.]*\) m.*/\1/p' target/viewer.log)
+wet=$(sed -n 's/.*viewer-wet.ppm: clumping \([0-9.]*\) m.*/\1/p' target/viewer.log)
+awk -v d="$dry" -v w="$wet" 'BEGIN { printf "viewer clumping: dry %s m, wet %s m\n", d, w; exit !(d > 0 && w > 0 && w < 0.9 * d) }'
+# The screenshot mode.
+xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --screenshot out/viewer-shot.png --frames 20 \
+    --size 320x180 --backend cpu >/dev/null
+test -s out/viewer-shot.png
+
 step "Render-side shaders for engines: HLSL through glslang's HLSL front end (GLSL is built above, WGSL in the Rust tests)"
 glslangValidator -D -V --quiet -e VSMain -S vert bindings/shaders/kajiya_kay.hlsl -o target/kk_hlsl_vs.spv
 glslangValidator -D -V --quiet -e PSMain -S frag bindings/shaders/kajiya_kay.hlsl -o target/kk_hlsl_ps.spv
@@ -100,11 +115,17 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/cpp_paper_s
 LD_PRELOAD="$(gcc -print-file-name=libasan.so) /usr/lib/x86_64-linux-gnu/libvulkan_lvp.so" \
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions=$PWD/examples/c/lsan.supp:print_suppressions=0 \
     ./examples/c/build-asan/vulkan_host --compare --check-errors --frames 10 --out out/asan-vulkan.png
+# The viewer, the same way: Mesa's GL driver preloaded inside the virtual display's session.
+make -C examples/c --quiet BUILD=build-asan CFLAGS="-O1 -g -fno-omit-frame-pointer" SAN="-fsanitize=address,undefined -fno-sanitize-recover=all" build-asan/viewer
+xvfb-run -a -s "-screen 0 1280x720x24" sh -c "LD_PRELOAD='$(gcc -print-file-name=libasan.so) /usr/lib/x86_64-linux-gnu/dri/swrast_dri.so' \
+    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions=$PWD/examples/c/lsan.supp:print_suppressions=0 \
+    ./examples/c/build-asan/viewer --script examples/c/viewer_asan.script --size 480x270 --backend cpu" | grep -v "^wethair |"
+test -s out/viewer-asan.ppm
 
 step "C smoke under Valgrind (memcheck; definite leaks and errors fail)"
 valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite --errors-for-leak-kinds=definite \
     ./examples/c/build/smoke 60 1000 --backend cpu
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
-c_checks=23  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, HLSL, Vulkan host, 5 under ASan, valgrind, fmt+clippy
+c_checks=27  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer script + images + screenshot, HLSL, Vulkan host, 6 under ASan, valgrind, fmt+clippy
 printf '\nwethair tests: %d passed, 0 failed\n' "$((rust + c_checks))"
