@@ -7,8 +7,9 @@
  * Controls: left drag orbit, wheel zoom; space or right mouse: spray at the cursor; arrows turn
  * the head (left/right yaw, up/down pitch), W/A/S/D/Q/E move it; C dry (remove all water);
  * R reset; B switch backend (CPU/GPU); I switch integrator; P pause; N single step; Esc quit.
- * The window title and a line on stdout every second carry the figures: simulation and draw
- * ms/frame, backend and adapter, integrator, points, particles, the clumping measure.
+ * Drawn in the window (and in its title, and on stdout every second): simulation and draw
+ * ms/frame, backend and adapter, integrator, points, particles, the clumping measure, the
+ * spray rate.
  *
  * --script FILE replays timed events, one per line: "FRAME COMMAND [ARGS]" with COMMAND one of
  *   spray on|off, yaw DEG, pitch DEG, move DX DY DZ (m), dry, reset, backend cpu|gpu|auto,
@@ -20,10 +21,12 @@
 #include <GL/glcorearb.h>
 #include <GLFW/glfw3.h>
 
+#include "font5x7.h"
 #include "png.h"
 #include "scene.h"
 
 #define MAX_PARTICLES 8192
+#define SPRAY_PER_FRAME 25
 
 typedef struct {
     int frame;
@@ -45,7 +48,10 @@ typedef struct {
     double last_x, last_y;
     int dragging;
     /* GL */
-    GLuint prog, vao, vbo, ebo, water_vao, water_vbo;
+    GLuint prog, vao, vbo, ebo, water_vao, water_vbo, text_prog, text_vao, text_vbo;
+    char overlay[3][192];
+    float *text_verts;
+    size_t text_cap;
     GLsizei index_count;
     int width, height;
     float *verts;
@@ -90,6 +96,11 @@ static const char *FS =
     "  vec3 c = base * (0.2 + 0.8 * sin_l) + spec * vec3(1.0, 1.0, 0.95);\n"
     "  color = vec4(pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);\n"
     "}\n";
+
+/* The on-screen figures: flat-coloured pixels of the 5x7 font. */
+static const char *TEXT_VS = "#version 330 core\nlayout(location = 0) in vec2 p;\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); }\n";
+static const char *TEXT_FS =
+    "#version 330 core\nuniform vec3 tint;\nout vec4 color;\nvoid main() { color = vec4(tint, 1.0); }\n";
 
 static GLuint compile(GLenum kind, const char *src) {
     GLuint s = glCreateShader(kind);
@@ -211,6 +222,62 @@ static void spray(Viewer *v, float ndc_x, float ndc_y, uint32_t count) {
     wh_check(res, "wethair_sim_add_water");
 }
 
+/* Draws the overlay lines at the top left, 2 screen pixels per font pixel, with a shadow. */
+static void draw_text(Viewer *v) {
+    const int scale = v->width >= 800 ? 2 : 1, x0 = 8, y0 = 8;
+    size_t n = 0;
+    for (int line = 0; line < 3; line++)
+        for (const char *c = v->overlay[line]; *c; c++) n += 35;
+    if (n * 12 > v->text_cap) {
+        free(v->text_verts);
+        v->text_cap = n * 12;
+        v->text_verts = malloc(v->text_cap * sizeof(float));
+        if (!v->text_verts) exit(1);
+    }
+    size_t k = 0;
+    float sx = 2.0f / (float)v->width, sy = 2.0f / (float)v->height;
+    for (int line = 0; line < 3; line++) {
+        int col = 0;
+        for (const char *c = v->overlay[line]; *c; c++, col++) {
+            const uint8_t *g = font5x7_glyph(*c);
+            if (!g) continue;
+            for (int r = 0; r < 7; r++)
+                for (int b = 0; b < 5; b++) {
+                    if (!(g[r] >> (4 - b) & 1)) continue;
+                    float x = (float)(x0 + (col * 6 + b) * scale), y = (float)(y0 + (line * 10 + r) * scale);
+                    float l = x * sx - 1.0f, t = 1.0f - y * sy, rr = (x + scale) * sx - 1.0f, bb = 1.0f - (y + scale) * sy;
+                    float q[12] = {l, t, rr, t, rr, bb, l, t, rr, bb, l, bb};
+                    memcpy(v->text_verts + k, q, sizeof q);
+                    k += 12;
+                }
+        }
+    }
+    if (!k) return;
+    glDisable(GL_DEPTH_TEST);
+    glUseProgram(v->text_prog);
+    glBindVertexArray(v->text_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, v->text_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(k * sizeof(float)), v->text_verts, GL_STREAM_DRAW);
+    GLint tint = glGetUniformLocation(v->text_prog, "tint");
+    /* The shadow, one font pixel down and right, then the text. */
+    float dx = (float)scale * sx, dy = (float)scale * sy;
+    for (size_t i = 0; i < k; i += 2) {
+        v->text_verts[i] += dx;
+        v->text_verts[i + 1] -= dy;
+    }
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(k * sizeof(float)), v->text_verts);
+    glUniform3f(tint, 0.0f, 0.0f, 0.0f);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)(k / 2));
+    for (size_t i = 0; i < k; i += 2) {
+        v->text_verts[i] -= dx;
+        v->text_verts[i + 1] += dy;
+    }
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(k * sizeof(float)), v->text_verts);
+    glUniform3f(tint, 0.95f, 0.95f, 0.85f);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)(k / 2));
+    glEnable(GL_DEPTH_TEST);
+}
+
 static void save_screenshot(const Viewer *v, const char *path) {
     size_t n = (size_t)v->width * v->height * 3;
     uint8_t *px = malloc(n), *flip = malloc(n);
@@ -256,6 +323,12 @@ static void print_stats(Viewer *v, GLFWwindow *win) {
              integrator_name(v->integrator), st.points, st.particles, st.clumping, v->paused ? " | paused" : "");
     glfwSetWindowTitle(win, title);
     printf("%s\n", title);
+    snprintf(v->overlay[0], sizeof v->overlay[0], "SIM %.2f MS  DRAW %.2f MS  %s %s", v->sim_ms / n, v->draw_ms / n,
+             info.backend == WETHAIR_BACKEND_GPU ? "GPU" : "CPU", info.device);
+    snprintf(v->overlay[1], sizeof v->overlay[1], "%s  %u POINTS  %u PARTICLES  CLUMPING %.2f MM",
+             integrator_name(v->integrator), st.points, st.particles, 1e3 * st.clumping);
+    snprintf(v->overlay[2], sizeof v->overlay[2], "SPRAY %d PARTICLES/S (SPACE, RIGHT MOUSE)%s", SPRAY_PER_FRAME * 60,
+             v->paused ? "  PAUSED" : "");
     v->sim_ms = v->draw_ms = 0.0;
     v->frames_in_window = 0;
 }
@@ -465,6 +538,21 @@ int main(int argc, char **argv) {
     glEnableVertexAttribArray(0);
     glVertexAttrib3f(1, 0.0f, 0.0f, 1.0f);
     glVertexAttrib1f(2, 0.0f);
+    v.text_prog = glCreateProgram();
+    vs = compile(GL_VERTEX_SHADER, TEXT_VS);
+    fs = compile(GL_FRAGMENT_SHADER, TEXT_FS);
+    glAttachShader(v.text_prog, vs);
+    glAttachShader(v.text_prog, fs);
+    glLinkProgram(v.text_prog);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    glGenVertexArrays(1, &v.text_vao);
+    glBindVertexArray(v.text_vao);
+    glGenBuffers(1, &v.text_vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, v.text_vbo);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 8, 0);
+    glEnableVertexAttribArray(0);
+    snprintf(v.overlay[0], sizeof v.overlay[0], "WETHAIR %s", wethair_version_string());
     float *water = malloc(sizeof(float) * 3 * MAX_PARTICLES);
     if (!water) return 1;
     glEnable(GL_DEPTH_TEST);
@@ -502,7 +590,7 @@ int main(int argc, char **argv) {
                         glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
         if (spray_now) {
             float nx = v.scripted ? 0.0f : (float)(2.0 * mx / v.width - 1.0), ny = v.scripted ? 0.0f : (float)(1.0 - 2.0 * my / v.height);
-            spray(&v, nx, ny, 25);
+            spray(&v, nx, ny, SPRAY_PER_FRAME);
         }
         float hm[16];
         head_matrix(&v, hm);
@@ -541,6 +629,7 @@ int main(int argc, char **argv) {
             glPointSize(3.0f);
             glDrawArrays(GL_POINTS, 0, (GLsizei)nw);
         }
+        draw_text(&v);
         glFinish();
         double t2 = wh_now_ms();
         v.sim_ms += t1 - t0;
@@ -560,6 +649,10 @@ int main(int argc, char **argv) {
     print_stats(&v, win);
     free(water);
     free(v.verts);
+    free(v.text_verts);
+    glDeleteBuffers(1, &v.text_vbo);
+    glDeleteVertexArrays(1, &v.text_vao);
+    glDeleteProgram(v.text_prog);
     free(v.events);
     glDeleteBuffers(1, &v.vbo);
     glDeleteBuffers(1, &v.ebo);
