@@ -320,6 +320,27 @@ static int check_errors(const Host *h, const WetHairVulkanRequirementsInfo *info
     vk_check(vkSignalSemaphore(h->device, &si), "vkSignalSemaphore");
     wethair_sim_destroy(sim);
     printf("created, stepped and destroyed a first simulation on the host's device\n");
+    /* A step that blows up (springs far past the explicit limit) is reported by the shared path
+     * too, though this host never reads through the copy path. */
+    WetHairSimDesc stiff = desc;
+    stiff.stretch.stiffness = 1e9f;
+    wh_check(wethair_sim_create_vulkan(&stiff, good, &sim), "wethair_sim_create_vulkan (stiff)");
+    WetHairResult got = WETHAIR_OK;
+    for (int i = 0; i < 30 && got == WETHAIR_OK; i++) {
+        got = wethair_sim_step(sim, 1.0f / 60.0f);
+        if (got != WETHAIR_OK) break;
+        memset(&vb, 0, sizeof vb);
+        vb.struct_size = sizeof vb;
+        got = wethair_sim_get_vulkan_buffer(sim, &vb);
+        if (got != WETHAIR_OK) break;
+        si.semaphore = (VkSemaphore)(uintptr_t)vb.release_semaphore;
+        si.value = vb.release_value;
+        vk_check(vkSignalSemaphore(h->device, &si), "vkSignalSemaphore");
+        vk_check(vkDeviceWaitIdle(h->device), "vkDeviceWaitIdle"); /* let the status land */
+    }
+    fails += expect(got, WETHAIR_ERROR_UNSTABLE, "non-finite", "a blown-up step on the shared path");
+    wethair_sim_destroy(sim);
+    sim = NULL;
     /* The simulation's copy-path refusal for a CPU simulation. */
     desc.backend = WETHAIR_BACKEND_CPU;
     WetHairSim *cpu = NULL;

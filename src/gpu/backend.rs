@@ -222,6 +222,9 @@ pub struct GpuBackend {
     water_center_local: Vec3,
     water_radius: f32,
     staging: Vec<Staging>,
+    /// Host-shared device only: each step's status block, read back without waiting (two
+    /// slots), so a failed step is reported though the host never reads through us.
+    status_ring: Vec<Staging>,
     frame: u64,
     last: Status,
     /// Whether the vertex buffer holds the current state.
@@ -423,6 +426,7 @@ impl GpuBackend {
             water_center_local: 0.5 * (lo + hi),
             water_radius,
             staging: Vec::new(),
+            status_ring: Vec::new(),
             frame: 0,
             last: Status::default(),
             vertices_current: false,
@@ -537,7 +541,7 @@ impl GpuBackend {
             w.removed = 0;
         }
         self.last = Status::default();
-        for s in &mut self.staging {
+        for s in self.staging.iter_mut().chain(self.status_ring.iter_mut()) {
             if s.frame.take().is_some() {
                 self.dev.device.poll(wgpu::PollType::wait_indefinitely()).ok();
                 s.buf.unmap();
@@ -849,6 +853,11 @@ impl GpuBackend {
         if deferred || self.shares_vertices() {
             self.encode_vertices(&mut enc);
         }
+        let ring_slot = if self.shares_vertices() {
+            self.status_slot(&mut enc)
+        } else {
+            None
+        };
         if deferred {
             let k = (self.frame % 2) as usize;
             self.settle(k);
@@ -857,6 +866,16 @@ impl GpuBackend {
         self.submit(enc);
         if deferred {
             self.map(((self.frame % 2) as usize, self.frame));
+        }
+        if let Some(k) = ring_slot {
+            let s = &mut self.status_ring[k];
+            s.frame = Some(self.frame);
+            let ready = s.ready.clone();
+            s.buf.map_async(wgpu::MapMode::Read, .., move |r| {
+                if r.is_ok() {
+                    ready.store(true, Ordering::Release);
+                }
+            });
         }
         self.dev.check()
     }
@@ -906,6 +925,9 @@ impl GpuBackend {
             self.encode_vertices(&mut enc);
             self.submit(enc);
         }
+        // A failed step seen by the status ring is reported here, not handed out.
+        self.poll_status_ring();
+        self.status_error(&self.last)?;
         let buffer =
             raw_buffer(&self.vertices).ok_or_else(|| Error::Device("the vertex buffer has no Vulkan handle".into()))?;
         let Some(sync) = self.dev.shared.as_ref() else {
@@ -921,6 +943,57 @@ impl GpuBackend {
             release_semaphore: raw_semaphore(sync.release),
             release_value: release,
         })
+    }
+
+    /// Picks a free status-ring slot and records the copy of the status block into it; None
+    /// when both still wait for the GPU (this step's status is then skipped, never waited for).
+    /// Slots whose readback has landed are decoded first: a failed step shows at the next call.
+    fn status_slot(&mut self, enc: &mut wgpu::CommandEncoder) -> Option<usize> {
+        if self.status_ring.is_empty() {
+            for _ in 0..2 {
+                self.status_ring.push(Staging {
+                    buf: b::buffer(
+                        &self.dev.device,
+                        "status readback",
+                        STATUS_BYTES,
+                        wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    ),
+                    frame: None,
+                    ready: Arc::default(),
+                });
+            }
+        }
+        self.poll_status_ring();
+        let k = self.status_ring.iter().position(|s| s.frame.is_none())?;
+        let dst = &self.status_ring[k].buf;
+        enc.copy_buffer_to_buffer(&self.status, 0, dst, 0, Some(16));
+        if let Some(w) = &self.water {
+            enc.copy_buffer_to_buffer(&w.state, 0, dst, 16, Some(16));
+        }
+        Some(k)
+    }
+
+    /// Decodes the status-ring slots whose readback has landed (without waiting) into
+    /// `last`, the newest step first, and frees them.
+    fn poll_status_ring(&mut self) {
+        let _ = self.dev.device.poll(wgpu::PollType::Poll);
+        let mut landed: Vec<usize> = (0..self.status_ring.len())
+            .filter(|&k| self.status_ring[k].frame.is_some() && self.status_ring[k].ready.load(Ordering::Acquire))
+            .collect();
+        landed.sort_by_key(|&k| self.status_ring[k].frame);
+        for k in landed {
+            let s = &mut self.status_ring[k];
+            if let Ok(view) = s.buf.get_mapped_range(..) {
+                let (st, _) = decode_status(bytemuck::cast_slice(&view), self.water.is_some());
+                // A failure, once seen, stays until reset; otherwise the newest status wins.
+                if self.last.failed_point.is_none() && !self.last.water_failed {
+                    self.last = st;
+                }
+            }
+            s.buf.unmap();
+            s.frame = None;
+            s.ready.store(false, Ordering::Release);
+        }
     }
 
     fn ensure_staging(&mut self) {
