@@ -140,7 +140,13 @@ impl Simulation {
         params.validate()?;
         let head = Affine3A::IDENTITY;
         let (engine, info) = choose_engine(groom, &params, &head)?;
-        Ok(Simulation {
+        Ok(Self::with_engine(groom, params, engine, info))
+    }
+
+    /// A simulation at rest under the identity head transform, on `engine`.
+    fn with_engine(groom: &Groom, params: SimParams, engine: Engine, info: BackendInfo) -> Self {
+        let head = Affine3A::IDENTITY;
+        Simulation {
             params,
             engine,
             info,
@@ -151,7 +157,7 @@ impl Simulation {
             max_speed: 0.0,
             steps: 0,
             failed: None,
-        })
+        }
     }
 
     /// Creates a simulation on the host's own VkDevice (feature `vulkan`): the GPU backend runs
@@ -170,18 +176,7 @@ impl Simulation {
         let integrator = resolve_integrator(&params, groom);
         let dev = crate::gpu::vulkan::open(host)?;
         let (engine, info) = gpu_engine(dev, groom, &params, integrator, &head, String::new())?;
-        Ok(Simulation {
-            params,
-            engine,
-            info,
-            host: HostPoints::new(groom),
-            head,
-            head_prev: head,
-            last_step_ms: 0.0,
-            max_speed: 0.0,
-            steps: 0,
-            failed: None,
-        })
+        Ok(Self::with_engine(groom, params, engine, info))
     }
 
     /// The vertex buffer as the host's Vulkan sees it, holding the last step's vertices, and

@@ -35,6 +35,21 @@ pub struct WetHairUnityStatus {
     pub reason: [u8; 256],
 }
 
+impl WetHairUnityStatus {
+    /// Nothing known yet: not loaded, no renderer.
+    fn unknown() -> Self {
+        WetHairUnityStatus {
+            struct_size: std::mem::size_of::<WetHairUnityStatus>() as u32,
+            loaded: 0,
+            renderer: -1,
+            on_unity_device: 0,
+            event_id_base: 0,
+            reserved: 0,
+            reason: [0; 256],
+        }
+    }
+}
+
 /// One render-thread step (`GL.IssuePluginEventAndData` / `CommandBuffer.IssuePluginEventAndData`
 /// with the event id `event_id_base` and a pointer to this, pinned by the caller).
 #[repr(C)]
@@ -327,15 +342,7 @@ pub unsafe extern "system" fn UnityPluginUnload() {
 pub unsafe extern "C" fn wethair_unity_get_status(out: *mut WetHairUnityStatus) -> WetHairResult {
     guard("wethair_unity_get_status", || {
         let out = check_out_size!(out, WetHairUnityStatus, "out");
-        let mut st = WetHairUnityStatus {
-            struct_size: std::mem::size_of::<WetHairUnityStatus>() as u32,
-            loaded: 0,
-            renderer: -1,
-            on_unity_device: 0,
-            event_id_base: 0,
-            reserved: 0,
-            reason: [0; 256],
-        };
+        let mut st = WetHairUnityStatus::unknown();
         let reason = unity_device(&mut st).err().unwrap_or_default();
         let n = reason.len().min(255);
         st.reason[..n].copy_from_slice(&reason.as_bytes()[..n]);
@@ -432,15 +439,7 @@ pub unsafe extern "C" fn wethair_unity_sim_create(
     desc: *const WetHairSimDesc,
     out: *mut *mut WetHairSim,
 ) -> WetHairResult {
-    let mut st = WetHairUnityStatus {
-        struct_size: 0,
-        loaded: 0,
-        renderer: -1,
-        on_unity_device: 0,
-        event_id_base: 0,
-        reserved: 0,
-        reason: [0; 256],
-    };
+    let mut st = WetHairUnityStatus::unknown();
     #[cfg(feature = "unity")]
     if let Ok(host) = unity_device(&mut st) {
         return guard("wethair_unity_sim_create", || {
