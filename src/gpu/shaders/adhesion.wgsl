@@ -61,6 +61,13 @@ fn adhesion(x: vec3<f32>, near: ptr<function, f32>) -> vec3<f32> {
     let inv = bitcast<f32>(grid[G_INV]);
     let dims = grid_dims();
     let r = P.r_max;
+    // Outside the particles' box grown by r_max no particle can be near (Grid::may_have_near
+    // on the CPU); without this test, clamping would send every far point to scan the
+    // boundary cells.
+    let hi = lo + vec3<f32>(dims) * bitcast<f32>(grid[G_CELL]);
+    if (any(x < lo - vec3<f32>(r)) || any(x > hi + vec3<f32>(r))) {
+        return acc;
+    }
     let c0 = cell_of(x - vec3<f32>(r), lo, inv, dims);
     let c1 = cell_of(x + vec3<f32>(r), lo, inv, dims);
     for (var cx = c0.x; cx <= c1.x; cx++) {
