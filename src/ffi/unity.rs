@@ -380,7 +380,7 @@ fn unity_device(st: &mut WetHairUnityStatus) -> Result<crate::gpu::vulkan::HostV
         return Err("Unity's Vulkan initialization was not intercepted: set the plugin to load on startup".into());
     }
     let rec = crate::gpu::intercept::recorded().ok_or("nothing was recorded at Unity's device creation")?;
-    if rec.device.as_raw_usize() != device {
+    if ash::vk::Handle::as_raw(rec.device) as usize != device {
         return Err("Unity's device is not the one created through the interception".into());
     }
     if !rec.missing.is_empty() {
@@ -391,19 +391,6 @@ fn unity_device(st: &mut WetHairUnityStatus) -> Result<crate::gpu::vulkan::HostV
     let host = crate::gpu::intercept::host(&rec, family, index).ok_or("no vkGetInstanceProcAddr recorded")?;
     st.on_unity_device = 1;
     Ok(host)
-}
-
-#[cfg(feature = "unity")]
-trait RawUsize {
-    fn as_raw_usize(&self) -> usize;
-}
-
-#[cfg(feature = "unity")]
-impl RawUsize for ash::vk::Device {
-    fn as_raw_usize(&self) -> usize {
-        use ash::vk::Handle;
-        self.as_raw() as usize
-    }
 }
 
 /// Index of `queue` in `family` on the recorded device.

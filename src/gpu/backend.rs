@@ -919,7 +919,7 @@ impl GpuBackend {
                 "the vertex VkBuffer is shared only by simulations created on the host's VkDevice".into(),
             ));
         }
-        if !self.vertices_current || self.dev.shared.as_ref().is_some_and(|s| s.ready_value() == 0) {
+        if !self.vertices_current {
             let mut enc = self.dev.device.create_command_encoder(&Default::default());
             self.vertices_current = false;
             self.encode_vertices(&mut enc);

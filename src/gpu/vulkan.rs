@@ -253,7 +253,11 @@ fn hal_adapter(host: &HostVulkan) -> Result<HalAdapter> {
 
 /// What the host must enable on a device made on `host.physical_device`.
 pub fn requirements(host: &HostVulkan) -> Result<Requirements> {
-    let hal = hal_adapter(host)?;
+    requirements_of(&hal_adapter(host)?)
+}
+
+/// The requirements of an adapter already exposed.
+fn requirements_of(hal: &HalAdapter) -> Result<Requirements> {
     let feats = hal
         .exposed
         .adapter
@@ -272,7 +276,7 @@ pub fn requirements(host: &HostVulkan) -> Result<Requirements> {
     // SAFETY: the chain was just built from valid structs.
     let set = unsafe { enabled_names(chain.features_head()) };
     Ok(Requirements {
-        device_extensions: hal.extensions,
+        device_extensions: hal.extensions.clone(),
         feature_names: set.into_iter().filter_map(|n| CString::new(camel(&n)).ok()).collect(),
         chain,
     })
@@ -409,7 +413,7 @@ pub fn open(host: &HostVulkan) -> Result<GpuDevice> {
         host.enabled_feature_names.clone()
     };
     if let Some(have) = have {
-        let need = requirements(host)?;
+        let need = requirements_of(&hal)?;
         let lacking: Vec<String> = need
             .feature_names
             .iter()
@@ -543,11 +547,6 @@ impl SharedSync {
         let v = st.ready;
         st.release_wait = Some(v);
         (v, v)
-    }
-
-    /// Whether a submission must still write the vertices before the host may read them.
-    pub fn ready_value(&self) -> u64 {
-        self.state.lock().map_or(0, |s| s.ready)
     }
 }
 
