@@ -76,19 +76,43 @@ LD_LIBRARY_PATH=target/release mono target/cs/drive.exe
 LD_LIBRARY_PATH=target/release mono target/cs/drive.exe --layout >target/cs/layout.txt
 bash 'bindings/unity/Tests~/check_layout.sh' target/cs/layout.txt include
 
-step "Viewer (GLFW + OpenGL 3.3) under xvfb on llvmpipe: a scripted session"
+step "Viewer, Vulkan renderer, under xvfb on lavapipe with validation: drawn from the shared VkBuffer"
 make -C examples/c --quiet build/viewer
-xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --script examples/c/viewer_test.script \
+xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --renderer vulkan --validate \
+    --script examples/c/viewer_vulkan.script --size 640x360 | tee target/viewer-vk.log | grep -v "^wethair |"
+# The GPU simulation ran on the viewer's device and was drawn from its VkBuffer; after the
+# switch to the CPU backend the same renderer drew from the copy path; 0 validation errors
+# (the run fails on any, the paused frame's semaphores included).
+grep -q "strands drawn with Vulkan from the shared VkBuffer" target/viewer-vk.log
+grep -q "strands drawn with Vulkan from the copy path" target/viewer-vk.log
+grep -q "validation: 0 errors" target/viewer-vk.log
+./examples/c/build/image_check out/viewer-vk-dry.ppm out/viewer-vk-wet.ppm
+./examples/c/build/image_check out/viewer-vk-wet.ppm out/viewer-vk-copy.ppm
+clumping_dropped() {
+    dry=$(sed -n "s/.*$2: clumping \([0-9.]*\) m.*/\1/p" "$1")
+    wet=$(sed -n "s/.*$3: clumping \([0-9.]*\) m.*/\1/p" "$1")
+    awk -v d="$dry" -v w="$wet" 'BEGIN { printf "viewer clumping: dry %s m, wet %s m\n", d, w; exit !(d > 0 && w > 0 && w < 0.9 * d) }'
+}
+clumping_dropped target/viewer-vk.log viewer-vk-dry.ppm viewer-vk-wet.ppm
+# 4x MSAA resolved into the swapchain image, under validation.
+xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --renderer vulkan --validate --msaa 4 \
+    --screenshot out/viewer-vk-msaa.png --frames 20 --size 320x180 | grep "validation: 0 errors"
+test -s out/viewer-vk-msaa.png
+
+step "Viewer, OpenGL 3.3 renderer, under xvfb on llvmpipe: the scripted session; the fallback"
+xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --renderer gl --script examples/c/viewer_test.script \
     --size 640x360 | tee target/viewer.log | grep -v "^wethair |"
 # The frames show hair, the wet one differs from the dry one where the hair is, and the
 # clumping measure dropped.
 ./examples/c/build/image_check out/viewer-dry.ppm out/viewer-wet.ppm
-dry=$(sed -n 's/.*viewer-dry.ppm: clumping \([0-9.]*\) m.*/\1/p' target/viewer.log)
-wet=$(sed -n 's/.*viewer-wet.ppm: clumping \([0-9.]*\) m.*/\1/p' target/viewer.log)
-awk -v d="$dry" -v w="$wet" 'BEGIN { printf "viewer clumping: dry %s m, wet %s m\n", d, w; exit !(d > 0 && w > 0 && w < 0.9 * d) }'
-# The screenshot mode.
-xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --screenshot out/viewer-shot.png --frames 20 \
-    --size 320x180 --backend cpu >/dev/null
+clumping_dropped target/viewer.log viewer-dry.ppm viewer-wet.ppm
+# With no Vulkan driver the default renderer says why and falls back to OpenGL; the
+# screenshot mode writes a PNG.
+VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json xvfb-run -a -s "-screen 0 1280x720x24" \
+    ./examples/c/build/viewer --screenshot out/viewer-shot.png --frames 20 --size 320x180 --backend cpu \
+    | tee target/viewer-fallback.log | grep -v "^wethair |"
+grep -q "Vulkan renderer unavailable" target/viewer-fallback.log
+grep -q "drawing with OpenGL" target/viewer-fallback.log
 test -s out/viewer-shot.png
 
 step "Render-side shaders for engines: HLSL through glslang's HLSL front end (GLSL is built above, WGSL in the Rust tests)"
@@ -115,17 +139,24 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/cpp_paper_s
 LD_PRELOAD="$(gcc -print-file-name=libasan.so) /usr/lib/x86_64-linux-gnu/libvulkan_lvp.so" \
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions=$PWD/examples/c/lsan.supp:print_suppressions=0 \
     ./examples/c/build-asan/vulkan_host --compare --check-errors --frames 10 --out out/asan-vulkan.png
-# The viewer, the same way: Mesa's GL driver preloaded inside the virtual display's session.
+# The viewer, the same way: each renderer with its Mesa driver preloaded inside the virtual
+# display's session (OpenGL on the CPU backend, Vulkan on the GPU backend's shared buffer).
 make -C examples/c --quiet BUILD=build-asan CFLAGS="-O1 -g -fno-omit-frame-pointer" SAN="-fsanitize=address,undefined -fno-sanitize-recover=all" build-asan/viewer
-xvfb-run -a -s "-screen 0 1280x720x24" sh -c "LD_PRELOAD='$(gcc -print-file-name=libasan.so) /usr/lib/x86_64-linux-gnu/dri/swrast_dri.so' \
-    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions=$PWD/examples/c/lsan.supp:print_suppressions=0 \
-    ./examples/c/build-asan/viewer --script examples/c/viewer_asan.script --size 480x270 --backend cpu" | grep -v "^wethair |"
-test -s out/viewer-asan.ppm
+for renderer in gl vulkan; do
+    driver=/usr/lib/x86_64-linux-gnu/dri/swrast_dri.so
+    [ "$renderer" = vulkan ] && driver=/usr/lib/x86_64-linux-gnu/libvulkan_lvp.so
+    rm -f out/viewer-asan.ppm
+    xvfb-run -a -s "-screen 0 1280x720x24" sh -c "LD_PRELOAD='$(gcc -print-file-name=libasan.so) $driver' \
+        ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions=$PWD/examples/c/lsan.supp:print_suppressions=0 \
+        ./examples/c/build-asan/viewer --renderer $renderer --script examples/c/viewer_asan.script --size 480x270 \
+        --backend $([ "$renderer" = vulkan ] && echo gpu || echo cpu)" | grep -v "^wethair |"
+    test -s out/viewer-asan.ppm
+done
 
 step "C smoke under Valgrind (memcheck; definite leaks and errors fail)"
 valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite --errors-for-leak-kinds=definite \
     ./examples/c/build/smoke 60 1000 --backend cpu
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
-c_checks=27  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer script + images + screenshot, HLSL, Vulkan host, 6 under ASan, valgrind, fmt+clippy
+c_checks=31  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
 printf '\nwethair tests: %d passed, 0 failed\n' "$((rust + c_checks))"

@@ -280,6 +280,47 @@ fn pipelines_hold_only_the_scene_passes() {
     assert_eq!(g.gpu_dispatches(), vec!["hair_substep"]);
 }
 
+/// Found by the viewer, which fits its camera to the vertices before the first step: the GPU
+/// then returned zeros (the output pass read its layout from parameters written only by a
+/// step). Before any step, and after a reset, both readback modes give the CPU's rest pose.
+#[test]
+fn vertices_before_the_first_step_are_the_rest_pose() {
+    let _serial = serial();
+    let groom = paper_scene(300, 6).unwrap();
+    let mut c = cpu(&groom, SimParams::default());
+    let n = c.vertex_count() * 7;
+    let mut want = vec![0.0f32; n];
+    c.write_vertices(&mut want).unwrap();
+    assert!(want.iter().any(|x| *x != 0.0));
+    for readback in [Readback::Latest, Readback::PreviousFrame] {
+        let Some(mut g) = gpu(
+            &groom,
+            SimParams {
+                readback,
+                ..SimParams::default()
+            },
+        ) else {
+            return;
+        };
+        let mut got = vec![0.0f32; n];
+        g.write_vertices(&mut got).unwrap();
+        let worst = want.iter().zip(&got).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max);
+        assert!(
+            worst < 1e-6,
+            "{readback:?}: fresh vertices differ from the CPU's by {worst}"
+        );
+        g.step(1.0 / 60.0).unwrap();
+        g.reset();
+        got.fill(0.0);
+        g.write_vertices(&mut got).unwrap();
+        let worst = want.iter().zip(&got).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max);
+        assert!(
+            worst < 1e-6,
+            "{readback:?}: vertices after a reset differ from the CPU's by {worst}"
+        );
+    }
+}
+
 #[test]
 fn previous_frame_readback_lags_exactly_one_step() {
     let _serial = serial();

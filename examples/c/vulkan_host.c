@@ -13,208 +13,15 @@
  *   --compare       read the shared buffer back and require it to equal the copy path's bytes
  *   --check-errors  check the refusals: missing instance extension, device features, bad
  *                   arguments; and create/destroy a simulation on the device before the main one */
-#include <pthread.h>
-#include <vulkan/vulkan.h>
-
 #include "png.h"
-#include "scene.h"
+#include "vk_common.h"
 #include "kk_frag.h"
 #include "kk_vert.h"
+
 
 #define W 1280
 #define H 960
 #define SS 2 /* supersampling: rendered at SS*W x SS*H, averaged down for the PNG */
-
-static int validation_errors = 0;
-
-static void vk_check(VkResult r, const char *what) {
-    if (r != VK_SUCCESS) {
-        fprintf(stderr, "%s failed: VkResult %d\n", what, (int)r);
-        exit(1);
-    }
-}
-
-static VKAPI_ATTR VkBool32 VKAPI_CALL on_validation(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                                    VkDebugUtilsMessageTypeFlagsEXT type,
-                                                    const VkDebugUtilsMessengerCallbackDataEXT *data, void *user) {
-    (void)type;
-    (void)user;
-    if (!(severity & (VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT)))
-        return VK_FALSE;
-    const char *msg = data->pMessage ? data->pMessage : "";
-    /* Debian's layer 1.3.239 misreads WGSL debug info (DESIGN.md): a known false report. */
-    if (strstr(msg, "InconsistentSpirv") && strstr(msg, "operand: 10")) return VK_FALSE;
-    fprintf(stderr, "validation %s: %s\n", severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning",
-            msg);
-    if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) validation_errors++;
-    return VK_FALSE;
-}
-
-/* The host's queue lock, handed to wethair (this host is single-threaded, but engines are not). */
-static pthread_mutex_t queue_mutex = PTHREAD_MUTEX_INITIALIZER;
-static void queue_lock(void *user) { pthread_mutex_lock((pthread_mutex_t *)user); }
-static void queue_unlock(void *user) { pthread_mutex_unlock((pthread_mutex_t *)user); }
-
-typedef struct {
-    VkInstance instance;
-    VkPhysicalDevice phys;
-    VkDevice device;
-    VkQueue queue;
-    VkDebugUtilsMessengerEXT messenger;
-    uint32_t api_version;
-    const char *instance_exts[4];
-    uint32_t instance_ext_count;
-    VkPhysicalDeviceMemoryProperties mem;
-} Host;
-
-static uint32_t memory_type(const Host *h, uint32_t bits, VkMemoryPropertyFlags want) {
-    for (uint32_t i = 0; i < h->mem.memoryTypeCount; i++)
-        if ((bits & (1u << i)) && (h->mem.memoryTypes[i].propertyFlags & want) == want) return i;
-    fprintf(stderr, "no memory type with flags 0x%x\n", (unsigned)want);
-    exit(1);
-}
-
-typedef struct {
-    VkBuffer buf;
-    VkDeviceMemory mem;
-    void *map;
-} HostBuffer;
-
-static HostBuffer host_buffer(const Host *h, VkDeviceSize size, VkBufferUsageFlags usage) {
-    HostBuffer b = {0};
-    VkBufferCreateInfo bi = {.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    bi.size = size;
-    bi.usage = usage;
-    vk_check(vkCreateBuffer(h->device, &bi, NULL, &b.buf), "vkCreateBuffer");
-    VkMemoryRequirements req;
-    vkGetBufferMemoryRequirements(h->device, b.buf, &req);
-    VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex =
-        memory_type(h, req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    vk_check(vkAllocateMemory(h->device, &ai, NULL, &b.mem), "vkAllocateMemory");
-    vk_check(vkBindBufferMemory(h->device, b.buf, b.mem, 0), "vkBindBufferMemory");
-    vk_check(vkMapMemory(h->device, b.mem, 0, VK_WHOLE_SIZE, 0, &b.map), "vkMapMemory");
-    return b;
-}
-
-static void host_buffer_free(const Host *h, HostBuffer *b) {
-    vkDestroyBuffer(h->device, b->buf, NULL);
-    vkFreeMemory(h->device, b->mem, NULL);
-}
-
-typedef struct {
-    VkImage image;
-    VkDeviceMemory mem;
-    VkImageView view;
-} Image;
-
-static Image image(const Host *h, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect) {
-    Image im = {0};
-    VkImageCreateInfo ii = {.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    ii.imageType = VK_IMAGE_TYPE_2D;
-    ii.format = format;
-    ii.extent.width = W * SS;
-    ii.extent.height = H * SS;
-    ii.extent.depth = 1;
-    ii.mipLevels = 1;
-    ii.arrayLayers = 1;
-    ii.samples = VK_SAMPLE_COUNT_1_BIT;
-    ii.tiling = VK_IMAGE_TILING_OPTIMAL;
-    ii.usage = usage;
-    vk_check(vkCreateImage(h->device, &ii, NULL, &im.image), "vkCreateImage");
-    VkMemoryRequirements req;
-    vkGetImageMemoryRequirements(h->device, im.image, &req);
-    VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = memory_type(h, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    vk_check(vkAllocateMemory(h->device, &ai, NULL, &im.mem), "vkAllocateMemory");
-    vk_check(vkBindImageMemory(h->device, im.image, im.mem, 0), "vkBindImageMemory");
-    VkImageViewCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vi.image = im.image;
-    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    vi.format = format;
-    vi.subresourceRange.aspectMask = aspect;
-    vi.subresourceRange.levelCount = 1;
-    vi.subresourceRange.layerCount = 1;
-    vk_check(vkCreateImageView(h->device, &vi, NULL, &im.view), "vkCreateImageView");
-    return im;
-}
-
-static void image_free(const Host *h, Image *im) {
-    vkDestroyImageView(h->device, im->view, NULL);
-    vkDestroyImage(h->device, im->image, NULL);
-    vkFreeMemory(h->device, im->mem, NULL);
-}
-
-/* Creates the instance with wethair's instance requirements (and the validation layer). */
-static void create_instance(Host *h, int validate) {
-    WetHairVulkanInstanceRequirements ir = {0};
-    ir.struct_size = sizeof ir;
-    wh_check(wethair_vulkan_get_instance_requirements(&ir), "wethair_vulkan_get_instance_requirements");
-    uint32_t loader = VK_API_VERSION_1_0;
-    vkEnumerateInstanceVersion(&loader);
-    h->api_version = loader >= VK_API_VERSION_1_3 ? VK_API_VERSION_1_3 : loader;
-    if (h->api_version < ir.min_api_version) {
-        fprintf(stderr, "the Vulkan loader offers %u.%u; wethair needs %u.%u\n", VK_API_VERSION_MAJOR(loader),
-                VK_API_VERSION_MINOR(loader), VK_API_VERSION_MAJOR(ir.min_api_version),
-                VK_API_VERSION_MINOR(ir.min_api_version));
-        exit(1);
-    }
-    for (uint32_t i = 0; i < ir.extension_count && h->instance_ext_count < 3; i++)
-        h->instance_exts[h->instance_ext_count++] = ir.extensions[i];
-    if (validate) h->instance_exts[h->instance_ext_count++] = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
-    VkApplicationInfo app = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO};
-    app.pApplicationName = "wethair vulkan_host";
-    app.apiVersion = h->api_version;
-    const char *layers[] = {"VK_LAYER_KHRONOS_validation"};
-    VkDebugUtilsMessengerCreateInfoEXT mi = {.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-    mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-    mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
-    mi.pfnUserCallback = on_validation;
-    VkInstanceCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    ci.pApplicationInfo = &app;
-    ci.enabledExtensionCount = h->instance_ext_count;
-    ci.ppEnabledExtensionNames = h->instance_exts;
-    if (validate) {
-        ci.enabledLayerCount = 1;
-        ci.ppEnabledLayerNames = layers;
-        ci.pNext = &mi; /* also covers instance creation and destruction */
-    }
-    vk_check(vkCreateInstance(&ci, NULL, &h->instance), "vkCreateInstance");
-    if (validate) {
-        PFN_vkCreateDebugUtilsMessengerEXT create =
-            (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(h->instance, "vkCreateDebugUtilsMessengerEXT");
-        vk_check(create ? create(h->instance, &mi, NULL, &h->messenger) : VK_ERROR_EXTENSION_NOT_PRESENT,
-                 "vkCreateDebugUtilsMessengerEXT");
-    }
-    uint32_t n = 1;
-    VkResult r = vkEnumeratePhysicalDevices(h->instance, &n, &h->phys);
-    if ((r != VK_SUCCESS && r != VK_INCOMPLETE) || n == 0) {
-        fprintf(stderr, "no Vulkan physical device (on Linux without a GPU install mesa-vulkan-drivers)\n");
-        exit(1);
-    }
-    vkGetPhysicalDeviceMemoryProperties(h->phys, &h->mem);
-}
-
-/* The host description wethair reads; `device` and its lists are filled once it exists. */
-static WetHairVulkanDevice describe(const Host *h) {
-    WetHairVulkanDevice d;
-    wethair_vulkan_device_default(&d);
-    d.api_version = h->api_version;
-    d.get_instance_proc_addr = (void *)vkGetInstanceProcAddr;
-    d.instance = h->instance;
-    d.physical_device = h->phys;
-    d.instance_extension_count = h->instance_ext_count;
-    d.instance_extensions = h->instance_exts;
-    d.queue_family_index = 0;
-    d.queue_index = 0;
-    d.queue_lock = queue_lock;
-    d.queue_unlock = queue_unlock;
-    d.queue_user_data = &queue_mutex;
-    return d;
-}
 
 /* A device on queue family 0 with the given extensions and feature chain (NULL: none). */
 static VkDevice make_device(const Host *h, const WetHairVulkanRequirementsInfo *info, int with_features,
@@ -399,7 +206,18 @@ int main(int argc, char **argv) {
         }
     }
     Host h = {0};
-    create_instance(&h, validate);
+    char why[256];
+    if (!create_instance(&h, validate, NULL, 0, why, sizeof why)) {
+        fprintf(stderr, "%s\n", why);
+        return 1;
+    }
+    uint32_t n_phys = 1;
+    VkResult er = vkEnumeratePhysicalDevices(h.instance, &n_phys, &h.phys);
+    if ((er != VK_SUCCESS && er != VK_INCOMPLETE) || n_phys == 0) {
+        fprintf(stderr, "no Vulkan physical device (on Linux without a GPU install mesa-vulkan-drivers)\n");
+        return 1;
+    }
+    vkGetPhysicalDeviceMemoryProperties(h.phys, &h.mem);
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(h.phys, &props);
 
@@ -448,9 +266,9 @@ int main(int argc, char **argv) {
 
     /* Render pass, images, pipeline. */
     const VkFormat color_fmt = VK_FORMAT_R8G8B8A8_UNORM, depth_fmt = VK_FORMAT_D32_SFLOAT;
-    Image color = image(&h, color_fmt, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+    Image color = image(&h, W * SS, H * SS, VK_SAMPLE_COUNT_1_BIT, color_fmt, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                         VK_IMAGE_ASPECT_COLOR_BIT);
-    Image depth = image(&h, depth_fmt, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+    Image depth = image(&h, W * SS, H * SS, VK_SAMPLE_COUNT_1_BIT, depth_fmt, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
     VkAttachmentDescription att[2] = {{0}, {0}};
     att[0].format = color_fmt;
     att[0].samples = VK_SAMPLE_COUNT_1_BIT;
@@ -499,14 +317,7 @@ int main(int argc, char **argv) {
     VkFramebuffer fb;
     vk_check(vkCreateFramebuffer(h.device, &fbi, NULL, &fb), "vkCreateFramebuffer");
 
-    VkShaderModuleCreateInfo smi = {.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    VkShaderModule vs, fs;
-    smi.codeSize = sizeof kk_vert;
-    smi.pCode = kk_vert;
-    vk_check(vkCreateShaderModule(h.device, &smi, NULL, &vs), "vkCreateShaderModule");
-    smi.codeSize = sizeof kk_frag;
-    smi.pCode = kk_frag;
-    vk_check(vkCreateShaderModule(h.device, &smi, NULL, &fs), "vkCreateShaderModule");
+    VkShaderModule vs = shader_module(&h, kk_vert, sizeof kk_vert), fs = shader_module(&h, kk_frag, sizeof kk_frag);
     VkPushConstantRange pcr = {VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(PushConstants)};
     VkPipelineLayoutCreateInfo pli = {.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pli.pushConstantRangeCount = 1;
@@ -683,10 +494,7 @@ int main(int argc, char **argv) {
         si.pCommandBuffers = &cmd;
         si.signalSemaphoreCount = 1;
         si.pSignalSemaphores = signals;
-        queue_lock(&queue_mutex);
-        VkResult sr = vkQueueSubmit(h.queue, 1, &si, fence);
-        queue_unlock(&queue_mutex);
-        vk_check(sr, "vkQueueSubmit");
+        vk_check(locked_submit(&h, &si, fence), "vkQueueSubmit");
         vk_check(vkWaitForFences(h.device, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
         vk_check(vkResetFences(h.device, 1, &fence), "vkResetFences");
         double t2 = wh_now_ms();
@@ -752,14 +560,9 @@ int main(int argc, char **argv) {
     image_free(&h, &color);
     image_free(&h, &depth);
     vkDestroyDevice(h.device, NULL);
-    if (h.messenger) {
-        PFN_vkDestroyDebugUtilsMessengerEXT destroy =
-            (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(h.instance, "vkDestroyDebugUtilsMessengerEXT");
-        if (destroy) destroy(h.instance, h.messenger, NULL);
-    }
-    vkDestroyInstance(h.instance, NULL);
-    if (validate) printf("validation: %d errors\n", validation_errors);
+    destroy_instance(&h);
+    if (validate) printf("validation: %d errors\n", vkc_validation_errors);
     if (errors) printf("error checks: %d failed\n", failed_checks);
     if (lit < 1000) fprintf(stderr, "the image shows almost no hair (%zu pixels)\n", lit);
-    return (validation_errors || failed_checks || mismatched || lit < 1000) ? 1 : 0;
+    return (vkc_validation_errors || failed_checks || mismatched || lit < 1000) ? 1 : 0;
 }

@@ -413,7 +413,9 @@ pub unsafe extern "C" fn wethair_sim_create_vulkan(
 /// semaphore values of this frame (see `WetHairVulkanBuffer`). Only for simulations made by
 /// `wethair_sim_create_vulkan` (else `WETHAIR_ERROR_UNSUPPORTED`). The host sets
 /// `out->struct_size` first. A failed step is never written to the buffer: it keeps the last
-/// good frame, and the failure is reported here once a read has seen it.
+/// good frame, and the failure is reported here once a read has seen it. Called again with no
+/// step in between (a paused host) it hands out the same frame and the same values: wait and
+/// signal each `release_value` once (a timeline semaphore only moves forward).
 ///
 /// # Safety
 /// `sim` is valid; `out` is writable.

@@ -435,6 +435,10 @@ impl GpuBackend {
             sub_bytes: vec![0; sub_stride as usize * n_sub],
             wrote_vertices: false,
         };
+        // The vertex output reads its layout (stride, attribute offsets) from the step
+        // parameters: write them now, so vertices read before the first step are the rest
+        // pose and not zeros (the step rewrites them with its own time step).
+        be.write_params(1.0 / 60.0, 0, head);
         be.reset(head);
         be.dev.wait()?;
         Ok(be)
