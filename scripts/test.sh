@@ -88,6 +88,8 @@ grep -q "strands drawn with Vulkan from the copy path" target/viewer-vk.log
 grep -q "validation: 0 errors" target/viewer-vk.log
 ./examples/c/build/image_check out/viewer-vk-dry.ppm out/viewer-vk-wet.ppm
 ./examples/c/build/image_check out/viewer-vk-wet.ppm out/viewer-vk-copy.ppm
+# After the window's resize the frame has the new size.
+test "$(head -c 15 out/viewer-vk-resized.ppm | tr '\n' ' ')" = "P6 480 270 255 "
 clumping_dropped() {
     dry=$(sed -n "s/.*$2: clumping \([0-9.]*\) m.*/\1/p" "$1")
     wet=$(sed -n "s/.*$3: clumping \([0-9.]*\) m.*/\1/p" "$1")

@@ -20,7 +20,7 @@
  * --script FILE replays timed events, one per line: "FRAME COMMAND [ARGS]" with COMMAND one of
  *   spray on|off, yaw DEG, pitch DEG, move DX DY DZ (m), dry, reset, backend cpu|gpu|auto,
  *   integrator symplectic|implicit, pause, resume, step, screenshot FILE (.png or .ppm; the
- *   frame drawn next), stats, quit
+ *   frame drawn next), resize WxH (the window), stats, quit
  * In script mode the spray aims from the camera at the head, the frame step is a fixed 1/60 s
  * and every frame is stepped (no dropped frames), so runs repeat. */
 #include <GLFW/glfw3.h>
@@ -264,6 +264,10 @@ static const char *run_event(Viewer *v, const Event *e) {
     else if (!strcmp(e->cmd, "step")) v->step_once = 1;
     else if (!strcmp(e->cmd, "screenshot")) return e->arg;
     else if (!strcmp(e->cmd, "stats")) print_stats(v);
+    else if (!strcmp(e->cmd, "resize")) {
+        int w = 0, h = 0;
+        if (sscanf(e->arg, "%dx%d", &w, &h) == 2 && w > 0 && h > 0) glfwSetWindowSize(v->window, w, h);
+    }
     else if (!strcmp(e->cmd, "quit")) glfwSetWindowShouldClose(v->window, 1);
     else {
         fprintf(stderr, "script: unknown command %s\n", e->cmd);
