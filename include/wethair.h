@@ -444,6 +444,35 @@ typedef struct WetHairVulkanBuffer {
   uint64_t release_value;
 } WetHairVulkanBuffer;
 
+// The water particles as Vulkan resources, for hosts that draw them from wethair's buffers
+// (drops, spray) with no copy: a vertex buffer of positions and a `VkDrawIndirectCommand`
+// whose `vertexCount` is the particles held. Both are written in the same submission as
+// the frame's vertices, so the frame's semaphores from `wethair_sim_get_vulkan_buffer`
+// cover them: wait for `ready_value` at `VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+// VK_PIPELINE_STAGE_VERTEX_INPUT_BIT`. Draw with `vkCmdDrawIndirect(cmd, draw_buffer,
+// draw_offset, 1, 0)` as a point list. The buffers stay the same until the simulation is
+// destroyed.
+typedef struct WetHairVulkanWater {
+  // `sizeof(WetHairVulkanWater)`, set by the host before the call.
+  uint32_t struct_size;
+  // Most particles the buffer holds (the simulation's water capacity).
+  uint32_t capacity;
+  // `VkBuffer` of positions, one per particle held, `stride_bytes` apart.
+  uint64_t buffer;
+  // Byte offset of the first position in `buffer`.
+  uint64_t offset;
+  // Bytes from one position to the next (16: xyz and w = 1).
+  uint32_t stride_bytes;
+  // `VkFormat` of the position: `VK_FORMAT_R32G32B32A32_SFLOAT` (109); reading it as
+  // `VK_FORMAT_R32G32B32_SFLOAT` (106) gives xyz.
+  uint32_t position_format;
+  // `VkBuffer` holding the `VkDrawIndirectCommand` (vertexCount, instanceCount = 1,
+  // firstVertex = 0, firstInstance = 0).
+  uint64_t draw_buffer;
+  // Byte offset of the command in `draw_buffer`.
+  uint64_t draw_offset;
+} WetHairVulkanWater;
+
 // `UnityInterfaceGUID`.
 typedef struct UnityInterfaceGuid {
   // High 64 bits.
@@ -693,6 +722,18 @@ enum WetHairResult wethair_sim_create_vulkan(const struct WetHairSimDesc *desc, 
 // # Safety
 // `sim` is valid; `out` is writable.
 enum WetHairResult wethair_sim_get_vulkan_buffer(struct WetHairSim *sim, struct WetHairVulkanBuffer *out);
+
+// Hands out the water particles' positions and indirect-draw arguments as Vulkan buffers
+// (see `WetHairVulkanWater`). Only for simulations made by `wethair_sim_create_vulkan` (else
+// `WETHAIR_ERROR_UNSUPPORTED`). The first call creates the two buffers (capacity x 16 bytes
+// and 16 bytes; nothing of the kind exists until a host asks) and writes the current
+// particles into them, waiting for the device once; from then on every frame's vertex write
+// also writes them. Call it after `wethair_sim_get_vulkan_buffer` for the frame. The host
+// sets `out->struct_size` first.
+//
+// # Safety
+// `sim` is valid; `out` is writable.
+enum WetHairResult wethair_sim_get_vulkan_water(struct WetHairSim *sim, struct WetHairVulkanWater *out);
 
 #ifdef __cplusplus
 }  // extern "C"

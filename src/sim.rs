@@ -196,6 +196,23 @@ impl Simulation {
         self.settle(r)
     }
 
+    /// The water particles as the host's Vulkan sees them (positions and the indirect draw's
+    /// arguments), written with each frame's vertices. Only for simulations made with
+    /// [`Simulation::new_on_vulkan`].
+    #[cfg(feature = "vulkan")]
+    pub fn vulkan_water(&mut self) -> Result<crate::gpu::vulkan::SharedWater> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
+        let r = match &mut self.engine {
+            Engine::Gpu(g) => g.shared_water(),
+            Engine::Cpu(_) => Err(Error::Unsupported(
+                "the water VkBuffers are shared only by simulations created on the host's VkDevice".into(),
+            )),
+        };
+        self.settle(r)
+    }
+
     /// The parameters the simulation was created with.
     pub fn params(&self) -> &SimParams {
         &self.params

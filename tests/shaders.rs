@@ -30,3 +30,31 @@ fn kajiya_kay_wgsl_validates_with_the_vertex_layout() {
         .collect();
     assert_eq!(locs, [Some(0), Some(1), Some(2)]);
 }
+
+/// The simulation's own output modules (vertices, shared water) validate with naga for a scene
+/// with and without bend springs and colliders, before any device compiles them.
+#[test]
+fn output_modules_validate() {
+    use wethair::gpu::pipelines::{output_source, water_output_source, water_source, SceneConsts};
+    for (bend, colliders) in [(false, 0), (true, 2)] {
+        let c = SceneConsts {
+            axial: true,
+            colliders,
+            bend,
+            max_points: 32,
+            iterations: 2,
+        };
+        for (name, src, entry) in [
+            ("output", output_source(c), "write_vertices"),
+            ("water", water_source(c), "water_cull"),
+            ("water output", water_output_source(c), "write_water_vertices"),
+        ] {
+            let module =
+                naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
+            naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+                .validate(&module)
+                .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+            assert!(module.entry_points.iter().any(|e| e.name == entry), "{name} has no {entry}");
+        }
+    }
+}

@@ -203,6 +203,13 @@ public:
         detail::check(wethair_sim_get_vulkan_buffer(h_.get(), &b));
         return b;
     }
+    /// The water's shared positions and indirect-draw VkBuffers, covered by the frame's
+    /// semaphores (Vulkan-created only; the first call creates them).
+    WetHairVulkanWater vulkan_water() {
+        auto w = detail::sized<WetHairVulkanWater>();
+        detail::check(wethair_sim_get_vulkan_water(h_.get(), &w));
+        return w;
+    }
     /// The C handle (owned here).
     WetHairSim *get() const noexcept { return h_.get(); }
 

@@ -495,7 +495,7 @@ int main(int argc, char **argv) {
             last_print = wh_now_ms();
         }
     }
-    print_stats(&v);
+    if (v.frames_in_window) print_stats(&v);
     free(v.events);
     wethair_sim_destroy(v.sim);
     wethair_groom_destroy(v.groom);

@@ -1,8 +1,10 @@
 /* The viewer's Vulkan renderer: the zero-copy path. The viewer makes its own VkInstance and
  * VkDevice with what wethair asks for (plus a swapchain), creates GPU simulations on that
  * device, and draws the strands straight from wethair's vertex VkBuffer: each frame's submit
- * waits on wethair's `ready` timeline value and signals its `release` value. A CPU
- * simulation (B switches) is drawn from a host-visible buffer that the copy path fills.
+ * waits on wethair's `ready` timeline value and signals its `release` value. The water is
+ * drawn the same way, from wethair's positions with its indirect draw's count: no frame
+ * crosses host memory. A CPU simulation (B switches) is drawn from host-visible buffers
+ * that the copy path fills.
  * Strands are depth-tested lines (wide where the device allows) with the Kajiya-Kay shaders
  * of bindings/shaders, water points and the overlay with viewer_flat.{vert,frag}; 4x MSAA in
  * a person's window. One frame in flight: the draw figure is the frame's whole GPU cost. */
@@ -316,7 +318,7 @@ static void create_pipelines(Viewer *v, Vk *k) {
     VkVertexInputAttributeDescription water_attr = {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0};
     VkVertexInputAttributeDescription text_attr = {0, 0, VK_FORMAT_R32G32_SFLOAT, 0};
     PipelineDesc hair = {kv, kf, VK_PRIMITIVE_TOPOLOGY_LINE_LIST, l->stride_floats * 4, hair_attrs, 3, 1, k->wide_lines};
-    PipelineDesc water = {fv, ff, VK_PRIMITIVE_TOPOLOGY_POINT_LIST, 12, &water_attr, 1, 1, 0};
+    PipelineDesc water = {fv, ff, VK_PRIMITIVE_TOPOLOGY_POINT_LIST, 16, &water_attr, 1, 1, 0};
     PipelineDesc text = {fv, ff, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, 8, &text_attr, 1, 0, 0};
     k->hair = pipeline(k, &hair);
     k->water = pipeline(k, &water);
@@ -346,8 +348,16 @@ static const char *vk_source(const Viewer *v) {
 }
 
 /* Records the frame: strands, water, overlay (its shadow first); the copy for a screenshot. */
-static void record(Viewer *v, Vk *k, uint32_t img, VkBuffer verts, VkDeviceSize verts_offset, uint32_t water_count,
-                   int screenshot) {
+/* Where this frame's strands and water come from: wethair's buffers or ours. */
+typedef struct {
+    VkBuffer verts;
+    VkDeviceSize verts_offset;
+    VkBuffer water, water_draw; /* water_draw: an indirect draw's command (shared), else NULL */
+    VkDeviceSize water_offset, water_draw_offset;
+    uint32_t water_count; /* the copy path's count */
+} Sources;
+
+static void record(Viewer *v, Vk *k, uint32_t img, const Sources *src, int screenshot) {
     VkCommandBuffer cmd = k->cmd;
     vk_check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
     VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -388,17 +398,18 @@ static void record(Viewer *v, Vk *k, uint32_t img, VkBuffer verts, VkDeviceSize 
         vkCmdSetLineWidth(cmd, w);
     }
     vkCmdPushConstants(cmd, k->layout, stages, 0, sizeof pc, &pc);
-    vkCmdBindVertexBuffers(cmd, 0, 1, &verts, &verts_offset);
+    vkCmdBindVertexBuffers(cmd, 0, 1, &src->verts, &src->verts_offset);
     vkCmdBindIndexBuffer(cmd, k->index.buf, 0, VK_INDEX_TYPE_UINT32);
     vkCmdDrawIndexed(cmd, k->index_count, 1, 0, 0, 0);
     VkDeviceSize zero = 0;
-    if (water_count) {
+    if (src->water_draw || src->water_count) {
         for (int c = 0; c < 3; c++) pc.a[c] = VIEWER_WATER[c];
         pc.b[0] = k->large_points ? VIEWER_WATER_POINT : 1.0f;
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, k->water);
         vkCmdPushConstants(cmd, k->layout, stages, 0, sizeof pc, &pc);
-        vkCmdBindVertexBuffers(cmd, 0, 1, &k->water_buf.buf, &zero);
-        vkCmdDraw(cmd, water_count, 1, 0, 0);
+        vkCmdBindVertexBuffers(cmd, 0, 1, &src->water, &src->water_offset);
+        if (src->water_draw) vkCmdDrawIndirect(cmd, src->water_draw, src->water_draw_offset, 1, 0);
+        else vkCmdDraw(cmd, src->water_count, 1, 0, 0);
     }
     if (k->text_floats) {
         /* Overlay coordinates are y up: flip into Vulkan's clip space; the shadow is shifted. */
@@ -477,7 +488,7 @@ static void vk_draw(Viewer *v, uint8_t *rgb) {
         memcpy(k->index.map, ix, (size_t)n * sizeof(uint32_t));
         k->index_count = n;
         free(ix);
-        k->water_buf = host_buffer(&k->h, sizeof(float) * 3 * MAX_PARTICLES, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        k->water_buf = host_buffer(&k->h, sizeof(float) * 4 * MAX_PARTICLES, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
         create_pipelines(v, k);
     }
     uint32_t img = 0;
@@ -495,38 +506,56 @@ static void vk_draw(Viewer *v, uint8_t *rgb) {
         k->pixels = host_buffer(&k->h, pixel_bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
     }
 
-    /* The strands' vertices: wethair's own VkBuffer, or the copy path into ours. */
-    VkBuffer verts;
-    VkDeviceSize verts_offset = 0;
+    /* The strands and the water: wethair's own VkBuffers, or the copy path into ours. */
+    Sources src;
+    memset(&src, 0, sizeof src);
     WetHairVulkanBuffer vb;
     memset(&vb, 0, sizeof vb);
     vb.struct_size = sizeof vb;
     int sync = 0;
     if (k->shared) {
         wh_check(wethair_sim_get_vulkan_buffer(v->sim, &vb), "wethair_sim_get_vulkan_buffer");
-        verts = (VkBuffer)(uintptr_t)vb.buffer;
-        verts_offset = vb.offset;
+        WetHairVulkanWater w;
+        memset(&w, 0, sizeof w);
+        w.struct_size = sizeof w;
+        wh_check(wethair_sim_get_vulkan_water(v->sim, &w), "wethair_sim_get_vulkan_water");
+        src.verts = (VkBuffer)(uintptr_t)vb.buffer;
+        src.verts_offset = vb.offset;
+        src.water = (VkBuffer)(uintptr_t)w.buffer;
+        src.water_offset = w.offset;
+        src.water_draw = (VkBuffer)(uintptr_t)w.draw_buffer;
+        src.water_draw_offset = w.draw_offset;
         sync = vb.release_value > k->last_release; /* a paused host is handed the same frame again */
     } else {
         size_t cap = (size_t)v->lay.vertex_count * v->lay.stride_floats, written = 0;
         if (!k->copy_verts.buf) k->copy_verts = host_buffer(&k->h, cap * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
         wh_check(wethair_sim_get_vertex_buffer(v->sim, k->copy_verts.map, cap, &written), "wethair_sim_get_vertex_buffer");
-        verts = k->copy_verts.buf;
+        src.verts = k->copy_verts.buf;
+        /* Packed xyz from the copy path, spread to the shared layout's vec4 in place (backwards). */
+        float *wv = k->water_buf.map;
+        wh_check(wethair_sim_get_water(v->sim, wv, MAX_PARTICLES, &src.water_count), "wethair_sim_get_water");
+        for (uint32_t i = src.water_count; i-- > 0;) {
+            float x = wv[3 * i], y = wv[3 * i + 1], z = wv[3 * i + 2];
+            wv[4 * i] = x;
+            wv[4 * i + 1] = y;
+            wv[4 * i + 2] = z;
+            wv[4 * i + 3] = 1.0f;
+        }
+        src.water = k->water_buf.buf;
     }
-    uint32_t nw = 0;
-    wh_check(wethair_sim_get_water(v->sim, k->water_buf.map, MAX_PARTICLES, &nw), "wethair_sim_get_water");
     k->text_floats = viewer_text_triangles(v, &k->text, &k->text_cap);
     if (k->text_floats * sizeof(float) > k->text_buf.size) {
         host_buffer_free(&k->h, &k->text_buf);
         k->text_buf = host_buffer(&k->h, k->text_floats * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
     }
     if (k->text_floats) memcpy(k->text_buf.map, k->text, k->text_floats * sizeof(float));
-    record(v, k, img, verts, verts_offset, nw, screenshot);
+    record(v, k, img, &src, screenshot);
 
     /* Wait for the swapchain image and wethair's write; signal our draw's end and the release. */
     VkSemaphore waits[2] = {k->acquired, (VkSemaphore)(uintptr_t)vb.ready_semaphore};
     VkSemaphore signals[2] = {k->render_done[img], (VkSemaphore)(uintptr_t)vb.release_semaphore};
-    VkPipelineStageFlags stages[2] = {VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_VERTEX_INPUT_BIT};
+    VkPipelineStageFlags stages[2] = {VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT};
     uint64_t wait_values[2] = {0, vb.ready_value}, signal_values[2] = {0, vb.release_value};
     VkTimelineSemaphoreSubmitInfo tsi = {.sType = VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO};
     tsi.waitSemaphoreValueCount = sync ? 2 : 1;

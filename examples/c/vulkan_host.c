@@ -154,6 +154,18 @@ static int check_errors(const Host *h, const WetHairVulkanRequirementsInfo *info
     wh_check(wethair_sim_create(&desc, &cpu), "wethair_sim_create (cpu)");
     fails += expect(wethair_sim_get_vulkan_buffer(cpu, &vb), WETHAIR_ERROR_UNSUPPORTED, "VkBuffer",
                     "Vulkan buffer of a CPU simulation");
+    WetHairVulkanWater wat = {0};
+    wat.struct_size = sizeof wat;
+    fails += expect(wethair_sim_get_vulkan_water(cpu, &wat), WETHAIR_ERROR_UNSUPPORTED, "water",
+                    "Vulkan water of a CPU simulation");
+    fails += expect(wethair_sim_get_vulkan_water(cpu, NULL), WETHAIR_ERROR_NULL_POINTER, "out", "NULL water output");
+    wat.struct_size = 4;
+    fails += expect(wethair_sim_get_vulkan_water(cpu, &wat), WETHAIR_ERROR_STRUCT_SIZE, "struct_size",
+                    "water output with a bad struct_size");
+    if (wat.buffer || wat.draw_buffer) {
+        fprintf(stderr, "check failed: a refused water call wrote its output\n");
+        fails++;
+    }
     wethair_sim_destroy(cpu);
     return fails;
 }
@@ -398,8 +410,13 @@ int main(int argc, char **argv) {
     vk_check(vkCreateFence(h.device, &fci, NULL, &fence), "vkCreateFence");
     HostBuffer pixels = host_buffer(&h, (VkDeviceSize)W * SS * H * SS * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
     size_t vbytes = (size_t)lay.vertex_count * lay.stride_floats * sizeof(float);
-    HostBuffer shared_copy = {0};
-    if (compare) shared_copy = host_buffer(&h, vbytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    HostBuffer shared_copy = {0}, water_copy = {0};
+    WetHairVulkanWater water = {0}, water_first = {0};
+    if (compare) {
+        shared_copy = host_buffer(&h, vbytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+        /* The water as Vulkan buffers, asked for from the first frame: every frame writes them. */
+        water_copy = host_buffer(&h, (VkDeviceSize)desc.water.capacity * 16 + 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    }
 
     PushConstants pc;
     const float eye[3] = {0.05f, -0.62f, 0.22f}, at[3] = {0.0f, 0.0f, -0.02f};
@@ -431,6 +448,16 @@ int main(int argc, char **argv) {
         wh_check(wethair_sim_get_vulkan_buffer(sim, &vb), "wethair_sim_get_vulkan_buffer");
         VkBuffer shared = (VkBuffer)(uintptr_t)vb.buffer;
         int last = f + 1 == frames;
+        if (compare) {
+            memset(&water, 0, sizeof water);
+            water.struct_size = sizeof water;
+            wh_check(wethair_sim_get_vulkan_water(sim, &water), "wethair_sim_get_vulkan_water");
+            if (f == 0) water_first = water;
+            if (water.buffer != water_first.buffer || water.draw_buffer != water_first.draw_buffer) {
+                fprintf(stderr, "the water buffers changed between frames\n");
+                return 1;
+            }
+        }
 
         vk_check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
         VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -468,6 +495,9 @@ int main(int argc, char **argv) {
             if (compare) {
                 VkBufferCopy bc = {vb.offset, 0, vbytes};
                 vkCmdCopyBuffer(cmd, shared, shared_copy.buf, 1, &bc);
+                VkBufferCopy wc[2] = {{water.draw_offset, 0, 16}, {water.offset, 16, (VkDeviceSize)water.capacity * 16}};
+                vkCmdCopyBuffer(cmd, (VkBuffer)(uintptr_t)water.draw_buffer, water_copy.buf, 1, &wc[0]);
+                vkCmdCopyBuffer(cmd, (VkBuffer)(uintptr_t)water.buffer, water_copy.buf, 1, &wc[1]);
             }
             VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER};
             mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
@@ -479,7 +509,8 @@ int main(int argc, char **argv) {
         /* Wait for wethair's write of this frame; release the buffer to its next write. */
         VkSemaphore waits[1] = {(VkSemaphore)(uintptr_t)vb.ready_semaphore};
         VkSemaphore signals[1] = {(VkSemaphore)(uintptr_t)vb.release_semaphore};
-        VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+        VkPipelineStageFlags wait_stage =
+            VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
         VkTimelineSemaphoreSubmitInfo tsi = {.sType = VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO};
         tsi.waitSemaphoreValueCount = 1;
         tsi.pWaitSemaphoreValues = &vb.ready_value;
@@ -515,6 +546,20 @@ int main(int argc, char **argv) {
         printf("shared VkBuffer vs copy path: %zu bytes %s, %zu non-finite\n", vbytes,
                mismatched ? "DIFFER" : "identical", nan);
         mismatched |= nan != 0;
+        /* The shared water: the indirect draw's count and the positions equal the copy path's. */
+        const uint32_t *cmdw = water_copy.map;
+        const float *wv = (const float *)water_copy.map + 4;
+        float *wp = malloc(sizeof(float) * 3 * (desc.water.capacity ? desc.water.capacity : 1));
+        uint32_t nw = 0;
+        if (!wp) return 1;
+        wh_check(wethair_sim_get_water(sim, wp, desc.water.capacity, &nw), "wethair_sim_get_water");
+        int water_bad = cmdw[0] != nw || cmdw[1] != 1 || cmdw[2] != 0 || cmdw[3] != 0 || nw == 0;
+        for (uint32_t i = 0; i < nw && !water_bad; i++)
+            water_bad = memcmp(wv + 4 * i, wp + 3 * i, 12) != 0 || wv[4 * i + 3] != 1.0f;
+        printf("shared water VkBuffers vs copy path: draw count %u, %u particles %s\n", cmdw[0], nw,
+               water_bad ? "DIFFER" : "identical");
+        mismatched |= water_bad;
+        free(wp);
         free(copy);
     }
 
@@ -546,7 +591,10 @@ int main(int argc, char **argv) {
     /* wethair first (it finishes its work on the queue), then the host's objects. */
     wethair_sim_destroy(sim);
     vkDeviceWaitIdle(h.device);
-    if (compare) host_buffer_free(&h, &shared_copy);
+    if (compare) {
+        host_buffer_free(&h, &shared_copy);
+        host_buffer_free(&h, &water_copy);
+    }
     host_buffer_free(&h, &pixels);
     host_buffer_free(&h, &index);
     vkDestroyFence(h.device, fence, NULL);

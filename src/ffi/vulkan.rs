@@ -145,6 +145,37 @@ pub struct WetHairVulkanBuffer {
     pub release_value: u64,
 }
 
+/// The water particles as Vulkan resources, for hosts that draw them from wethair's buffers
+/// (drops, spray) with no copy: a vertex buffer of positions and a `VkDrawIndirectCommand`
+/// whose `vertexCount` is the particles held. Both are written in the same submission as
+/// the frame's vertices, so the frame's semaphores from `wethair_sim_get_vulkan_buffer`
+/// cover them: wait for `ready_value` at `VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+/// VK_PIPELINE_STAGE_VERTEX_INPUT_BIT`. Draw with `vkCmdDrawIndirect(cmd, draw_buffer,
+/// draw_offset, 1, 0)` as a point list. The buffers stay the same until the simulation is
+/// destroyed.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairVulkanWater {
+    /// `sizeof(WetHairVulkanWater)`, set by the host before the call.
+    pub struct_size: u32,
+    /// Most particles the buffer holds (the simulation's water capacity).
+    pub capacity: u32,
+    /// `VkBuffer` of positions, one per particle held, `stride_bytes` apart.
+    pub buffer: u64,
+    /// Byte offset of the first position in `buffer`.
+    pub offset: u64,
+    /// Bytes from one position to the next (16: xyz and w = 1).
+    pub stride_bytes: u32,
+    /// `VkFormat` of the position: `VK_FORMAT_R32G32B32A32_SFLOAT` (109); reading it as
+    /// `VK_FORMAT_R32G32B32_SFLOAT` (106) gives xyz.
+    pub position_format: u32,
+    /// `VkBuffer` holding the `VkDrawIndirectCommand` (vertexCount, instanceCount = 1,
+    /// firstVertex = 0, firstInstance = 0).
+    pub draw_buffer: u64,
+    /// Byte offset of the command in `draw_buffer`.
+    pub draw_offset: u64,
+}
+
 /// Requirements for a host's physical device; create with `wethair_vulkan_requirements_create`.
 pub struct WetHairVulkanRequirements {
     #[cfg(feature = "vulkan")]
@@ -452,6 +483,47 @@ pub unsafe extern "C" fn wethair_sim_get_vulkan_buffer(
                 ready_value: f.ready_value,
                 release_semaphore: f.release_semaphore,
                 release_value: f.release_value,
+            });
+            Ok(())
+        }
+        #[cfg(not(feature = "vulkan"))]
+        {
+            let _ = (s, out);
+            Err(unsupported())
+        }
+    })
+}
+
+/// Hands out the water particles' positions and indirect-draw arguments as Vulkan buffers
+/// (see `WetHairVulkanWater`). Only for simulations made by `wethair_sim_create_vulkan` (else
+/// `WETHAIR_ERROR_UNSUPPORTED`). The first call creates the two buffers (capacity x 16 bytes
+/// and 16 bytes; nothing of the kind exists until a host asks) and writes the current
+/// particles into them, waiting for the device once; from then on every frame's vertex write
+/// also writes them. Call it after `wethair_sim_get_vulkan_buffer` for the frame. The host
+/// sets `out->struct_size` first.
+///
+/// # Safety
+/// `sim` is valid; `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_get_vulkan_water(
+    sim: *mut WetHairSim,
+    out: *mut WetHairVulkanWater,
+) -> WetHairResult {
+    guard("wethair_sim_get_vulkan_water", || {
+        let s = nonnull_mut!(sim, "sim");
+        let out = check_out_size!(out, WetHairVulkanWater, "out");
+        #[cfg(feature = "vulkan")]
+        {
+            let w = s.0.vulkan_water()?;
+            out.write(WetHairVulkanWater {
+                struct_size: std::mem::size_of::<WetHairVulkanWater>() as u32,
+                capacity: w.capacity,
+                buffer: w.buffer,
+                offset: 0,
+                stride_bytes: 16,
+                position_format: 109,
+                draw_buffer: w.draw_buffer,
+                draw_offset: 0,
             });
             Ok(())
         }

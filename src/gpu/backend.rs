@@ -48,6 +48,19 @@ struct WaterGpu {
     removed: u64,
 }
 
+/// Host-shared devices whose host draws the particles (made at its first ask): their
+/// positions and the indirect draw's arguments, written with the vertices in the submission
+/// that waits for the host's release.
+#[derive(Debug)]
+struct WaterShare {
+    vertices: wgpu::Buffer,
+    draw: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
+    pipe: wgpu::ComputePipeline,
+    /// By `WaterGpu::cur`, once the particles exist.
+    bg: Option<[wgpu::BindGroup; 2]>,
+}
+
 impl WaterGpu {
     /// Encodes pass water_grid over the held particles: bounds, setup, count, prefix sum and,
     /// with `scatter`, the scatter into grid order (without it the counts stay for a test).
@@ -219,6 +232,8 @@ pub struct GpuBackend {
     output_bg: [wgpu::BindGroup; 2],
     cur: usize,
     water: Option<WaterGpu>,
+    /// Host-shared device only, once the host asks for the water as Vulkan buffers.
+    water_share: Option<WaterShare>,
     water_center_local: Vec3,
     water_radius: f32,
     staging: Vec<Staging>,
@@ -423,6 +438,7 @@ impl GpuBackend {
             output_bg,
             cur: 0,
             water: None,
+            water_share: None,
             water_center_local: 0.5 * (lo + hi),
             water_radius,
             staging: Vec::new(),
@@ -512,6 +528,9 @@ impl GpuBackend {
                 (w.grid.size() + w.grid_count.size() + w.state.size() + w.dispatch.size()) as usize,
             ));
             v.push(("water_incoming", w.incoming.size() as usize));
+        }
+        if let Some(ws) = &self.water_share {
+            v.push(("water_shared", (ws.vertices.size() + ws.draw.size()) as usize));
         }
         if !self.staging.is_empty() {
             v.push(("readback", self.staging.iter().map(|s| s.buf.size() as usize).sum()));
@@ -608,6 +627,10 @@ impl GpuBackend {
                 .write_buffer(&w.state, 0, bytemuck::cast_slice(&[0u32, 0]));
             w.bound = 0;
             w.pending = 0;
+        }
+        if self.water_share.is_some() {
+            // The host draws the particles: its next frame shows them gone.
+            self.vertices_current = false;
         }
     }
 
@@ -893,8 +916,35 @@ impl GpuBackend {
         pass.set_bind_group(0, &self.output_bg[self.cur], &[]);
         let (gx, gy) = groups(self.points);
         pass.dispatch_workgroups(gx, gy, 1);
+        drop(pass);
+        self.encode_water_vertices(enc);
         self.vertices_current = true;
         self.wrote_vertices = true;
+    }
+
+    /// Pass write_water_vertices, where the host draws the particles and they exist.
+    fn encode_water_vertices(&mut self, enc: &mut wgpu::CommandEncoder) {
+        let (Some(ws), Some(w)) = (&mut self.water_share, &self.water) else {
+            return;
+        };
+        let d = &self.dev.device;
+        let bg = ws.bg.get_or_insert_with(|| {
+            let mk = |i: usize| {
+                pl::bind(
+                    d,
+                    "water output",
+                    &ws.layout,
+                    &[&w.particles[i], &w.state, &self.status, &ws.vertices, &ws.draw],
+                    None,
+                )
+            };
+            [mk(0), mk(1)]
+        });
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&ws.pipe);
+        pass.set_bind_group(0, &bg[w.cur], &[]);
+        let (gx, gy) = groups(self.params.water.capacity);
+        pass.dispatch_workgroups(gx, gy, 1);
     }
 
     /// Submits `enc`, telling the device whether it writes the vertices.
@@ -946,6 +996,51 @@ impl GpuBackend {
             ready_value: ready,
             release_semaphore: raw_semaphore(sync.release),
             release_value: release,
+        })
+    }
+
+    /// Hands the host the particles' positions and indirect-draw arguments as Vulkan buffers,
+    /// written with each frame's vertices (the frame's semaphores cover them). The first call
+    /// makes them (capacity x 16 bytes + 16) and writes the current particles at once.
+    #[cfg(feature = "vulkan")]
+    pub fn shared_water(&mut self) -> Result<crate::gpu::vulkan::SharedWater> {
+        use crate::gpu::vulkan::{raw_buffer, SharedWater};
+        self.dev.check()?;
+        if self.dev.shared.is_none() {
+            return Err(Error::Unsupported(
+                "the water VkBuffers are shared only by simulations created on the host's VkDevice".into(),
+            ));
+        }
+        if self.water_share.is_none() {
+            let d = &self.dev.device;
+            let cap = self.params.water.capacity as u64;
+            let layout = pl::layout(
+                d,
+                "water output",
+                &[Slot::Read, Slot::Read, Slot::Read, Slot::ReadWrite, Slot::ReadWrite],
+            );
+            let module = pl::module(d, "water output", &pl::water_output_source(self.consts));
+            let pipe = pl::pipelines(d, &module, &[&layout], &["write_water_vertices"]).remove(0);
+            self.water_share = Some(WaterShare {
+                vertices: b::buffer(d, "water_vertices", cap * 16, STORAGE | wgpu::BufferUsages::VERTEX),
+                draw: b::buffer(d, "water_draw", 16, STORAGE | wgpu::BufferUsages::INDIRECT),
+                layout,
+                pipe,
+                bg: None,
+            });
+            // The frame already handed out was written without them: write them now and wait,
+            // so that the host's next read of this frame finds them (nobody reads them yet).
+            let mut enc = self.dev.device.create_command_encoder(&Default::default());
+            self.encode_water_vertices(&mut enc);
+            self.submit(enc);
+            self.dev.wait()?;
+        }
+        let ws = self.water_share.as_ref().expect("made above");
+        let handle = |buf| raw_buffer(buf).ok_or_else(|| Error::Device("a water buffer has no Vulkan handle".into()));
+        Ok(SharedWater {
+            buffer: handle(&ws.vertices)?,
+            capacity: self.params.water.capacity,
+            draw_buffer: handle(&ws.draw)?,
         })
     }
 

@@ -10,6 +10,7 @@ const HAIR: &str = include_str!("shaders/hair.wgsl");
 const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
 const WATER: &str = include_str!("shaders/water.wgsl");
 const OUTPUT: &str = include_str!("shaders/output.wgsl");
+const WATER_OUTPUT: &str = include_str!("shaders/water_output.wgsl");
 const IMPLICIT: &str = include_str!("shaders/implicit.wgsl");
 
 /// Compile-time constants of one scene's shaders.
@@ -129,6 +130,11 @@ pub fn water_source(c: SceneConsts) -> String {
 /// The vertex output module.
 pub fn output_source(c: SceneConsts) -> String {
     format!("{}{OUTPUT}", prelude(c))
+}
+
+/// The shared water output module (host-shared devices that draw the particles).
+pub fn water_output_source(c: SceneConsts) -> String {
+    format!("{}{WATER_OUTPUT}", prelude(c))
 }
 
 /// Compiles WGSL; errors surface through the device's error handler.

@@ -560,6 +560,17 @@ impl Drop for SharedSync {
     }
 }
 
+/// The host-visible description of the water buffers: raw handles as integers.
+#[derive(Clone, Copy, Debug)]
+pub struct SharedWater {
+    /// The positions' `VkBuffer`: a vec4 (xyz, w = 1) per particle held.
+    pub buffer: u64,
+    /// Most particles it holds.
+    pub capacity: u32,
+    /// The `VkBuffer` holding a `VkDrawIndirectCommand` (vertexCount = particles held).
+    pub draw_buffer: u64,
+}
+
 /// The host-visible description of the vertex buffer: raw handles as integers.
 #[derive(Clone, Copy, Debug)]
 pub struct SharedFrame {

@@ -165,6 +165,20 @@ namespace WetHair
         public ulong release_value;
     }
 
+    /// <summary>The water's shared positions and indirect-draw VkBuffers (see the C header).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairVulkanWater
+    {
+        public uint struct_size;
+        public uint capacity;
+        public ulong buffer;
+        public ulong offset;
+        public uint stride_bytes;
+        public uint position_format;
+        public ulong draw_buffer;
+        public ulong draw_offset;
+    }
+
     /// <summary>The Unity plugin's state (wethair_unity_get_status).</summary>
     [StructLayout(LayoutKind.Sequential)]
     public unsafe struct WetHairUnityStatus
@@ -221,6 +235,7 @@ namespace WetHair
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_stats(SimulationHandle sim, WetHairStats* stats);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_backend_info(SimulationHandle sim, WetHairBackendInfo* info);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vulkan_buffer(SimulationHandle sim, WetHairVulkanBuffer* buffer);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vulkan_water(SimulationHandle sim, WetHairVulkanWater* water);
 
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_unity_get_status(WetHairUnityStatus* status);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_unity_sim_create(WetHairSimDesc* desc, out SimulationHandle sim);
