@@ -54,7 +54,10 @@ fn output_modules_validate() {
             naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
                 .validate(&module)
                 .unwrap_or_else(|e| panic!("{name}: {e:?}"));
-            assert!(module.entry_points.iter().any(|e| e.name == entry), "{name} has no {entry}");
+            assert!(
+                module.entry_points.iter().any(|e| e.name == entry),
+                "{name} has no {entry}"
+            );
         }
     }
 }
