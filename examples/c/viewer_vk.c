@@ -233,72 +233,6 @@ static void create_render_pass(Vk *k) {
     vk_check(vkCreateRenderPass(k->h.device, &rpi, NULL, &k->pass), "vkCreateRenderPass");
 }
 
-typedef struct {
-    VkShaderModule vs, fs;
-    VkPrimitiveTopology topology;
-    uint32_t stride;
-    const VkVertexInputAttributeDescription *attrs;
-    uint32_t attr_count;
-    int depth_test, dynamic_line_width;
-} PipelineDesc;
-
-static VkPipeline pipeline(const Vk *k, const PipelineDesc *p) {
-    VkPipelineShaderStageCreateInfo stages[2] = {{.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                                 {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = p->vs;
-    stages[0].pName = "main";
-    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = p->fs;
-    stages[1].pName = "main";
-    VkVertexInputBindingDescription bind = {0, p->stride, VK_VERTEX_INPUT_RATE_VERTEX};
-    VkPipelineVertexInputStateCreateInfo vin = {.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vin.vertexBindingDescriptionCount = 1;
-    vin.pVertexBindingDescriptions = &bind;
-    vin.vertexAttributeDescriptionCount = p->attr_count;
-    vin.pVertexAttributeDescriptions = p->attrs;
-    VkPipelineInputAssemblyStateCreateInfo ia = {.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    ia.topology = p->topology;
-    VkPipelineViewportStateCreateInfo vps = {.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    vps.viewportCount = 1;
-    vps.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo rs = {.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    rs.polygonMode = VK_POLYGON_MODE_FILL;
-    rs.cullMode = VK_CULL_MODE_NONE;
-    rs.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo ms = {.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    ms.rasterizationSamples = k->samples;
-    VkPipelineDepthStencilStateCreateInfo ds = {.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    ds.depthTestEnable = p->depth_test ? VK_TRUE : VK_FALSE;
-    ds.depthWriteEnable = p->depth_test ? VK_TRUE : VK_FALSE;
-    ds.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState cba = {0};
-    cba.colorWriteMask = 0xf;
-    VkPipelineColorBlendStateCreateInfo cb = {.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    cb.attachmentCount = 1;
-    cb.pAttachments = &cba;
-    VkDynamicState dyn[3] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR, VK_DYNAMIC_STATE_LINE_WIDTH};
-    VkPipelineDynamicStateCreateInfo dsi = {.sType = VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dsi.dynamicStateCount = p->dynamic_line_width ? 3 : 2;
-    dsi.pDynamicStates = dyn;
-    VkGraphicsPipelineCreateInfo gpi = {.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-    gpi.stageCount = 2;
-    gpi.pStages = stages;
-    gpi.pVertexInputState = &vin;
-    gpi.pInputAssemblyState = &ia;
-    gpi.pViewportState = &vps;
-    gpi.pRasterizationState = &rs;
-    gpi.pMultisampleState = &ms;
-    gpi.pDepthStencilState = &ds;
-    gpi.pColorBlendState = &cb;
-    gpi.pDynamicState = &dsi;
-    gpi.layout = k->layout;
-    gpi.renderPass = k->pass;
-    VkPipeline pipe;
-    vk_check(vkCreateGraphicsPipelines(k->h.device, VK_NULL_HANDLE, 1, &gpi, NULL, &pipe), "vkCreateGraphicsPipelines");
-    return pipe;
-}
-
 /* The three pipelines; the hair's vertex input follows wethair's layout. */
 static void create_pipelines(Viewer *v, Vk *k) {
     VkPushConstantRange pcr = {VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(Push)};
@@ -320,9 +254,9 @@ static void create_pipelines(Viewer *v, Vk *k) {
     PipelineDesc hair = {kv, kf, VK_PRIMITIVE_TOPOLOGY_LINE_LIST, l->stride_floats * 4, hair_attrs, 3, 1, k->wide_lines};
     PipelineDesc water = {fv, ff, VK_PRIMITIVE_TOPOLOGY_POINT_LIST, 16, &water_attr, 1, 1, 0};
     PipelineDesc text = {fv, ff, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, 8, &text_attr, 1, 0, 0};
-    k->hair = pipeline(k, &hair);
-    k->water = pipeline(k, &water);
-    k->overlay = pipeline(k, &text);
+    k->hair = pipeline(&k->h, k->pass, k->layout, k->samples, &hair);
+    k->water = pipeline(&k->h, k->pass, k->layout, k->samples, &water);
+    k->overlay = pipeline(&k->h, k->pass, k->layout, k->samples, &text);
     vkDestroyShaderModule(k->h.device, kv, NULL);
     vkDestroyShaderModule(k->h.device, kf, NULL);
     vkDestroyShaderModule(k->h.device, fv, NULL);

@@ -63,6 +63,16 @@ static inline uint32_t memory_type(const Host *h, uint32_t bits, VkMemoryPropert
     exit(1);
 }
 
+/* Memory for `req` of a type with the `want` properties. */
+static inline VkDeviceMemory allocate(const Host *h, const VkMemoryRequirements *req, VkMemoryPropertyFlags want) {
+    VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req->size;
+    ai.memoryTypeIndex = memory_type(h, req->memoryTypeBits, want);
+    VkDeviceMemory mem;
+    vk_check(vkAllocateMemory(h->device, &ai, NULL, &mem), "vkAllocateMemory");
+    return mem;
+}
+
 /* A buffer in host-visible, coherent memory, mapped for its lifetime. */
 typedef struct {
     VkBuffer buf;
@@ -80,11 +90,7 @@ static inline HostBuffer host_buffer(const Host *h, VkDeviceSize size, VkBufferU
     vk_check(vkCreateBuffer(h->device, &bi, NULL, &b.buf), "vkCreateBuffer");
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(h->device, b.buf, &req);
-    VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex =
-        memory_type(h, req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    vk_check(vkAllocateMemory(h->device, &ai, NULL, &b.mem), "vkAllocateMemory");
+    b.mem = allocate(h, &req, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
     vk_check(vkBindBufferMemory(h->device, b.buf, b.mem, 0), "vkBindBufferMemory");
     vk_check(vkMapMemory(h->device, b.mem, 0, VK_WHOLE_SIZE, 0, &b.map), "vkMapMemory");
     return b;
@@ -120,10 +126,7 @@ static inline Image image(const Host *h, uint32_t width, uint32_t height, VkSamp
     vk_check(vkCreateImage(h->device, &ii, NULL, &im.image), "vkCreateImage");
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(h->device, im.image, &req);
-    VkMemoryAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = memory_type(h, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    vk_check(vkAllocateMemory(h->device, &ai, NULL, &im.mem), "vkAllocateMemory");
+    im.mem = allocate(h, &req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     vk_check(vkBindImageMemory(h->device, im.image, im.mem, 0), "vkBindImageMemory");
     VkImageViewCreateInfo vi = {.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vi.image = im.image;
@@ -151,6 +154,75 @@ static inline VkShaderModule shader_module(const Host *h, const uint32_t *code, 
     VkShaderModule m;
     vk_check(vkCreateShaderModule(h->device, &smi, NULL, &m), "vkCreateShaderModule");
     return m;
+}
+
+typedef struct {
+    VkShaderModule vs, fs;
+    VkPrimitiveTopology topology;
+    uint32_t stride;
+    const VkVertexInputAttributeDescription *attrs;
+    uint32_t attr_count;
+    int depth_test, dynamic_line_width;
+} PipelineDesc;
+
+/* A graphics pipeline of one vertex binding, no blending, viewport and scissor set per
+ * command buffer (and the line width, when asked), for `pass` at `samples`. */
+static inline VkPipeline pipeline(const Host *h, VkRenderPass pass, VkPipelineLayout layout,
+                                  VkSampleCountFlagBits samples, const PipelineDesc *p) {
+    VkPipelineShaderStageCreateInfo stages[2] = {{.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                                 {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = p->vs;
+    stages[0].pName = "main";
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = p->fs;
+    stages[1].pName = "main";
+    VkVertexInputBindingDescription bind = {0, p->stride, VK_VERTEX_INPUT_RATE_VERTEX};
+    VkPipelineVertexInputStateCreateInfo vin = {.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    vin.vertexBindingDescriptionCount = 1;
+    vin.pVertexBindingDescriptions = &bind;
+    vin.vertexAttributeDescriptionCount = p->attr_count;
+    vin.pVertexAttributeDescriptions = p->attrs;
+    VkPipelineInputAssemblyStateCreateInfo ia = {.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    ia.topology = p->topology;
+    VkPipelineViewportStateCreateInfo vps = {.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    vps.viewportCount = 1;
+    vps.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo rs = {.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    rs.polygonMode = VK_POLYGON_MODE_FILL;
+    rs.cullMode = VK_CULL_MODE_NONE;
+    rs.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo ms = {.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    ms.rasterizationSamples = samples;
+    VkPipelineDepthStencilStateCreateInfo ds = {.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    ds.depthTestEnable = p->depth_test ? VK_TRUE : VK_FALSE;
+    ds.depthWriteEnable = p->depth_test ? VK_TRUE : VK_FALSE;
+    ds.depthCompareOp = VK_COMPARE_OP_LESS;
+    VkPipelineColorBlendAttachmentState cba = {0};
+    cba.colorWriteMask = 0xf;
+    VkPipelineColorBlendStateCreateInfo cb = {.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    cb.attachmentCount = 1;
+    cb.pAttachments = &cba;
+    VkDynamicState dyn[3] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR, VK_DYNAMIC_STATE_LINE_WIDTH};
+    VkPipelineDynamicStateCreateInfo dsi = {.sType = VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dsi.dynamicStateCount = p->dynamic_line_width ? 3 : 2;
+    dsi.pDynamicStates = dyn;
+    VkGraphicsPipelineCreateInfo gpi = {.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    gpi.stageCount = 2;
+    gpi.pStages = stages;
+    gpi.pVertexInputState = &vin;
+    gpi.pInputAssemblyState = &ia;
+    gpi.pViewportState = &vps;
+    gpi.pRasterizationState = &rs;
+    gpi.pMultisampleState = &ms;
+    gpi.pDepthStencilState = &ds;
+    gpi.pColorBlendState = &cb;
+    gpi.pDynamicState = &dsi;
+    gpi.layout = layout;
+    gpi.renderPass = pass;
+    VkPipeline pipe;
+    vk_check(vkCreateGraphicsPipelines(h->device, VK_NULL_HANDLE, 1, &gpi, NULL, &pipe), "vkCreateGraphicsPipelines");
+    return pipe;
 }
 
 /* Creates the instance with wethair's instance requirements, the host's own `extra`

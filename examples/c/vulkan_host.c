@@ -336,63 +336,15 @@ int main(int argc, char **argv) {
     pli.pPushConstantRanges = &pcr;
     VkPipelineLayout layout;
     vk_check(vkCreatePipelineLayout(h.device, &pli, NULL, &layout), "vkCreatePipelineLayout");
-    VkPipelineShaderStageCreateInfo stages[2] = {{.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                                 {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-    stages[0].module = vs;
-    stages[0].pName = "main";
-    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stages[1].module = fs;
-    stages[1].pName = "main";
-    VkVertexInputBindingDescription bind = {0, lay.stride_floats * 4, VK_VERTEX_INPUT_RATE_VERTEX};
     VkVertexInputAttributeDescription attrs[3] = {
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, (uint32_t)lay.position_offset},
         {1, 0, VK_FORMAT_R32G32B32_SFLOAT, (uint32_t)lay.tangent_offset},
         {2, 0, VK_FORMAT_R32_SFLOAT, (uint32_t)lay.wetness_offset},
     };
-    VkPipelineVertexInputStateCreateInfo vin = {.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vin.vertexBindingDescriptionCount = 1;
-    vin.pVertexBindingDescriptions = &bind;
-    vin.vertexAttributeDescriptionCount = 3;
-    vin.pVertexAttributeDescriptions = attrs;
-    VkPipelineInputAssemblyStateCreateInfo ia = {.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    ia.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+    PipelineDesc hair = {vs, fs, VK_PRIMITIVE_TOPOLOGY_LINE_LIST, lay.stride_floats * 4, attrs, 3, 1, 0};
+    VkPipeline pipe = pipeline(&h, pass, layout, VK_SAMPLE_COUNT_1_BIT, &hair);
     VkViewport vp = {0, 0, W * SS, H * SS, 0, 1};
     VkRect2D sc = {{0, 0}, {W * SS, H * SS}};
-    VkPipelineViewportStateCreateInfo vps = {.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    vps.viewportCount = 1;
-    vps.pViewports = &vp;
-    vps.scissorCount = 1;
-    vps.pScissors = &sc;
-    VkPipelineRasterizationStateCreateInfo rs = {.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    rs.polygonMode = VK_POLYGON_MODE_FILL;
-    rs.cullMode = VK_CULL_MODE_NONE;
-    rs.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo ms = {.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo ds = {.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    ds.depthTestEnable = VK_TRUE;
-    ds.depthWriteEnable = VK_TRUE;
-    ds.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState cba = {0};
-    cba.colorWriteMask = 0xf;
-    VkPipelineColorBlendStateCreateInfo cb = {.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    cb.attachmentCount = 1;
-    cb.pAttachments = &cba;
-    VkGraphicsPipelineCreateInfo gpi = {.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-    gpi.stageCount = 2;
-    gpi.pStages = stages;
-    gpi.pVertexInputState = &vin;
-    gpi.pInputAssemblyState = &ia;
-    gpi.pViewportState = &vps;
-    gpi.pRasterizationState = &rs;
-    gpi.pMultisampleState = &ms;
-    gpi.pDepthStencilState = &ds;
-    gpi.pColorBlendState = &cb;
-    gpi.layout = layout;
-    gpi.renderPass = pass;
-    VkPipeline pipe;
-    vk_check(vkCreateGraphicsPipelines(h.device, VK_NULL_HANDLE, 1, &gpi, NULL, &pipe), "vkCreateGraphicsPipelines");
 
     VkCommandPoolCreateInfo cpi = {.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     cpi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -478,6 +430,8 @@ int main(int argc, char **argv) {
         rbi.pClearValues = clear;
         vkCmdBeginRenderPass(cmd, &rbi, VK_SUBPASS_CONTENTS_INLINE);
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipe);
+        vkCmdSetViewport(cmd, 0, 1, &vp);
+        vkCmdSetScissor(cmd, 0, 1, &sc);
         vkCmdPushConstants(cmd, layout, pcr.stageFlags, 0, sizeof pc, &pc);
         VkDeviceSize voff = vb.offset;
         vkCmdBindVertexBuffers(cmd, 0, 1, &shared, &voff);
