@@ -78,7 +78,7 @@ bash 'bindings/unity/Tests~/check_layout.sh' target/cs/layout.txt include
 
 step "Viewer, Vulkan renderer, under xvfb on lavapipe with validation: drawn from the shared VkBuffer"
 make -C examples/c --quiet build/viewer
-xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --renderer vulkan --validate \
+xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --renderer vulkan --backend gpu --validate \
     --script examples/c/viewer_vulkan.script --size 640x360 | tee target/viewer-vk.log | grep -v "^wethair |"
 # The GPU simulation ran on the viewer's device and was drawn from its VkBuffer; after the
 # switch to the CPU backend the same renderer drew from the copy path; 0 validation errors

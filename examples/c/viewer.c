@@ -313,10 +313,16 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
     case GLFW_KEY_KP_ADD: v->line_width = fminf(8.0f, v->line_width + 0.5f); break;
     case GLFW_KEY_MINUS:
     case GLFW_KEY_KP_SUBTRACT: v->line_width = fmaxf(1.0f, v->line_width - 0.5f); break;
-    case GLFW_KEY_B:
-        v->backend = v->backend == WETHAIR_BACKEND_CPU ? WETHAIR_BACKEND_GPU : WETHAIR_BACKEND_CPU;
+    case GLFW_KEY_B: {
+        /* From the backend running now (AUTO may have chosen either). */
+        WetHairBackendInfo info;
+        memset(&info, 0, sizeof info);
+        info.struct_size = sizeof info;
+        wh_check(wethair_sim_get_backend_info(v->sim, &info), "wethair_sim_get_backend_info");
+        v->backend = info.backend == WETHAIR_BACKEND_CPU ? WETHAIR_BACKEND_GPU : WETHAIR_BACKEND_CPU;
         make_sim(v);
         break;
+    }
     case GLFW_KEY_I:
         v->integrator = v->integrator == WETHAIR_INTEGRATOR_IMPLICIT_EULER ? WETHAIR_INTEGRATOR_SYMPLECTIC_EULER
                                                                            : WETHAIR_INTEGRATOR_IMPLICIT_EULER;

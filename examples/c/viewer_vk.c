@@ -35,6 +35,7 @@ typedef struct {
     VkPhysicalDeviceFeatures2 f2; /* wethair's chain with wide lines and large points added */
     const char *dev_exts[32];
     int wide_lines, large_points;
+    int software; /* the device is a CPU implementation (lavapipe, SwiftShader) */
     float line_range[2];
     VkSampleCountFlagBits samples;
     /* Swapchain and what depends on its size */
@@ -142,9 +143,13 @@ static void create_swapchain(Viewer *v, Vk *k) {
     vk_check(vkCreateSwapchainKHR(d, &sci, NULL, &sc), "vkCreateSwapchainKHR");
     if (k->swapchain) vkDestroySwapchainKHR(d, k->swapchain, NULL);
     k->swapchain = sc;
-    uint32_t n = MAX_IMAGES;
-    VkResult r = vkGetSwapchainImagesKHR(d, sc, &n, k->images);
-    if (r != VK_SUCCESS && r != VK_INCOMPLETE) vk_check(r, "vkGetSwapchainImagesKHR");
+    uint32_t n = 0;
+    vk_check(vkGetSwapchainImagesKHR(d, sc, &n, NULL), "vkGetSwapchainImagesKHR");
+    if (n > MAX_IMAGES) { /* acquire could hand out an index past our arrays */
+        fprintf(stderr, "viewer: the swapchain has %u images, at most %d handled\n", n, MAX_IMAGES);
+        exit(1);
+    }
+    vk_check(vkGetSwapchainImagesKHR(d, sc, &n, k->images), "vkGetSwapchainImagesKHR");
     if (k->samples != VK_SAMPLE_COUNT_1_BIT)
         k->color_ms = image(&k->h, e.width, e.height, k->samples, k->format.format,
                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
@@ -266,6 +271,12 @@ static void create_pipelines(Viewer *v, Vk *k) {
 static WetHairResult vk_create_sim(Viewer *v, WetHairSimDesc *desc, WetHairSim **out) {
     Vk *k = v->rs;
     k->last_release = 0; /* a new simulation's semaphores count from the start */
+    if (desc->backend == WETHAIR_BACKEND_AUTO && k->software) {
+        /* As the library's AUTO does: software compute is slower than the CPU backend. */
+        printf("viewer: AUTO chose the CPU backend: the Vulkan device is a software implementation "
+               "(--backend gpu puts the simulation on it and draws from the shared buffer)\n");
+        desc->backend = WETHAIR_BACKEND_CPU;
+    }
     if (desc->backend == WETHAIR_BACKEND_CPU) {
         k->shared = 0;
         return wethair_sim_create(desc, out);
@@ -625,6 +636,7 @@ static int create_device(Vk *k, char *why, size_t why_len) {
     k->f2.features.largePoints = have.largePoints;
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(k->h.phys, &props);
+    k->software = props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     k->line_range[0] = props.limits.lineWidthRange[0];
     k->line_range[1] = props.limits.lineWidthRange[1];
     static float priority = 1.0f;
