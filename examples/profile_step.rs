@@ -36,7 +36,7 @@ fn main() {
     for _ in 0..frames {
         sim.step(1.0 / 60.0).expect("step");
     }
-    let w = sim.water_positions();
+    let w = sim.water_positions().unwrap();
     let r = sim.params().water.r_max;
     let mut g = wethair::physics::grid::Grid::new(w.len(), r);
     g.build(&w);

@@ -433,32 +433,30 @@ impl Simulation {
     }
 
     /// Water particle positions and velocities (order changes when particles are removed).
-    pub fn water(&self) -> (Vec<Vec3>, Vec<Vec3>) {
+    /// On the GPU backend a read back that fails (a lost device) is an error, not no water.
+    pub fn water(&self) -> Result<(Vec<Vec3>, Vec<Vec3>)> {
         match &self.engine {
-            Engine::Cpu(c) => c
+            Engine::Cpu(c) => Ok(c
                 .water
                 .as_ref()
-                .map_or_else(Default::default, |w| (w.pos.clone(), w.vel.clone())),
+                .map_or_else(Default::default, |w| (w.pos.clone(), w.vel.clone()))),
             #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => g
-                .read_water()
-                .map(|v| {
-                    v.iter()
-                        .map(|p| (Vec3::from_slice(&p.x), Vec3::from_slice(&p.v)))
-                        .unzip()
-                })
-                .unwrap_or_default(),
+            Engine::Gpu(g) => Ok(g
+                .read_water()?
+                .iter()
+                .map(|p| (Vec3::from_slice(&p.x), Vec3::from_slice(&p.v)))
+                .unzip()),
         }
     }
 
     /// Water particle positions (order changes when particles are removed).
-    pub fn water_positions(&self) -> Vec<Vec3> {
-        self.water().0
+    pub fn water_positions(&self) -> Result<Vec<Vec3>> {
+        Ok(self.water()?.0)
     }
 
     /// Water particle velocities, in the order of [`Simulation::water_positions`].
-    pub fn water_velocities(&self) -> Vec<Vec3> {
-        self.water().1
+    pub fn water_velocities(&self) -> Result<Vec<Vec3>> {
+        Ok(self.water()?.1)
     }
 
     /// Tip positions of every strand, in host order.
@@ -516,6 +514,7 @@ impl Simulation {
         let m_w = self.params.water.particle_mass as f64;
         hair + self
             .water_velocities()
+            .unwrap_or_default()
             .iter()
             .map(|v| v.as_dvec3() * m_w)
             .sum::<DVec3>()
@@ -546,7 +545,7 @@ impl Simulation {
             }
         }
         let m_w = self.params.water.particle_mass as f64;
-        let (wx, wv) = self.water();
+        let (wx, wv) = self.water().unwrap_or_default();
         for (x, v) in wx.iter().zip(&wv) {
             e.kinetic += 0.5 * m_w * v.as_dvec3().length_squared();
             e.gravity -= m_w * g.dot(x.as_dvec3());

@@ -47,7 +47,7 @@ fn all_finite(sim: &Simulation) -> bool {
         .iter()
         .chain(sim.velocities().iter())
         .all(|p| p.is_finite())
-        && sim.water_positions().iter().all(|p| p.is_finite())
+        && sim.water_positions().is_ok_and(|w| w.iter().all(|p| p.is_finite()))
 }
 
 /// Steps `frames` frames, reading the vertices after each (on the GPU, the read reports what

@@ -235,7 +235,7 @@ fn grid_cell_counts_equal_the_cpu_grid() {
         .collect();
     g.add_water(&water, &[]).unwrap();
     g.step(1.0 / 60.0).unwrap();
-    let held = g.water_positions();
+    let held = g.water_positions().unwrap();
     let (dims, counts) = g.gpu_grid_counts().unwrap().unwrap();
     let mut grid = Grid::new(held.len(), params.water.r_max);
     grid.build(&held);
@@ -370,6 +370,8 @@ fn a_lost_device_is_an_error_code_not_a_panic() {
         .unwrap_err();
     assert!(matches!(e, Error::Device(_)), "{e}");
     assert!(v.iter().all(|&x| x == -7.0), "nothing written on failure");
+    // The water read back too: an error, not an empty list that looks like "no water".
+    assert!(matches!(g.water_positions(), Err(Error::Device(_))));
     assert!(matches!(g.step(1.0 / 60.0), Err(Error::Device(_))));
     g.reset();
     assert!(
@@ -423,7 +425,7 @@ fn gpu_water_on_hair_points_and_a_dense_box_stay_finite() {
     let mut v = vec![0.0f32; g.vertex_count() * 7];
     g.write_vertices(&mut v).unwrap();
     assert!(v.iter().all(|x| x.is_finite()));
-    assert!(g.water_positions().iter().all(|p| p.is_finite()));
+    assert!(g.water_positions().unwrap().iter().all(|p| p.is_finite()));
     // Adding nothing is fine; bad particles are refused whole.
     g.add_water(&[], &[]).unwrap();
     let e = g.add_water(&[Vec3::ZERO, Vec3::NAN], &[]).unwrap_err();

@@ -180,6 +180,7 @@ fn adhesion_conserves_momentum() {
         let scale: f64 = sim.velocities().iter().map(|v| v.length() as f64 * 1e-3).sum::<f64>()
             + sim
                 .water_velocities()
+                .unwrap()
                 .iter()
                 .map(|v| v.length() as f64 * 1e-3)
                 .sum::<f64>();
@@ -198,7 +199,7 @@ fn adhesion_conserves_momentum() {
     for _ in 0..30 {
         sim.step(1.0 / 60.0).unwrap();
     }
-    let mass = 2400.0 * 1e-3 + sim.water_positions().len() as f64 * 1e-3;
+    let mass = 2400.0 * 1e-3 + sim.water_positions().unwrap().len() as f64 * 1e-3;
     let expect = mass * -9.81 * 0.5;
     let p = sim.momentum();
     assert!(

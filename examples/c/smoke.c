@@ -18,8 +18,11 @@ static int lose_device(WetHairSim *dry, WetHairSim *wet) {
     float verts[64] = {0};
     size_t written = 12345;
     WetHairResult r2 = wethair_sim_get_vertex_buffer(wet, verts, 64, &written);
+    /* The water's read back too: an error, never an empty list that reads as "no water". */
+    uint32_t held = 777;
+    WetHairResult r3 = wethair_sim_get_water(wet, verts, 21, &held);
     int ok = r == WETHAIR_ERROR_DEVICE && (r2 == WETHAIR_ERROR_DEVICE || r2 == WETHAIR_ERROR_BUFFER_TOO_SMALL) &&
-             written == 12345 && verts[0] == 0.0f;
+             written == 12345 && verts[0] == 0.0f && r3 == WETHAIR_ERROR_DEVICE && held == 777;
     printf("after device loss: step -> %s (%s)\n", wethair_result_string((uint32_t)r), wethair_last_error_message());
     wethair_sim_destroy(wet);
     wethair_sim_destroy(dry);

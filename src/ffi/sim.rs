@@ -221,7 +221,7 @@ pub unsafe extern "C" fn wethair_sim_get_water(
         if written.is_null() || (dst.is_null() && capacity > 0) {
             return Err(super::boundary::null("dst or written"));
         }
-        let w = s.0.water_positions();
+        let w = s.0.water_positions()?;
         let n = w.len().min(capacity as usize);
         if n > 0 {
             std::slice::from_raw_parts_mut(dst, n * 3).copy_from_slice(bytemuck::cast_slice(&w[..n]));
