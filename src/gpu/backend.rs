@@ -1030,7 +1030,13 @@ impl GpuBackend {
             });
             // The frame already handed out was written without them: write them now and wait,
             // so that the host's next read of this frame finds them (nobody reads them yet).
+            // wgpu zero-fills a buffer lazily, at its first use by wgpu, and the host's own
+            // commands are not that: clear the draw arguments here, so that a host drawing
+            // before any water exists draws nothing rather than what the memory held.
             let mut enc = self.dev.device.create_command_encoder(&Default::default());
+            if let Some(ws) = &self.water_share {
+                enc.clear_buffer(&ws.draw, 0, None);
+            }
             self.encode_water_vertices(&mut enc);
             self.submit(enc);
             self.dev.wait()?;
