@@ -184,16 +184,7 @@ impl Simulation {
     /// for simulations made with [`Simulation::new_on_vulkan`].
     #[cfg(feature = "vulkan")]
     pub fn vulkan_frame(&mut self) -> Result<crate::gpu::vulkan::SharedFrame> {
-        if let Some(e) = &self.failed {
-            return Err(e.clone());
-        }
-        let r = match &mut self.engine {
-            Engine::Gpu(g) => g.shared_frame(),
-            Engine::Cpu(_) => Err(Error::Unsupported(
-                "the vertex VkBuffer is shared only by simulations created on the host's VkDevice".into(),
-            )),
-        };
-        self.settle(r)
+        self.on_shared_device("the vertex VkBuffer is", |g| g.shared_frame())
     }
 
     /// The water particles as the host's Vulkan sees them (positions and the indirect draw's
@@ -201,14 +192,25 @@ impl Simulation {
     /// [`Simulation::new_on_vulkan`].
     #[cfg(feature = "vulkan")]
     pub fn vulkan_water(&mut self) -> Result<crate::gpu::vulkan::SharedWater> {
+        self.on_shared_device("the water VkBuffers are", |g| g.shared_water())
+    }
+
+    /// Runs `f` on the GPU backend of a simulation that may share the host's VkDevice (a CPU
+    /// one refuses, naming `what`), recording a failure as every read does.
+    #[cfg(feature = "vulkan")]
+    fn on_shared_device<T>(
+        &mut self,
+        what: &str,
+        f: impl FnOnce(&mut crate::gpu::backend::GpuBackend) -> Result<T>,
+    ) -> Result<T> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
         let r = match &mut self.engine {
-            Engine::Gpu(g) => g.shared_water(),
-            Engine::Cpu(_) => Err(Error::Unsupported(
-                "the water VkBuffers are shared only by simulations created on the host's VkDevice".into(),
-            )),
+            Engine::Gpu(g) => f(g),
+            Engine::Cpu(_) => Err(Error::Unsupported(format!(
+                "{what} shared only by simulations created on the host's VkDevice"
+            ))),
         };
         self.settle(r)
     }
