@@ -84,19 +84,19 @@ fn main() {
         "| scene | water particles | integrator | backend | device | ms/frame | GPU timestamps ms/step (median) | frames | dispatches (GPU) or passes (CPU) per step |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
-    let se = Integrator::SymplecticEuler;
+    let se = Integrator::SYMPLECTIC_EULER;
     // The large scene dry, with a little water and with the target's 100,000 particles, so
     // the rows say what the hair costs and what the water adds.
     let rows: [(&str, &Groom, Integrator, usize, usize); 6] = [
         ("paper 10000x6", &paper, se, 0, paper_frames),
         ("paper 10000x6", &paper, se, 1000, paper_frames),
-        ("paper 10000x6", &paper, Integrator::ImplicitEuler, 0, paper_frames),
+        ("paper 10000x6", &paper, Integrator::IMPLICIT_EULER, 0, paper_frames),
         ("large 100000x32", &big, se, 0, big_frames),
         ("large 100000x32", &big, se, 1000, big_frames),
         ("large 100000x32", &big, se, 100_000, big_frames),
     ];
     for (name, groom, integrator, particles, frames) in rows {
-        for backend in [Backend::Gpu, Backend::Cpu] {
+        for backend in [Backend::GPU, Backend::CPU] {
             let i = format!("{integrator:?}");
             match run(groom, backend, integrator, particles, frames) {
                 Ok((ms, gpu_ms, device, what)) => {

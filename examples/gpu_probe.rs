@@ -12,7 +12,7 @@ fn main() {
         paper_scene(1000, 16)
     }
     .expect("paper scene");
-    let mut sims: Vec<Simulation> = [Backend::Cpu, Backend::Gpu, Backend::Cpu]
+    let mut sims: Vec<Simulation> = [Backend::CPU, Backend::GPU, Backend::CPU]
         .iter()
         .map(|&b| {
             Simulation::new(

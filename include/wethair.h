@@ -18,6 +18,17 @@
 
 #include <stddef.h>
 #include <stdint.h>
+/* The 0.1.0 header ended each enum with a *_FORCE32 constant to keep it 32 bits wide; the enums
+ * now have uint32_t as their type, and the names stay so that code naming them still builds. */
+enum {
+  WETHAIR_RESULT_FORCE32 = 0x7fffffff,
+  WETHAIR_DAMPING_FORCE32 = 0x7fffffff,
+  WETHAIR_COLLIDER_FORCE32 = 0x7fffffff,
+  WETHAIR_ATTRIBUTE_FORCE32 = 0x7fffffff,
+  WETHAIR_INTEGRATOR_FORCE32 = 0x7fffffff,
+  WETHAIR_BACKEND_FORCE32 = 0x7fffffff,
+  WETHAIR_READBACK_FORCE32 = 0x7fffffff
+};
 
 /* Version of this header; compare WETHAIR_VERSION with wethair_version() at run time. */
 #define WETHAIR_VERSION_MAJOR 0
@@ -28,7 +39,11 @@
 
 
 // Result of every fallible C call.
-typedef enum WetHairResult {
+enum WetHairResult
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Success.
   WETHAIR_OK = 0,
   // A required pointer was NULL.
@@ -54,79 +69,149 @@ typedef enum WetHairResult {
   // The request is not available here: no GPU adapter for the GPU backend, or an
   // integrator the chosen backend does not run.
   WETHAIR_ERROR_UNSUPPORTED = 11,
-  // Keeps the enum 32 bits wide in every C compiler; never returned.
-  WETHAIR_RESULT_FORCE32 = 2147483647,
-} WetHairResult;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum WetHairResult WetHairResult;
+#else
+typedef uint32_t WetHairResult;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
-// Which relative velocity a spring damper acts on (`WetHairSimDesc::damping_model`).
-typedef enum WetHairDampingModel {
-  // The paper's form: `c (v_b - v_a)`.
+// Which relative velocity a spring damper acts on (`WetHairSimDesc::damping_model`);
+// exported as `WetHairDampingModel`.
+enum WetHairDampingModel
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The paper's form: `c (v_b - v_a)`, the whole relative velocity.
   WETHAIR_DAMPING_RELATIVE = 0,
-  // Along the spring only: `c ((v_b - v_a)·d̂) d̂`.
+  // Along the spring only: `c ((v_b - v_a)·d̂) d̂` (the peers' scene uses this).
   WETHAIR_DAMPING_AXIAL = 1,
-  // Keeps the enum 32 bits wide.
-  WETHAIR_DAMPING_FORCE32 = 2147483647,
-} WetHairDampingModel;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum WetHairDampingModel WetHairDampingModel;
+#else
+typedef uint32_t WetHairDampingModel;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Collider shape (`WetHairCollider::shape`).
-typedef enum WetHairColliderType {
+enum WetHairColliderType
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Sphere: `a` is the centre, `b` is ignored.
   WETHAIR_COLLIDER_SPHERE = 0,
   // Capsule: the points within `radius` of the segment `a`–`b`.
   WETHAIR_COLLIDER_CAPSULE = 1,
-  // Keeps the enum 32 bits wide.
-  WETHAIR_COLLIDER_FORCE32 = 2147483647,
-} WetHairColliderType;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum WetHairColliderType WetHairColliderType;
+#else
+typedef uint32_t WetHairColliderType;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Vertex attribute bits (`WetHairSimDesc::vertex_attributes`). Present attributes are written
 // interleaved per vertex in this order: position (3 floats), tangent (3), wetness (1).
-typedef enum WetHairVertexAttribute {
+enum WetHairVertexAttribute
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
   // Position, world space, metres.
   WETHAIR_ATTRIBUTE_POSITION = 1,
   // Unit tangent along the strand (central difference; one-sided at the ends).
   WETHAIR_ATTRIBUTE_TANGENT = 2,
   // Wetness in [0, 1].
   WETHAIR_ATTRIBUTE_WETNESS = 4,
-  // Keeps the enum 32 bits wide.
-  WETHAIR_ATTRIBUTE_FORCE32 = 2147483647,
-} WetHairVertexAttribute;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum WetHairVertexAttribute WetHairVertexAttribute;
+#else
+typedef uint32_t WetHairVertexAttribute;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
-// How each substep advances the strands (`WetHairSimDesc::integrator`).
-typedef enum WetHairIntegrator {
-  // The paper's symplectic Euler: cheapest, conditionally stable.
+// How each substep advances the strands (`WetHairSimDesc::integrator`); exported as
+// `WetHairIntegrator`. One definition for Rust and C: the variants are the C constants'
+// names without their prefix.
+enum WetHairIntegrator
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The paper's symplectic (semi-implicit) Euler: cheapest; stable only while
+  // `h² λ + 2 h γ < 4` (λ, γ: largest stiffness and damping rates).
   WETHAIR_INTEGRATOR_SYMPLECTIC_EULER = 0,
-  // Linearised implicit Euler with a banded solve per strand: stable for stiff springs.
+  // Linearised backward Euler with a banded direct solve per strand: unconditionally stable
+  // for the springs, damps high frequencies; adhesion and collisions stay explicit.
   WETHAIR_INTEGRATOR_IMPLICIT_EULER = 1,
-  // XPBD with small steps: springs as compliant constraints.
+  // XPBD with small steps: springs become compliant distance constraints (compliance 1/k),
+  // one Gauss-Seidel sweep per substep; stiff springs act as inextensible ones.
   WETHAIR_INTEGRATOR_XPBD = 2,
-  // Symplectic Euler when stable for the scene's stiffness, masses and substep, else implicit.
+  // Symplectic Euler when it is stable for the scene's stiffness, masses and substep
+  // (with a 10% margin), else implicit Euler; resolved at create.
   WETHAIR_INTEGRATOR_AUTO = 3,
-  // Keeps the enum 32 bits wide.
-  WETHAIR_INTEGRATOR_FORCE32 = 2147483647,
-} WetHairIntegrator;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum WetHairIntegrator WetHairIntegrator;
+#else
+typedef uint32_t WetHairIntegrator;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
-// Where the step runs (`WetHairSimDesc::backend`).
-typedef enum WetHairBackend {
-  // A hardware GPU when one is found and runs the integrator, else the CPU (a software
-  // adapter such as lavapipe is skipped); `wethair_sim_get_backend_info` says why.
+// Where the step runs (`WetHairSimDesc::backend`); exported as `WetHairBackend`.
+enum WetHairBackend
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // A hardware GPU when one is found and runs the scene's integrator, else the CPU. A
+  // software adapter (Mesa's lavapipe) is skipped: it is slower than the CPU backend. The
+  // backend info (`wethair_sim_get_backend_info`) says which was chosen and why.
   WETHAIR_BACKEND_AUTO = 0,
-  // The multi-threaded CPU backend.
+  // The multi-threaded CPU backend (the reference).
   WETHAIR_BACKEND_CPU = 1,
-  // The GPU (wgpu) backend on any adapter; create fails when there is none.
+  // The wgpu compute backend on any adapter, software ones included; an error when none.
   WETHAIR_BACKEND_GPU = 2,
-  // Keeps the enum 32 bits wide.
-  WETHAIR_BACKEND_FORCE32 = 2147483647,
-} WetHairBackend;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum WetHairBackend WetHairBackend;
+#else
+typedef uint32_t WetHairBackend;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
-// How vertices reach host memory on the GPU backend (`WetHairSimDesc::readback`).
-typedef enum WetHairReadback {
-  // `wethair_sim_get_vertex_buffer` waits for the last step and returns its vertices.
+// How the vertices reach host memory on the GPU backend (`WetHairSimDesc::readback`; the
+// CPU backend always has them); exported as `WetHairReadback`.
+enum WetHairReadback
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // A read waits for the step just submitted and returns its vertices.
   WETHAIR_READBACK_LATEST = 0,
-  // It returns the step before the last without waiting (double-buffered staging).
+  // Each step also copies its vertices to one of two staging buffers; a read returns the
+  // step before the last one, which is long finished, so the host never waits on the GPU.
+  // The first read waits.
   WETHAIR_READBACK_PREVIOUS_FRAME = 1,
-  // Keeps the enum 32 bits wide.
-  WETHAIR_READBACK_FORCE32 = 2147483647,
-} WetHairReadback;
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum WetHairReadback WetHairReadback;
+#else
+typedef uint32_t WetHairReadback;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
 
 // Opaque strand set; create with `wethair_groom_*`, free with `wethair_groom_destroy`.
 typedef struct WetHairGroom WetHairGroom;
@@ -505,25 +590,25 @@ extern "C" {
 //
 // # Safety
 // `desc`'s arrays hold the counts they claim; `out` is writable.
-enum WetHairResult wethair_groom_create(const struct WetHairGroomDesc *desc, struct WetHairGroom **out);
+WetHairResult wethair_groom_create(const struct WetHairGroomDesc *desc, struct WetHairGroom **out);
 
 // Creates the paper scene: `strands` strands of `points` points on a 0.1 m head (see README).
 //
 // # Safety
 // `out` is writable.
-enum WetHairResult wethair_groom_create_paper_scene(uint32_t strands, uint32_t points, struct WetHairGroom **out);
+WetHairResult wethair_groom_create_paper_scene(uint32_t strands, uint32_t points, struct WetHairGroom **out);
 
 // Loads a TressFX `.tfx` or Cem Yuksel `.hair` file; every point gets `point_mass` kg.
 //
 // # Safety
 // `path` is a NUL-terminated string; `out` is writable.
-enum WetHairResult wethair_groom_load(const char *path, float point_mass, struct WetHairGroom **out);
+WetHairResult wethair_groom_load(const char *path, float point_mass, struct WetHairGroom **out);
 
 // Reports a groom's strand and point counts (either output may be NULL).
 //
 // # Safety
 // `groom` came from `wethair_groom_*`; outputs are NULL or writable.
-enum WetHairResult wethair_groom_get_counts(const struct WetHairGroom *groom, uint32_t *strands, uint32_t *points);
+WetHairResult wethair_groom_get_counts(const struct WetHairGroom *groom, uint32_t *strands, uint32_t *points);
 
 // Frees a groom. NULL is ignored. Simulations created from it are unaffected.
 //
@@ -562,7 +647,7 @@ void wethair_groom_desc_default(struct WetHairGroomDesc *desc);
 //
 // # Safety
 // `desc` points to a `WetHairSimDesc` filled by `wethair_sim_desc_default`; `out` is writable.
-enum WetHairResult wethair_sim_create(const struct WetHairSimDesc *desc, struct WetHairSim **out);
+WetHairResult wethair_sim_create(const struct WetHairSimDesc *desc, struct WetHairSim **out);
 
 // Frees a simulation and joins its worker threads. NULL is ignored.
 //
@@ -575,20 +660,20 @@ void wethair_sim_destroy(struct WetHairSim *sim);
 //
 // # Safety
 // `sim` is valid; `matrix` is NULL or points to 16 floats.
-enum WetHairResult wethair_sim_set_head_transform(struct WetHairSim *sim, const float *matrix);
+WetHairResult wethair_sim_set_head_transform(struct WetHairSim *sim, const float *matrix);
 
 // Adds `count` water particles at `positions` (x y z each, m, world space) with
 // `velocities` (x y z each, m/s; NULL = at rest). All or nothing: on error none is added.
 //
 // # Safety
 // `sim` is valid; the arrays hold `count * 3` floats.
-enum WetHairResult wethair_sim_add_water(struct WetHairSim *sim, const float *positions, const float *velocities, uint32_t count);
+WetHairResult wethair_sim_add_water(struct WetHairSim *sim, const float *positions, const float *velocities, uint32_t count);
 
 // Removes every water particle; hair keeps its wetness.
 //
 // # Safety
 // `sim` is valid.
-enum WetHairResult wethair_sim_clear_water(struct WetHairSim *sim);
+WetHairResult wethair_sim_clear_water(struct WetHairSim *sim);
 
 // Advances by `dt` seconds (0 < dt <= 1) in the desc's substeps. A step that produces a
 // non-finite value returns `WETHAIR_ERROR_UNSTABLE` (the message names the strand) and the
@@ -596,20 +681,20 @@ enum WetHairResult wethair_sim_clear_water(struct WetHairSim *sim);
 //
 // # Safety
 // `sim` is valid.
-enum WetHairResult wethair_sim_step(struct WetHairSim *sim, float dt);
+WetHairResult wethair_sim_step(struct WetHairSim *sim, float dt);
 
 // Returns to the rest pose at the current head transform: still, dry, no water.
 //
 // # Safety
 // `sim` is valid.
-enum WetHairResult wethair_sim_reset(struct WetHairSim *sim);
+WetHairResult wethair_sim_reset(struct WetHairSim *sim);
 
 // Describes the vertex buffer: count, stride and byte offsets of the requested attributes.
 // The host sets `out->struct_size = sizeof(WetHairVertexLayout)` first.
 //
 // # Safety
 // `sim` is valid; `out` is writable.
-enum WetHairResult wethair_sim_get_vertex_layout(const struct WetHairSim *sim, struct WetHairVertexLayout *out);
+WetHairResult wethair_sim_get_vertex_layout(const struct WetHairSim *sim, struct WetHairVertexLayout *out);
 
 // Copies the requested attributes of every vertex into `dst` (`capacity` floats; it needs
 // `vertex_count * stride_floats`) and stores the floats written in `written`. On any error
@@ -619,27 +704,31 @@ enum WetHairResult wethair_sim_get_vertex_layout(const struct WetHairSim *sim, s
 //
 // # Safety
 // `sim` is valid; `dst` holds `capacity` floats; `written` is writable.
-enum WetHairResult wethair_sim_get_vertex_buffer(struct WetHairSim *sim, float *dst, size_t capacity, size_t *written);
+WetHairResult wethair_sim_get_vertex_buffer(struct WetHairSim *sim, float *dst, size_t capacity, size_t *written);
 
-// Copies up to `capacity` water particle positions (x y z each) into `dst` and stores the
-// count in `written`.
+// Copies every water particle's position (x y z each, m) into `dst` and stores the count
+// in `written`. `capacity` is in particles (`dst` holds `capacity * 3` floats); a buffer
+// smaller than the particles held is refused with `WETHAIR_ERROR_BUFFER_TOO_SMALL`, as a
+// short vertex buffer is, and nothing is written (the count is `WetHairStats::particles`,
+// and at most `WetHairWaterDesc::capacity`).
 //
 // # Safety
-// `sim` is valid; `dst` holds `capacity * 3` floats; `written` is writable.
-enum WetHairResult wethair_sim_get_water(const struct WetHairSim *sim, float *dst, uint32_t capacity, uint32_t *written);
+// `sim` is valid; `dst` holds `capacity * 3` floats (may be NULL when `capacity` is 0);
+// `written` is writable.
+WetHairResult wethair_sim_get_water(const struct WetHairSim *sim, float *dst, uint32_t capacity, uint32_t *written);
 
 // Fills `out` with counters and measures. The host sets `out->struct_size` first.
 //
 // # Safety
 // `sim` is valid; `out` is writable.
-enum WetHairResult wethair_sim_get_stats(const struct WetHairSim *sim, struct WetHairStats *out);
+WetHairResult wethair_sim_get_stats(const struct WetHairSim *sim, struct WetHairStats *out);
 
 // Says which backend runs `sim`, on which device, and why AUTO fell back to the CPU. The host
 // sets `out->struct_size` first.
 //
 // # Safety
 // `sim` is valid; `out` is writable.
-enum WetHairResult wethair_sim_get_backend_info(const struct WetHairSim *sim, struct WetHairBackendInfo *out);
+WetHairResult wethair_sim_get_backend_info(const struct WetHairSim *sim, struct WetHairBackendInfo *out);
 
 // Makes a GPU simulation's device fail as a lost device would, so that a host can test its
 // error path: later calls on `sim` return `WETHAIR_ERROR_DEVICE`. No effect on the CPU
@@ -647,20 +736,20 @@ enum WetHairResult wethair_sim_get_backend_info(const struct WetHairSim *sim, st
 //
 // # Safety
 // `sim` is valid.
-enum WetHairResult wethair_sim_debug_lose_device(struct WetHairSim *sim);
+WetHairResult wethair_sim_debug_lose_device(struct WetHairSim *sim);
 
 // Describes the plugin's state. The host sets `out->struct_size` first.
 //
 // # Safety
 // `out` is writable.
-enum WetHairResult wethair_unity_get_status(struct WetHairUnityStatus *out);
+WetHairResult wethair_unity_get_status(struct WetHairUnityStatus *out);
 
 // Creates a simulation for Unity: on Unity's own VkDevice when the plugin intercepted its
 // creation (see `wethair_unity_get_status`), else as `wethair_sim_create` does.
 //
 // # Safety
 // As `wethair_sim_create`.
-enum WetHairResult wethair_unity_sim_create(const struct WetHairSimDesc *desc, struct WetHairSim **out);
+WetHairResult wethair_unity_sim_create(const struct WetHairSimDesc *desc, struct WetHairSim **out);
 
 // The render event function to pass to `GL.IssuePluginEventAndData` /
 // `CommandBuffer.IssuePluginEventAndData`, with event id `event_id_base`.
@@ -677,7 +766,7 @@ void wethair_vulkan_device_default(struct WetHairVulkanDevice *device);
 //
 // # Safety
 // `out` is writable.
-enum WetHairResult wethair_vulkan_get_instance_requirements(struct WetHairVulkanInstanceRequirements *out);
+WetHairResult wethair_vulkan_get_instance_requirements(struct WetHairVulkanInstanceRequirements *out);
 
 // Finds what wethair needs of a device on `host->physical_device` (`host->device` may be
 // NULL): device extensions and a feature chain for `VkDeviceCreateInfo`. Free with
@@ -686,13 +775,13 @@ enum WetHairResult wethair_vulkan_get_instance_requirements(struct WetHairVulkan
 // # Safety
 // `host` is filled by `wethair_vulkan_device_default` and then with live handles; `out` is
 // writable.
-enum WetHairResult wethair_vulkan_requirements_create(const struct WetHairVulkanDevice *host, struct WetHairVulkanRequirements **out);
+WetHairResult wethair_vulkan_requirements_create(const struct WetHairVulkanDevice *host, struct WetHairVulkanRequirements **out);
 
 // Describes the requirements. The host sets `out->struct_size` first.
 //
 // # Safety
 // `req` came from `wethair_vulkan_requirements_create`; `out` is writable.
-enum WetHairResult wethair_vulkan_requirements_get_info(const struct WetHairVulkanRequirements *req, struct WetHairVulkanRequirementsInfo *out);
+WetHairResult wethair_vulkan_requirements_get_info(const struct WetHairVulkanRequirements *req, struct WetHairVulkanRequirementsInfo *out);
 
 // Frees requirements. NULL is ignored.
 //
@@ -709,7 +798,7 @@ void wethair_vulkan_requirements_destroy(struct WetHairVulkanRequirements *req);
 // # Safety
 // `desc` and `host` are filled by their `_default()` functions, `host` with live handles; `out`
 // is writable.
-enum WetHairResult wethair_sim_create_vulkan(const struct WetHairSimDesc *desc, const struct WetHairVulkanDevice *host, struct WetHairSim **out);
+WetHairResult wethair_sim_create_vulkan(const struct WetHairSimDesc *desc, const struct WetHairVulkanDevice *host, struct WetHairSim **out);
 
 // Hands out the vertex buffer holding the last step's vertices, with its layout and the
 // semaphore values of this frame (see `WetHairVulkanBuffer`). Only for simulations made by
@@ -721,7 +810,7 @@ enum WetHairResult wethair_sim_create_vulkan(const struct WetHairSimDesc *desc, 
 //
 // # Safety
 // `sim` is valid; `out` is writable.
-enum WetHairResult wethair_sim_get_vulkan_buffer(struct WetHairSim *sim, struct WetHairVulkanBuffer *out);
+WetHairResult wethair_sim_get_vulkan_buffer(struct WetHairSim *sim, struct WetHairVulkanBuffer *out);
 
 // Hands out the water particles' positions and indirect-draw arguments as Vulkan buffers
 // (see `WetHairVulkanWater`). Only for simulations made by `wethair_sim_create_vulkan` (else
@@ -733,7 +822,7 @@ enum WetHairResult wethair_sim_get_vulkan_buffer(struct WetHairSim *sim, struct 
 //
 // # Safety
 // `sim` is valid; `out` is writable.
-enum WetHairResult wethair_sim_get_vulkan_water(struct WetHairSim *sim, struct WetHairVulkanWater *out);
+WetHairResult wethair_sim_get_vulkan_water(struct WetHairSim *sim, struct WetHairVulkanWater *out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -22,6 +22,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod cpu;
+pub mod engine;
 pub mod error;
 pub mod ffi;
 #[cfg(feature = "gpu")]
@@ -29,6 +30,7 @@ pub mod gpu;
 pub mod groom;
 pub mod params;
 pub mod physics;
+pub mod plan;
 pub mod reference;
 pub mod scenes;
 pub mod sim;

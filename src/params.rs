@@ -15,22 +15,26 @@ pub const MAX_COLLIDERS: usize = 64;
 /// Most water particles one simulation may hold.
 pub const MAX_WATER_CAPACITY: u32 = 1 << 22;
 
-/// How a substep advances the strands.
+/// How each substep advances the strands (`WetHairSimDesc::integrator`); exported as
+/// `WetHairIntegrator`. One definition for Rust and C: the variants are the C constants'
+/// names without their prefix.
+/// cbindgen:rename-all=prefix:WETHAIR_INTEGRATOR_
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u32)]
+#[allow(non_camel_case_types)]
 pub enum Integrator {
     /// The paper's symplectic (semi-implicit) Euler: cheapest; stable only while
-    /// `h² λ + 2 h γ < 4` (λ, γ: largest stiffness and damping rates, see [`explicit_limit`]).
-    SymplecticEuler = 0,
+    /// `h² λ + 2 h γ < 4` (λ, γ: largest stiffness and damping rates).
+    SYMPLECTIC_EULER = 0,
     /// Linearised backward Euler with a banded direct solve per strand: unconditionally stable
     /// for the springs, damps high frequencies; adhesion and collisions stay explicit.
-    ImplicitEuler = 1,
+    IMPLICIT_EULER = 1,
     /// XPBD with small steps: springs become compliant distance constraints (compliance 1/k),
     /// one Gauss-Seidel sweep per substep; stiff springs act as inextensible ones.
-    Xpbd = 2,
+    XPBD = 2,
     /// Symplectic Euler when it is stable for the scene's stiffness, masses and substep
     /// (with a 10% margin), else implicit Euler; resolved at create.
-    Auto = 3,
+    AUTO = 3,
 }
 
 /// The stability measure of symplectic Euler for these parameters and substep `h`:
@@ -44,30 +48,35 @@ pub fn explicit_limit(p: &SimParams, min_mass: f32, h: f32) -> f32 {
     h * h * lambda + 2.0 * h * gamma
 }
 
-/// Where the step runs.
+/// Where the step runs (`WetHairSimDesc::backend`); exported as `WetHairBackend`.
+/// cbindgen:rename-all=prefix:WETHAIR_BACKEND_
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u32)]
+#[allow(non_camel_case_types)]
 pub enum Backend {
     /// A hardware GPU when one is found and runs the scene's integrator, else the CPU. A
-    /// software adapter (Mesa's lavapipe) is skipped: it is slower than the CPU backend.
-    /// [`crate::Simulation::backend_info`] says which was chosen and why.
-    Auto = 0,
+    /// software adapter (Mesa's lavapipe) is skipped: it is slower than the CPU backend. The
+    /// backend info (`wethair_sim_get_backend_info`) says which was chosen and why.
+    AUTO = 0,
     /// The multi-threaded CPU backend (the reference).
-    Cpu = 1,
+    CPU = 1,
     /// The wgpu compute backend on any adapter, software ones included; an error when none.
-    Gpu = 2,
+    GPU = 2,
 }
 
-/// How the vertices reach host memory on the GPU backend (the CPU backend always has them).
+/// How the vertices reach host memory on the GPU backend (`WetHairSimDesc::readback`; the
+/// CPU backend always has them); exported as `WetHairReadback`.
+/// cbindgen:rename-all=prefix:WETHAIR_READBACK_
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u32)]
+#[allow(non_camel_case_types)]
 pub enum Readback {
     /// A read waits for the step just submitted and returns its vertices.
-    Latest = 0,
+    LATEST = 0,
     /// Each step also copies its vertices to one of two staging buffers; a read returns the
     /// step before the last one, which is long finished, so the host never waits on the GPU.
     /// The first read waits.
-    PreviousFrame = 1,
+    PREVIOUS_FRAME = 1,
 }
 
 /// Stiffness and damping of one spring family.
@@ -182,11 +191,11 @@ impl Default for SimParams {
                 stiffness: 10.0,
                 damping: 0.005,
             },
-            damping_model: DampingModel::Axial,
+            damping_model: DampingModel::AXIAL,
             gravity: Vec3::new(0.0, 0.0, -9.81),
             air_drag: 0.0,
             substeps: 4,
-            integrator: Integrator::SymplecticEuler,
+            integrator: Integrator::SYMPLECTIC_EULER,
             solver_iterations: 1,
             threads: 0,
             water: WaterParams {
@@ -204,8 +213,8 @@ impl Default for SimParams {
             attributes: VertexAttributes(
                 VertexAttributes::POSITION | VertexAttributes::TANGENT | VertexAttributes::WETNESS,
             ),
-            backend: Backend::Auto,
-            readback: Readback::Latest,
+            backend: Backend::AUTO,
+            readback: Readback::LATEST,
         }
     }
 }

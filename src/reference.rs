@@ -67,13 +67,13 @@ impl Reference {
         inv_mass.extend(std::iter::repeat_n(1.0 / m_w, water.len()));
         mass.extend(std::iter::repeat_n(m_w, water.len()));
         let mut springs = Vec::new();
+        // Rest lengths from the f32 rest pose, as both backends take them.
+        let rest_len = crate::plan::rest_lengths(groom);
         for s in 0..groom.strand_count() {
             let r = groom.strand_range(s);
             for i in r.clone() {
-                // Rest lengths from the f32 rest pose, as the CPU backend computes them.
-                let p = groom.positions();
                 if i + 1 < r.end {
-                    let rest = (p[i + 1] - p[i]).length() as f64;
+                    let rest = rest_len[i][0] as f64;
                     springs.push(Spring {
                         a: i,
                         b: i + 1,
@@ -83,7 +83,7 @@ impl Reference {
                     });
                 }
                 if i + 2 < r.end && (params.bend.stiffness > 0.0 || params.bend.damping > 0.0) {
-                    let rest = (p[i + 2] - p[i]).length() as f64;
+                    let rest = rest_len[i][1] as f64;
                     springs.push(Spring {
                         a: i,
                         b: i + 2,
@@ -104,7 +104,7 @@ impl Reference {
             mass,
             hair,
             springs,
-            axial: params.damping_model == DampingModel::Axial,
+            axial: params.damping_model == DampingModel::AXIAL,
             gravity: params.gravity.as_dvec3(),
             drag: params.air_drag as f64,
             water_drag: w.drag as f64,

@@ -1,15 +1,13 @@
 //! [`Simulation`]: the Rust API every front end (C ABI, examples, tests) goes through.
 
-#[cfg(feature = "gpu")]
-use crate::cpu::step::resolve_integrator;
-use crate::cpu::step::{CpuBackend, Pass};
+pub use crate::engine::BackendInfo;
+use crate::engine::Engine;
 use crate::error::{invalid, Error, Result};
 use crate::groom::Groom;
-#[cfg(feature = "gpu")]
-use crate::params::Integrator;
 use crate::params::{Backend, SimParams, VertexAttributes};
 use crate::physics::clumping::mean_nearest_tip_distance;
 use crate::physics::spring::spring_energy;
+use crate::plan::Pass;
 use glam::{Affine3A, DVec3, Mat4, Vec3};
 use std::time::Instant;
 
@@ -43,27 +41,6 @@ pub struct Stats {
     pub backend: Backend,
 }
 
-/// Which backend runs the simulation, on what, and why.
-#[derive(Clone, Debug, PartialEq)]
-pub struct BackendInfo {
-    /// [`Backend::Cpu`] or [`Backend::Gpu`].
-    pub backend: Backend,
-    /// The GPU adapter's name and API ("llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan)"), or the
-    /// CPU's thread count.
-    pub device: String,
-    /// Why [`Backend::Auto`] chose the CPU (empty when it did not fall back).
-    pub fallback_reason: String,
-}
-
-/// The engine behind a simulation (one per simulation, so the size difference is moot).
-#[derive(Debug)]
-#[allow(clippy::large_enum_variant)]
-enum Engine {
-    Cpu(CpuBackend),
-    #[cfg(feature = "gpu")]
-    Gpu(Box<crate::gpu::GpuBackend>),
-}
-
 /// Per-point data in the host's order, for diagnostics that both backends share.
 #[derive(Debug)]
 struct HostPoints {
@@ -76,24 +53,11 @@ struct HostPoints {
 
 impl HostPoints {
     fn new(g: &Groom) -> Self {
-        let pos = g.positions();
-        let mut rest = vec![[0.0; 2]; pos.len()];
-        for s in 0..g.strand_count() {
-            let r = g.strand_range(s);
-            for i in r.clone() {
-                if i + 1 < r.end {
-                    rest[i][0] = (pos[i + 1] - pos[i]).length();
-                }
-                if i + 2 < r.end {
-                    rest[i][1] = (pos[i + 2] - pos[i]).length();
-                }
-            }
-        }
         HostPoints {
             strand_first: g.strand_first.clone(),
             mass: g.masses().to_vec(),
             pinned: g.pinned().to_vec(),
-            rest,
+            rest: crate::plan::rest_lengths(g),
         }
     }
 }
@@ -123,7 +87,7 @@ impl Energy {
 #[derive(Debug)]
 pub struct Simulation {
     params: SimParams,
-    engine: Engine,
+    engine: Box<dyn Engine>,
     info: BackendInfo,
     host: HostPoints,
     head: Affine3A,
@@ -138,13 +102,12 @@ impl Simulation {
     /// Validates `params` and lays out `groom` (copied; the groom may be dropped after).
     pub fn new(groom: &Groom, params: SimParams) -> Result<Self> {
         params.validate()?;
-        let head = Affine3A::IDENTITY;
-        let (engine, info) = choose_engine(groom, &params, &head)?;
+        let (engine, info) = crate::engine::create(groom, &params, &Affine3A::IDENTITY)?;
         Ok(Self::with_engine(groom, params, engine, info))
     }
 
     /// A simulation at rest under the identity head transform, on `engine`.
-    fn with_engine(groom: &Groom, params: SimParams, engine: Engine, info: BackendInfo) -> Self {
+    fn with_engine(groom: &Groom, params: SimParams, engine: Box<dyn Engine>, info: BackendInfo) -> Self {
         let head = Affine3A::IDENTITY;
         Simulation {
             params,
@@ -163,19 +126,18 @@ impl Simulation {
     /// Creates a simulation on the host's own VkDevice (feature `vulkan`): the GPU backend runs
     /// there, and [`Simulation::vulkan_frame`] hands out the vertex `VkBuffer`. The host must
     /// have enabled what [`crate::gpu::vulkan::requirements`] lists; `params.backend` must not
-    /// be [`Backend::Cpu`].
+    /// be [`Backend::CPU`].
     #[cfg(feature = "vulkan")]
     pub fn new_on_vulkan(groom: &Groom, params: SimParams, host: &crate::gpu::vulkan::HostVulkan) -> Result<Self> {
         params.validate()?;
-        if params.backend == Backend::Cpu {
+        if params.backend == Backend::CPU {
             return Err(invalid!(
                 "a simulation on the host's VkDevice runs the GPU backend, not the CPU one"
             ));
         }
-        let head = Affine3A::IDENTITY;
-        let integrator = resolve_integrator(&params, groom);
+        let integrator = crate::plan::resolve_integrator(&params, groom);
         let dev = crate::gpu::vulkan::open(host)?;
-        let (engine, info) = gpu_engine(dev, groom, &params, integrator, &head, String::new())?;
+        let (engine, info) = crate::engine::create_gpu(dev, groom, &params, integrator, &Affine3A::IDENTITY)?;
         Ok(Self::with_engine(groom, params, engine, info))
     }
 
@@ -184,7 +146,7 @@ impl Simulation {
     /// for simulations made with [`Simulation::new_on_vulkan`].
     #[cfg(feature = "vulkan")]
     pub fn vulkan_frame(&mut self) -> Result<crate::gpu::vulkan::SharedFrame> {
-        self.on_shared_device("the vertex VkBuffer is", |g| g.shared_frame())
+        self.on_shared_device(|e| e.shared_frame())
     }
 
     /// The water particles as the host's Vulkan sees them (positions and the indirect draw's
@@ -192,26 +154,17 @@ impl Simulation {
     /// [`Simulation::new_on_vulkan`].
     #[cfg(feature = "vulkan")]
     pub fn vulkan_water(&mut self) -> Result<crate::gpu::vulkan::SharedWater> {
-        self.on_shared_device("the water VkBuffers are", |g| g.shared_water())
+        self.on_shared_device(|e| e.shared_water())
     }
 
-    /// Runs `f` on the GPU backend of a simulation that may share the host's VkDevice (a CPU
-    /// one refuses, naming `what`), recording a failure as every read does.
+    /// Runs `f` on the engine of a simulation that may share the host's VkDevice (others
+    /// refuse), recording a failure as every read does.
     #[cfg(feature = "vulkan")]
-    fn on_shared_device<T>(
-        &mut self,
-        what: &str,
-        f: impl FnOnce(&mut crate::gpu::backend::GpuBackend) -> Result<T>,
-    ) -> Result<T> {
+    fn on_shared_device<T>(&mut self, f: impl FnOnce(&mut dyn Engine) -> Result<T>) -> Result<T> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
-        let r = match &mut self.engine {
-            Engine::Gpu(g) => f(g),
-            Engine::Cpu(_) => Err(Error::Unsupported(format!(
-                "{what} shared only by simulations created on the host's VkDevice"
-            ))),
-        };
+        let r = f(self.engine.as_mut());
         self.settle(r)
     }
 
@@ -243,20 +196,12 @@ impl Simulation {
 
     /// Adds water particles at `pos` with velocities `vel` (empty: at rest).
     pub fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
-        match &mut self.engine {
-            Engine::Cpu(c) => c.add_water(pos, vel),
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => g.add_water(pos, vel),
-        }
+        self.engine.add_water(pos, vel)
     }
 
     /// Removes every water particle (hair stays as wet as it is).
     pub fn clear_water(&mut self) {
-        match &mut self.engine {
-            Engine::Cpu(c) => c.clear_water(),
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => g.clear_water(),
-        }
+        self.engine.clear_water()
     }
 
     /// Advances the simulation by `dt` seconds (0 < dt <= 1).
@@ -273,16 +218,7 @@ impl Simulation {
             return Err(invalid!("dt must be finite, > 0 and <= {MAX_DT} s, got {dt}"));
         }
         let t0 = Instant::now();
-        let r = match &mut self.engine {
-            Engine::Cpu(c) => c.step(dt, &self.head_prev, &self.head).map(|rep| rep.max_speed),
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => {
-                let last = g.last_status();
-                g.check_status(&last)
-                    .and_then(|_| g.step(dt, &self.head_prev, &self.head))
-                    .map(|_| last.max_speed)
-            }
-        };
+        let r = self.engine.step(dt, &self.head_prev, &self.head);
         self.last_step_ms = t0.elapsed().as_secs_f32() * 1e3;
         self.head_prev = self.head;
         self.steps += 1;
@@ -302,11 +238,7 @@ impl Simulation {
     /// Back to the rest pose at the current head transform: zero velocity, dry, no water,
     /// counters cleared, failure forgotten (a lost GPU device stays failed).
     pub fn reset(&mut self) {
-        match &mut self.engine {
-            Engine::Cpu(c) => c.reset(&self.head),
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => g.reset(&self.head),
-        }
+        self.engine.reset(&self.head);
         self.head_prev = self.head;
         if !matches!(self.failed, Some(Error::Device(_))) {
             self.failed = None;
@@ -342,7 +274,7 @@ impl Simulation {
 
     /// Writes the requested attributes of every point, interleaved, strand after strand.
     /// `dst` must hold at least `vertex_count() * stride` floats; returns the floats written.
-    /// Writes nothing on error. On the GPU backend with [`crate::Readback::PreviousFrame`] the
+    /// Writes nothing on error. On the GPU backend with [`crate::Readback::PREVIOUS_FRAME`] the
     /// vertices are those of the step before the last (see [`crate::Readback`]).
     pub fn write_vertices(&mut self, dst: &mut [f32]) -> Result<usize> {
         if let Some(e) = &self.failed {
@@ -355,43 +287,27 @@ impl Simulation {
                 dst.len()
             )));
         }
-        let r = match &mut self.engine {
-            Engine::Cpu(c) => {
-                c.write_vertices(self.params.attributes, &mut dst[..n]);
-                Ok(n)
-            }
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => g.read_vertices(&mut dst[..n]).map(|_| n),
-        };
+        let r = self
+            .engine
+            .write_vertices(self.params.attributes, &mut dst[..n])
+            .map(|_| n);
         self.settle(r)
     }
 
     /// The passes the next step will run (only those the scene needs), the same list on
     /// both backends.
     pub fn passes(&self) -> Vec<Pass> {
-        match &self.engine {
-            Engine::Cpu(c) => c.passes(),
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => g.passes(),
-        }
+        self.engine.passes()
     }
 
     /// The GPU compute entry points one step dispatches (empty on the CPU backend).
     pub fn gpu_dispatches(&self) -> Vec<&'static str> {
-        match &self.engine {
-            Engine::Cpu(_) => Vec::new(),
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => g.dispatches(),
-        }
+        self.engine.gpu_dispatches()
     }
 
     /// Every buffer the simulation holds and its size in bytes.
     pub fn buffers(&self) -> Vec<(&'static str, usize)> {
-        match &self.engine {
-            Engine::Cpu(c) => c.buffers(),
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => g.buffers(),
-        }
+        self.engine.buffers()
     }
 
     /// Every point's position, strand after strand (on the GPU a blocking readback; empty if
@@ -411,44 +327,13 @@ impl Simulation {
 
     /// Position, velocity and wetness of every point, strand after strand.
     pub fn point_states(&self) -> Result<Vec<(Vec3, Vec3, f32)>> {
-        match &self.engine {
-            Engine::Cpu(c) => {
-                let lay = &c.lay;
-                let mut out = Vec::with_capacity(self.vertex_count());
-                for s in 0..lay.strands {
-                    let (b, l) = lay.lane_of(s);
-                    for i in 0..lay.strand_points(s) {
-                        let r = &c.state[b * lay.rows + i];
-                        let w = c.wet.get(b * lay.rows + i).map_or(0.0, |w| w[l]);
-                        out.push((r.x.get(l), r.v.get(l), w));
-                    }
-                }
-                Ok(out)
-            }
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => Ok(g
-                .read_state()?
-                .into_iter()
-                .map(|p| (Vec3::from_slice(&p.x), Vec3::from_slice(&p.v), p.x[3]))
-                .collect()),
-        }
+        self.engine.point_states()
     }
 
     /// Water particle positions and velocities (order changes when particles are removed).
     /// On the GPU backend a read back that fails (a lost device) is an error, not no water.
     pub fn water(&self) -> Result<(Vec<Vec3>, Vec<Vec3>)> {
-        match &self.engine {
-            Engine::Cpu(c) => Ok(c
-                .water
-                .as_ref()
-                .map_or_else(Default::default, |w| (w.pos.clone(), w.vel.clone()))),
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => Ok(g
-                .read_water()?
-                .iter()
-                .map(|p| (Vec3::from_slice(&p.x), Vec3::from_slice(&p.v)))
-                .unzip()),
-        }
+        self.engine.water()
     }
 
     /// Water particle positions (order changes when particles are removed).
@@ -474,32 +359,19 @@ impl Simulation {
     /// this reads back the state and waits for the device).
     pub fn stats(&self) -> Stats {
         let (strands, points) = self.stats_counts();
-        let (particles, removed, threads, integrator, backend) = match &self.engine {
-            Engine::Cpu(c) => (
-                c.water.as_ref().map_or(0, |w| w.len()) as u32,
-                c.water.as_ref().map_or(0, |w| w.removed),
-                c.threads() as u32,
-                c.integrator(),
-                Backend::Cpu,
-            ),
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => {
-                let (st, removed) = g.peek_status().unwrap_or_default();
-                (st.particles, removed, 0, g.integrator(), Backend::Gpu)
-            }
-        };
+        let c = self.engine.counters();
         Stats {
             strands,
             points,
-            particles,
-            particles_removed: removed,
+            particles: c.particles,
+            particles_removed: c.particles_removed,
             steps: self.steps,
             last_step_ms: self.last_step_ms,
             max_speed: self.max_speed,
             clumping: mean_nearest_tip_distance(&self.tips()),
-            threads,
-            integrator,
-            backend,
+            threads: c.threads,
+            integrator: self.engine.integrator(),
+            backend: self.engine.kind(),
         }
     }
 
@@ -558,100 +430,24 @@ impl Simulation {
     /// Makes a GPU simulation's device fail as a lost device would, to test a host's error
     /// path; later calls return [`Error::Device`]. Does nothing on the CPU backend.
     pub fn debug_lose_device(&mut self) {
-        #[cfg(feature = "gpu")]
-        if let Engine::Gpu(g) = &self.engine {
-            g.lose_device();
-        }
+        self.engine.lose_device();
     }
 
     /// Starts measuring each step's GPU time with timestamp queries (GPU backend, adapters with
     /// timestamps). Returns whether it could; costs one query resolve per step after.
     pub fn enable_gpu_timing(&mut self) -> bool {
-        match &mut self.engine {
-            Engine::Cpu(_) => false,
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => g.enable_timing(),
-        }
+        self.engine.enable_gpu_timing()
     }
 
     /// GPU time of the last step, ms, once [`Simulation::enable_gpu_timing`] succeeded (a
     /// blocking read; for benchmarks).
     pub fn last_step_gpu_ms(&self) -> Option<Result<f64>> {
-        match &self.engine {
-            Engine::Cpu(_) => None,
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => g.last_step_gpu_ms(),
-        }
+        self.engine.last_step_gpu_ms()
     }
 
     /// Builds a GPU grid over the particles held now and returns its dims and per-cell counts
     /// (tests compare them with the CPU grid's). `None` on the CPU backend or without water.
     pub fn gpu_grid_counts(&mut self) -> Option<Result<(glam::IVec3, Vec<u32>)>> {
-        match &mut self.engine {
-            Engine::Cpu(_) => None,
-            #[cfg(feature = "gpu")]
-            Engine::Gpu(g) => Some(g.read_grid_counts()),
-        }
+        self.engine.gpu_grid_counts()
     }
-}
-
-/// Picks the backend the parameters ask for (see [`Backend`]).
-fn choose_engine(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Engine, BackendInfo)> {
-    #[cfg(feature = "gpu")]
-    let integrator = resolve_integrator(p, groom);
-    let cpu = |reason: String| -> Result<(Engine, BackendInfo)> {
-        let c = CpuBackend::new(groom, p, head)?;
-        let info = BackendInfo {
-            backend: Backend::Cpu,
-            device: format!("CPU, {} threads", c.threads()),
-            fallback_reason: reason,
-        };
-        Ok((Engine::Cpu(c), info))
-    };
-    match p.backend {
-        Backend::Cpu => cpu(String::new()),
-        #[cfg(not(feature = "gpu"))]
-        Backend::Gpu => Err(Error::Unsupported(
-            "this build has no GPU backend (feature `gpu`)".into(),
-        )),
-        #[cfg(not(feature = "gpu"))]
-        Backend::Auto => cpu("this build has no GPU backend (feature `gpu`)".into()),
-        #[cfg(feature = "gpu")]
-        Backend::Gpu => {
-            let dev = crate::gpu::GpuDevice::open(true)?;
-            gpu_engine(dev, groom, p, integrator, head, String::new())
-        }
-        #[cfg(feature = "gpu")]
-        Backend::Auto => {
-            if integrator == Integrator::Xpbd {
-                return cpu(format!("{integrator:?} runs on the CPU backend only"));
-            }
-            match crate::gpu::GpuDevice::open(false) {
-                Err(e) => cpu(e.to_string()),
-                Ok(dev) => match gpu_engine(dev, groom, p, integrator, head, String::new()) {
-                    Ok(r) => Ok(r),
-                    Err(e) => cpu(format!("the GPU backend failed to start: {e}")),
-                },
-            }
-        }
-    }
-}
-
-#[cfg(feature = "gpu")]
-fn gpu_engine(
-    dev: crate::gpu::GpuDevice,
-    groom: &Groom,
-    p: &SimParams,
-    integrator: Integrator,
-    head: &Affine3A,
-    reason: String,
-) -> Result<(Engine, BackendInfo)> {
-    let device = dev.adapter_name();
-    let g = crate::gpu::GpuBackend::new(dev, groom, p, integrator, head)?;
-    let info = BackendInfo {
-        backend: Backend::Gpu,
-        device,
-        fallback_reason: reason,
-    };
-    Ok((Engine::Gpu(Box::new(g)), info))
 }

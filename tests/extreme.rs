@@ -21,25 +21,25 @@ fn backends() -> Vec<Backend> {
     let probe = Simulation::new(
         &paper_scene(8, 3).unwrap(),
         SimParams {
-            backend: Backend::Gpu,
+            backend: Backend::GPU,
             ..Default::default()
         },
     );
     match probe {
-        Ok(_) => vec![Backend::Cpu, Backend::Gpu],
+        Ok(_) => vec![Backend::CPU, Backend::GPU],
         Err(e) if std::env::var("WETHAIR_REQUIRE_GPU").as_deref() == Ok("1") => {
             panic!("WETHAIR_REQUIRE_GPU=1 but the GPU backend failed: {e}")
         }
         Err(e) => {
             eprintln!("no GPU adapter, extreme cases run on the CPU only: {e}");
-            vec![Backend::Cpu]
+            vec![Backend::CPU]
         }
     }
 }
 
 /// Whether `backend` runs `integrator` (the GPU does not run XPBD).
 fn runs(backend: Backend, integrator: Integrator) -> bool {
-    !(backend == Backend::Gpu && integrator == Integrator::Xpbd)
+    !(backend == Backend::GPU && integrator == Integrator::XPBD)
 }
 
 fn all_finite(sim: &Simulation) -> bool {
@@ -68,7 +68,7 @@ fn run(sim: &mut Simulation, frames: usize, dt: f32) -> Result<(), Error> {
 fn long_strands_of_64_and_128_points() {
     let _serial = serial();
     for (points, integrator, backend) in [64, 128].into_iter().flat_map(|p| {
-        [Integrator::SymplecticEuler, Integrator::ImplicitEuler]
+        [Integrator::SYMPLECTIC_EULER, Integrator::IMPLICIT_EULER]
             .into_iter()
             .flat_map(move |i| backends().into_iter().map(move |b| (p, i, b)))
     }) {
@@ -82,8 +82,8 @@ fn long_strands_of_64_and_128_points() {
                     ..SimParams::paper_scene_with_head()
                 },
             );
-            if backend == Backend::Gpu
-                && integrator == Integrator::ImplicitEuler
+            if backend == Backend::GPU
+                && integrator == Integrator::IMPLICIT_EULER
                 && points as usize > wethair::gpu::backend::MAX_IMPLICIT_POINTS
             {
                 // Refused with a reason, not a lost device (as NVIDIA's driver did at 96 points).
@@ -176,7 +176,11 @@ fn particle_on_a_hair_point_and_coincident_particles() {
 #[test]
 fn head_teleported_one_metre_then_spun_at_ten_revolutions_per_second() {
     let _serial = serial();
-    let all = [Integrator::SymplecticEuler, Integrator::ImplicitEuler, Integrator::Xpbd];
+    let all = [
+        Integrator::SYMPLECTIC_EULER,
+        Integrator::IMPLICIT_EULER,
+        Integrator::XPBD,
+    ];
     for (integrator, backend) in all
         .into_iter()
         .flat_map(|i| backends().into_iter().map(move |b| (i, b)))
@@ -241,7 +245,11 @@ fn zero_length_segments_are_accepted_and_stay_finite() {
         Vec3::new(0.0, 0.0, -0.04),
     ];
     let groom = Groom::new(pos, &[4], None, None, 1e-3).unwrap();
-    let all = [Integrator::SymplecticEuler, Integrator::ImplicitEuler, Integrator::Xpbd];
+    let all = [
+        Integrator::SYMPLECTIC_EULER,
+        Integrator::IMPLICIT_EULER,
+        Integrator::XPBD,
+    ];
     for (integrator, backend) in all
         .into_iter()
         .flat_map(|i| backends().into_iter().map(move |b| (i, b)))
@@ -297,7 +305,7 @@ fn time_steps(backend: Backend) {
     let mut implicit = Simulation::new(
         &groom,
         SimParams {
-            integrator: Integrator::ImplicitEuler,
+            integrator: Integrator::IMPLICIT_EULER,
             backend,
             ..Default::default()
         },

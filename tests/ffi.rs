@@ -623,8 +623,29 @@ fn sim_calls_check_everything_and_write_nothing_on_failure() {
             WETHAIR_ERROR_NULL_POINTER
         );
         assert_eq!(n, 9);
-        assert_eq!(wethair_sim_get_water(s, w.as_mut_ptr(), 2, &mut n), WETHAIR_OK);
-        assert_eq!(n, 2);
+        // A buffer shorter than the particles held is refused, as a short vertex buffer is,
+        // and nothing is written.
+        let mut stats = WetHairStats {
+            struct_size: std::mem::size_of::<WetHairStats>() as u32,
+            ..Default::default()
+        };
+        assert_eq!(wethair_sim_get_stats(s, &mut stats), WETHAIR_OK);
+        assert!(
+            stats.particles >= 2,
+            "the scene holds more particles than the short buffer"
+        );
+        assert_eq!(
+            wethair_sim_get_water(s, w.as_mut_ptr(), stats.particles - 1, &mut n),
+            WETHAIR_ERROR_BUFFER_TOO_SMALL
+        );
+        assert_eq!((n, w), (9, [0.0; 6]));
+        let mut all = vec![0.0f32; 3 * stats.particles as usize];
+        assert_eq!(
+            wethair_sim_get_water(s, all.as_mut_ptr(), stats.particles, &mut n),
+            WETHAIR_OK
+        );
+        assert_eq!(n, stats.particles);
+        assert!(all.iter().all(|v| v.is_finite()));
         wethair_sim_destroy(s);
         wethair_groom_destroy(g);
     }

@@ -5,9 +5,9 @@
 #![cfg(feature = "gpu")]
 
 use glam::Vec3;
-use wethair::cpu::step::Pass;
 use wethair::groom::{paper_scene, Groom};
 use wethair::physics::grid::Grid;
+use wethair::plan::Pass;
 use wethair::scenes::{on_hair, Lcg};
 use wethair::{Backend, Error, Readback, SimParams, Simulation};
 
@@ -24,7 +24,7 @@ fn gpu(groom: &Groom, params: SimParams) -> Option<Simulation> {
     match Simulation::new(
         groom,
         SimParams {
-            backend: Backend::Gpu,
+            backend: Backend::GPU,
             ..params
         },
     ) {
@@ -41,7 +41,7 @@ fn cpu(groom: &Groom, params: SimParams) -> Simulation {
     Simulation::new(
         groom,
         SimParams {
-            backend: Backend::Cpu,
+            backend: Backend::CPU,
             ..params
         },
     )
@@ -61,9 +61,9 @@ fn gpu_backend_reports_its_adapter() {
         return;
     };
     let info = sim.backend_info();
-    assert_eq!(info.backend, Backend::Gpu);
+    assert_eq!(info.backend, Backend::GPU);
     assert!(!info.device.is_empty() && info.fallback_reason.is_empty(), "{info:?}");
-    assert_eq!(sim.stats().backend, Backend::Gpu);
+    assert_eq!(sim.stats().backend, Backend::GPU);
 }
 
 #[test]
@@ -90,23 +90,23 @@ fn auto_falls_back_with_a_reason() {
     let sim = Simulation::new(&groom, SimParams::default()).unwrap();
     let info = sim.backend_info();
     match info.backend {
-        Backend::Cpu => assert!(!info.fallback_reason.is_empty(), "{info:?}"),
+        Backend::CPU => assert!(!info.fallback_reason.is_empty(), "{info:?}"),
         _ => assert!(info.fallback_reason.is_empty(), "{info:?}"),
     }
     // An integrator the GPU does not run keeps AUTO on the CPU and says why.
     // An integrator the GPU does not run (XPBD) keeps AUTO on the CPU and says why.
     let xpbd = SimParams {
-        integrator: wethair::Integrator::Xpbd,
+        integrator: wethair::Integrator::XPBD,
         ..SimParams::default()
     };
     let sim = Simulation::new(&groom, xpbd.clone()).unwrap();
-    assert_eq!(sim.backend_info().backend, Backend::Cpu);
+    assert_eq!(sim.backend_info().backend, Backend::CPU);
     assert!(!sim.backend_info().fallback_reason.is_empty());
     // Asking for it on the GPU explicitly is an error, not a silent fallback.
     match Simulation::new(
         &groom,
         SimParams {
-            backend: Backend::Gpu,
+            backend: Backend::GPU,
             ..xpbd
         },
     ) {
@@ -292,7 +292,7 @@ fn vertices_before_the_first_step_are_the_rest_pose() {
     let mut want = vec![0.0f32; n];
     c.write_vertices(&mut want).unwrap();
     assert!(want.iter().any(|x| *x != 0.0));
-    for readback in [Readback::Latest, Readback::PreviousFrame] {
+    for readback in [Readback::LATEST, Readback::PREVIOUS_FRAME] {
         let Some(mut g) = gpu(
             &groom,
             SimParams {
@@ -331,7 +331,7 @@ fn previous_frame_readback_lags_exactly_one_step() {
     let mut lag = gpu(
         &groom,
         SimParams {
-            readback: Readback::PreviousFrame,
+            readback: Readback::PREVIOUS_FRAME,
             ..SimParams::default()
         },
     )
@@ -442,7 +442,7 @@ fn implicit_euler_matches_the_cpu() {
     let _serial = serial();
     let groom = paper_scene(2000, 6).unwrap();
     let params = SimParams {
-        integrator: wethair::Integrator::ImplicitEuler,
+        integrator: wethair::Integrator::IMPLICIT_EULER,
         air_drag: 0.01,
         ..SimParams::paper_scene_with_head()
     };
@@ -502,7 +502,7 @@ fn gpu_implicit_survives_stiff_springs_at_frame_rate() {
         damping: 0.0,
     };
     let params = SimParams {
-        integrator: wethair::Integrator::ImplicitEuler,
+        integrator: wethair::Integrator::IMPLICIT_EULER,
         solver_iterations: 2,
         substeps: 1,
         stretch: spring,

@@ -3,11 +3,15 @@
 //! cheapest stable one; implicit Euler finds the same static equilibrium.
 
 use glam::Vec3;
-use wethair::cpu::step::Pass;
 use wethair::groom::{paper_scene, Groom};
+use wethair::plan::Pass;
 use wethair::{Error, Integrator, SimParams, Simulation, SpringParams};
 
-const ALL: [Integrator; 3] = [Integrator::SymplecticEuler, Integrator::ImplicitEuler, Integrator::Xpbd];
+const ALL: [Integrator; 3] = [
+    Integrator::SYMPLECTIC_EULER,
+    Integrator::IMPLICIT_EULER,
+    Integrator::XPBD,
+];
 
 fn strand_lengths(sim: &Simulation, points: usize) -> Vec<f32> {
     sim.positions()
@@ -71,7 +75,7 @@ fn stiff_springs_survive_one_frame_rate_substep() {
         },
         ..Default::default()
     };
-    let mut sim = Simulation::new(&groom, stiff(Integrator::ImplicitEuler)).unwrap();
+    let mut sim = Simulation::new(&groom, stiff(Integrator::IMPLICIT_EULER)).unwrap();
     let e0 = sim.energy().total();
     // Bounded: never more than 1% of the hair's weight times its length (M g L) above the
     // start, where a blow-up would be orders of magnitude above it. (One Newton iteration is
@@ -91,7 +95,7 @@ fn stiff_springs_survive_one_frame_rate_substep() {
         assert!((l / l0 - 1.0).abs() < 0.05, "strand {s} length {l} vs rest {l0}");
     }
 
-    let mut xpbd = Simulation::new(&groom, stiff(Integrator::Xpbd)).unwrap();
+    let mut xpbd = Simulation::new(&groom, stiff(Integrator::XPBD)).unwrap();
     for _ in 0..90 {
         xpbd.step(h).unwrap();
     }
@@ -101,7 +105,7 @@ fn stiff_springs_survive_one_frame_rate_substep() {
     );
 
     // The explicit method at the same settings diverges, and says so.
-    let mut sim = Simulation::new(&groom, stiff(Integrator::SymplecticEuler)).unwrap();
+    let mut sim = Simulation::new(&groom, stiff(Integrator::SYMPLECTIC_EULER)).unwrap();
     let err = (0..90).find_map(|_| sim.step(h).err());
     assert!(
         matches!(err, Some(Error::Unstable { .. })),
@@ -115,18 +119,18 @@ fn auto_picks_the_cheapest_stable_integrator() {
     let paper = Simulation::new(
         &groom,
         SimParams {
-            integrator: Integrator::Auto,
+            integrator: Integrator::AUTO,
             ..Default::default()
         },
     )
     .unwrap();
     assert_eq!(
         paper.stats().integrator,
-        Integrator::SymplecticEuler,
+        Integrator::SYMPLECTIC_EULER,
         "the paper scene is stable at 1/240 s"
     );
     let stiff = SimParams {
-        integrator: Integrator::Auto,
+        integrator: Integrator::AUTO,
         stretch: SpringParams {
             stiffness: 4000.0,
             damping: 0.0,
@@ -134,12 +138,12 @@ fn auto_picks_the_cheapest_stable_integrator() {
         ..Default::default()
     };
     let sim = Simulation::new(&groom, stiff).unwrap();
-    assert_eq!(sim.stats().integrator, Integrator::ImplicitEuler);
+    assert_eq!(sim.stats().integrator, Integrator::IMPLICIT_EULER);
     assert_eq!(sim.passes(), vec![Pass::ImplicitSolve]);
     let xpbd = Simulation::new(
         &groom,
         SimParams {
-            integrator: Integrator::Xpbd,
+            integrator: Integrator::XPBD,
             ..Default::default()
         },
     )
@@ -154,7 +158,7 @@ fn implicit_hanging_chain_settles_at_static_stretch() {
     let pos: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.0, 0.0, -(i as f32) * seg)).collect();
     let groom = Groom::new(pos, &[n as u32], None, None, m).unwrap();
     let params = SimParams {
-        integrator: Integrator::ImplicitEuler,
+        integrator: Integrator::IMPLICIT_EULER,
         stretch: SpringParams {
             stiffness: k,
             damping: 0.02,

@@ -1,8 +1,8 @@
 //! Leave out what a scene does not need: the pass list and the buffers follow the scene.
 
 use glam::Vec3;
-use wethair::cpu::step::Pass;
 use wethair::groom::paper_scene;
+use wethair::plan::Pass;
 use wethair::{Shape, SimParams, Simulation, SpringParams};
 
 #[test]

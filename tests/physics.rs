@@ -114,7 +114,7 @@ fn strand_at_rest_stays_at_rest() {
 /// exact, energy), but damping drains it over time. Both damping models.
 #[test]
 fn damped_energy_never_increases() {
-    for model in [wethair::DampingModel::Axial, wethair::DampingModel::Relative] {
+    for model in [wethair::DampingModel::AXIAL, wethair::DampingModel::RELATIVE] {
         let groom = paper_scene(200, 6).unwrap();
         let params = SimParams {
             damping_model: model,

@@ -35,15 +35,9 @@ fn kajiya_kay_wgsl_validates_with_the_vertex_layout() {
 /// with and without bend springs and colliders, before any device compiles them.
 #[test]
 fn output_modules_validate() {
-    use wethair::gpu::pipelines::{output_source, water_output_source, water_source, SceneConsts};
+    use wethair::gpu::pipelines::{output_source, water_output_source, water_source};
     for (bend, colliders) in [(false, 0), (true, 2)] {
-        let c = SceneConsts {
-            axial: true,
-            colliders,
-            bend,
-            max_points: 32,
-            iterations: 2,
-        };
+        let c = consts(bend, colliders);
         for (name, src, entry) in [
             ("output", output_source(c), "write_vertices"),
             ("water", water_source(c), "water_cull"),
@@ -58,6 +52,134 @@ fn output_modules_validate() {
                 module.entry_points.iter().any(|e| e.name == entry),
                 "{name} has no {entry}"
             );
+        }
+    }
+}
+
+/// A scene's shader constants: axial damping, 32-point strands, two Newton iterations.
+fn consts(bend: bool, colliders: u32) -> wethair::gpu::pipelines::SceneConsts {
+    wethair::gpu::pipelines::SceneConsts {
+        axial: true,
+        colliders,
+        bend,
+        max_points: 32,
+        iterations: 2,
+    }
+}
+
+/// Every module a scene can compile: dry and wet hair for each GPU integrator, water, vertex
+/// output and shared water, for a scene with and without bend springs and colliders.
+fn all_modules() -> Vec<(String, String)> {
+    use wethair::gpu::pipelines::{hair_source, output_source, water_output_source, water_source};
+    use wethair::plan::{pass_list, Pass};
+    use wethair::{Integrator, Shape, SimParams};
+    let mut out = Vec::new();
+    for (bend, colliders) in [(false, 0u32), (true, 2)] {
+        let c = consts(bend, colliders);
+        let mut p = SimParams {
+            air_drag: 0.1,
+            ..SimParams::default()
+        };
+        for _ in 0..colliders {
+            p.colliders.push(Shape::Sphere {
+                center: glam::Vec3::ZERO,
+                radius: 0.1,
+            });
+        }
+        for integrator in [Integrator::SYMPLECTIC_EULER, Integrator::IMPLICIT_EULER] {
+            for wet in [false, true] {
+                let passes: Vec<Pass> = pass_list(&p, integrator, bend, wet);
+                let name = format!("hair {integrator:?} wet={wet} bend={bend} colliders={colliders}");
+                out.push((name, hair_source(c, &passes)));
+            }
+        }
+        out.push((format!("water bend={bend}"), water_source(c)));
+        out.push((format!("output bend={bend}"), output_source(c)));
+        out.push((format!("water output bend={bend}"), water_output_source(c)));
+    }
+    out
+}
+
+/// The WGSL twins of the Rust GPU records, read back from every compiled module through naga's
+/// reflection: the same member names in the same order, at the same byte offsets, and the
+/// same size (a field added on one side only, or a vec3 that shifts what follows, fails here
+/// before any device runs the shader). Also the per-substep uniform: the head matrix, then
+/// colliders at the Rust stride.
+#[test]
+fn wgsl_struct_layouts_equal_the_rust_records() {
+    use wethair::gpu::buffers::{ColliderGpu, SUBSTEP_HEAD_BYTES};
+    use wethair::gpu::wgsl::records;
+    let mut checked = 0;
+    for (name, src) in all_modules() {
+        let module =
+            naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+        let find = |ty: &str| {
+            module
+                .types
+                .iter()
+                .find(|(_, t)| t.name.as_deref() == Some(ty))
+                .map(|(_, t)| t.inner.clone())
+                .unwrap_or_else(|| panic!("{name}: no struct {ty}"))
+        };
+        for (ty, fields, size) in records() {
+            let naga::TypeInner::Struct { members, span } = find(ty) else {
+                panic!("{name}: {ty} is not a struct")
+            };
+            let wgsl: Vec<(String, u32)> = members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                .collect();
+            let rust: Vec<(String, u32)> = fields.iter().map(|f| (f.name.to_string(), f.offset as u32)).collect();
+            assert_eq!(wgsl, rust, "{name}: {ty}'s members and offsets");
+            assert_eq!(span as usize, size, "{name}: size of {ty}");
+            checked += 1;
+        }
+        let naga::TypeInner::Struct { members, .. } = find("Substep") else {
+            panic!("{name}: Substep is not a struct")
+        };
+        assert_eq!(
+            members[1].offset, SUBSTEP_HEAD_BYTES,
+            "{name}: colliders follow the head matrix"
+        );
+        let naga::TypeInner::Array { stride, .. } = module.types[members[1].ty].inner else {
+            panic!("{name}: Substep.colliders is not an array")
+        };
+        assert_eq!(
+            stride as usize,
+            std::mem::size_of::<ColliderGpu>(),
+            "{name}: collider stride"
+        );
+    }
+    assert_eq!(checked, 5 * 14, "every record in every module");
+}
+
+/// The generated constants are the Rust values, as each module compiles them (naga evaluates
+/// the declarations): a constant retyped in WGSL, or one the prelude stopped emitting, fails.
+#[test]
+fn wgsl_constants_equal_the_rust_values() {
+    use wethair::gpu::wgsl::{constants, Const};
+    for (name, src) in all_modules() {
+        let module =
+            naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
+        for (cname, want) in constants() {
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(cname))
+                .unwrap_or_else(|| panic!("{name}: no constant {cname}"));
+            let got = &module.global_expressions[c.init];
+            match (want, got) {
+                (Const::U32(v), naga::Expression::Literal(naga::Literal::U32(g))) => {
+                    assert_eq!(*g, v, "{name}: {cname}")
+                }
+                (Const::F32(v), naga::Expression::Literal(naga::Literal::F32(g))) => {
+                    assert_eq!(g.to_bits(), v.to_bits(), "{name}: {cname}")
+                }
+                _ => panic!("{name}: {cname} is {got:?}, expected {want:?}"),
+            }
         }
     }
 }

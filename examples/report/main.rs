@@ -31,27 +31,27 @@ struct Method {
 const METHODS: [Method; 5] = [
     Method {
         label: "symplectic Euler (paper)",
-        integrator: Integrator::SymplecticEuler,
+        integrator: Integrator::SYMPLECTIC_EULER,
         iterations: 1,
     },
     Method {
         label: "implicit Euler, 1 Newton",
-        integrator: Integrator::ImplicitEuler,
+        integrator: Integrator::IMPLICIT_EULER,
         iterations: 1,
     },
     Method {
         label: "implicit Euler, 2 Newton",
-        integrator: Integrator::ImplicitEuler,
+        integrator: Integrator::IMPLICIT_EULER,
         iterations: 2,
     },
     Method {
         label: "XPBD, 1 sweep",
-        integrator: Integrator::Xpbd,
+        integrator: Integrator::XPBD,
         iterations: 1,
     },
     Method {
         label: "XPBD, 4 sweeps",
-        integrator: Integrator::Xpbd,
+        integrator: Integrator::XPBD,
         iterations: 4,
     },
 ];

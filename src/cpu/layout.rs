@@ -68,6 +68,7 @@ impl Layout {
             real_lanes: vec![0; n_rows],
             mass: groom.mass.clone(),
         };
+        let rest = crate::plan::rest_lengths(groom);
         let (ks, cs) = (params.stretch.stiffness, params.stretch.damping);
         let (kb, cb) = (params.bend.stiffness, params.bend.damping);
         for b in 0..blocks {
@@ -95,12 +96,12 @@ impl Layout {
                         lay.pinned_row[r] = true;
                     }
                     if i + 1 < pts.len() {
-                        row.stretch.rest[l] = (pts[i + 1] - pts[i]).length();
+                        row.stretch.rest[l] = rest[first + i][0];
                         row.stretch.k[l] = ks;
                         row.stretch.c[l] = cs;
                     }
                     if i + 2 < pts.len() {
-                        row.bend.rest[l] = (pts[i + 2] - pts[i]).length();
+                        row.bend.rest[l] = rest[first + i][1];
                         row.bend.k[l] = kb;
                         row.bend.c[l] = cb;
                     }

@@ -2,6 +2,8 @@
 //! pipeline. It is also the reference the GPU backend is tested against.
 
 pub mod denormals;
+mod engine;
+pub mod kernel;
 pub mod layout;
 pub mod output;
 pub mod pool;

@@ -2,10 +2,11 @@
 //! gravity, drag, the hair's reaction forces and colliders, and removal when they leave the
 //! domain. Nothing here is allocated until the host first adds water.
 
-use crate::error::{invalid, Error, Result};
+use crate::error::{Error, Result};
 use crate::params::WaterParams;
 use crate::physics::collide::{collide_point, Placed};
 use crate::physics::grid::Grid;
+use crate::plan::{check_new_particles, WaterDomain};
 use glam::{Affine3A, Vec3};
 
 /// The particles and their grid.
@@ -30,7 +31,7 @@ pub struct Water {
 impl Water {
     /// Allocates storage for `p.capacity` particles. The grid cell is `2 r_max`, so a query
     /// cube of side `2 r_max` overlaps exactly 8 cells.
-    pub fn new(p: &WaterParams, center_local: Vec3, radius: f32) -> Water {
+    pub fn new(p: &WaterParams, domain: WaterDomain) -> Water {
         let cap = p.capacity as usize;
         Water {
             pos: Vec::with_capacity(cap),
@@ -41,8 +42,8 @@ impl Water {
                 Vec::with_capacity(cap),
                 Vec::with_capacity(cap),
             ],
-            center_local,
-            radius,
+            center_local: domain.center_local,
+            radius: domain.radius,
             removed: 0,
         }
     }
@@ -139,19 +140,4 @@ impl Water {
         self.pos.clear();
         self.vel.clear();
     }
-}
-
-/// Checks particles a host adds (both backends): finite positions and velocities, and as
-/// many velocities as positions (or none).
-pub fn check_new_particles(pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
-    if !vel.is_empty() && vel.len() != pos.len() {
-        return Err(invalid!("{} velocities for {} particles", vel.len(), pos.len()));
-    }
-    if let Some(i) = pos.iter().position(|p| !p.is_finite()) {
-        return Err(invalid!("water position {i} is not finite: {:?}", pos[i]));
-    }
-    if let Some(i) = vel.iter().position(|v| !v.is_finite()) {
-        return Err(invalid!("water velocity {i} is not finite: {:?}", vel[i]));
-    }
-    Ok(())
 }

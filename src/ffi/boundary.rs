@@ -6,7 +6,7 @@ use std::cell::RefCell;
 use std::ffi::CString;
 
 /// Result of every fallible C call.
-#[repr(C)]
+#[repr(u32)]
 #[allow(non_camel_case_types)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WetHairResult {
@@ -35,35 +35,6 @@ pub enum WetHairResult {
     /// The request is not available here: no GPU adapter for the GPU backend, or an
     /// integrator the chosen backend does not run.
     WETHAIR_ERROR_UNSUPPORTED = 11,
-    /// Keeps the enum 32 bits wide in every C compiler; never returned.
-    WETHAIR_RESULT_FORCE32 = 0x7fff_ffff,
-}
-
-impl WetHairResult {
-    /// Every code with its name, for `wethair_result_string`.
-    pub(crate) const ALL: [(WetHairResult, &'static str); 12] = [
-        (WetHairResult::WETHAIR_OK, "WETHAIR_OK\0"),
-        (
-            WetHairResult::WETHAIR_ERROR_NULL_POINTER,
-            "WETHAIR_ERROR_NULL_POINTER\0",
-        ),
-        (
-            WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
-            "WETHAIR_ERROR_INVALID_ARGUMENT\0",
-        ),
-        (WetHairResult::WETHAIR_ERROR_STRUCT_SIZE, "WETHAIR_ERROR_STRUCT_SIZE\0"),
-        (WetHairResult::WETHAIR_ERROR_CAPACITY, "WETHAIR_ERROR_CAPACITY\0"),
-        (
-            WetHairResult::WETHAIR_ERROR_BUFFER_TOO_SMALL,
-            "WETHAIR_ERROR_BUFFER_TOO_SMALL\0",
-        ),
-        (WetHairResult::WETHAIR_ERROR_IO, "WETHAIR_ERROR_IO\0"),
-        (WetHairResult::WETHAIR_ERROR_PARSE, "WETHAIR_ERROR_PARSE\0"),
-        (WetHairResult::WETHAIR_ERROR_UNSTABLE, "WETHAIR_ERROR_UNSTABLE\0"),
-        (WetHairResult::WETHAIR_ERROR_PANIC, "WETHAIR_ERROR_PANIC\0"),
-        (WetHairResult::WETHAIR_ERROR_DEVICE, "WETHAIR_ERROR_DEVICE\0"),
-        (WetHairResult::WETHAIR_ERROR_UNSUPPORTED, "WETHAIR_ERROR_UNSUPPORTED\0"),
-    ];
 }
 
 thread_local! {
@@ -97,6 +68,24 @@ impl From<Error> for Fail {
         };
         Fail(code, e.to_string())
     }
+}
+
+/// The boundary around every fallible `extern "C"` body: `boundary!({ ... })` runs the block
+/// (which returns `Result<(), Fail>`) under [`guard`], named after the function it sits in, so
+/// no call site types its own name (a nested item's type name carries its enclosing function's
+/// path).
+macro_rules! boundary {
+    ($body:block) => {{
+        fn here() {}
+        let name = $crate::ffi::boundary::enclosing_fn(std::any::type_name_of_val(&here));
+        $crate::ffi::boundary::guard(name, || $body)
+    }};
+}
+
+/// `"crate::ffi::sim::wethair_sim_step::here"` → `"wethair_sim_step"`.
+pub(crate) fn enclosing_fn(here: &'static str) -> &'static str {
+    let path = here.strip_suffix("::here").unwrap_or(here);
+    path.rsplit("::").next().unwrap_or(path)
 }
 
 /// Runs `body` under `catch_unwind`; maps its error or panic to a code and a message.

@@ -1,6 +1,6 @@
 //! `WetHairGroom`: strands from the host's arrays, the paper scene, or a file.
 
-use super::boundary::{guard, Fail, WetHairResult};
+use super::boundary::{Fail, WetHairResult};
 use super::types::WetHairGroomDesc;
 use crate::groom::{self, Groom, MAX_POINTS, MAX_STRANDS};
 use glam::Vec3;
@@ -22,7 +22,7 @@ pub unsafe extern "C" fn wethair_groom_create(
     desc: *const WetHairGroomDesc,
     out: *mut *mut WetHairGroom,
 ) -> WetHairResult {
-    guard("wethair_groom_create", || {
+    boundary!({
         let d = read_def!(desc, WetHairGroomDesc, "desc");
         if out.is_null() {
             return Err(super::boundary::null("out"));
@@ -64,7 +64,7 @@ pub unsafe extern "C" fn wethair_groom_create_paper_scene(
     points: u32,
     out: *mut *mut WetHairGroom,
 ) -> WetHairResult {
-    guard("wethair_groom_create_paper_scene", || {
+    boundary!({
         if out.is_null() {
             return Err(super::boundary::null("out"));
         }
@@ -89,7 +89,7 @@ pub unsafe extern "C" fn wethair_groom_load(
     point_mass: f32,
     out: *mut *mut WetHairGroom,
 ) -> WetHairResult {
-    guard("wethair_groom_load", || {
+    boundary!({
         if path.is_null() || out.is_null() {
             return Err(super::boundary::null("path or out"));
         }
@@ -115,7 +115,7 @@ pub unsafe extern "C" fn wethair_groom_get_counts(
     strands: *mut u32,
     points: *mut u32,
 ) -> WetHairResult {
-    guard("wethair_groom_get_counts", || {
+    boundary!({
         let g = nonnull!(groom, "groom");
         if let Some(s) = strands.as_mut() {
             *s = g.0.strand_count() as u32;

@@ -1,6 +1,7 @@
 //! Version, result names, the last error message, and the def structs' defaults.
 
 use super::boundary::{last_error_ptr, WetHairResult};
+use super::enums::CEnum;
 use super::types::{WetHairGroomDesc, WetHairSimDesc};
 use std::ffi::c_char;
 
@@ -23,10 +24,8 @@ pub extern "C" fn wethair_version_string() -> *const c_char {
 /// The name of a result code (a `WetHairResult` value), or "WETHAIR_RESULT_UNKNOWN". Never NULL.
 #[no_mangle]
 pub extern "C" fn wethair_result_string(result: u32) -> *const c_char {
-    WetHairResult::ALL
-        .iter()
-        .find(|(r, _)| *r as u32 == result)
-        .map_or("WETHAIR_RESULT_UNKNOWN\0", |(_, s)| s)
+    WetHairResult::from_raw(result)
+        .map_or("WETHAIR_RESULT_UNKNOWN\0", WetHairResult::c_name)
         .as_ptr() as *const c_char
 }
 

@@ -14,6 +14,7 @@
 
 #[macro_use]
 mod boundary;
+mod enums;
 mod groom;
 mod meta;
 mod sim;
@@ -22,6 +23,7 @@ mod unity;
 mod vulkan;
 
 pub use boundary::WetHairResult;
+pub use enums::c_enum_constants;
 pub use groom::*;
 pub use meta::*;
 pub use sim::*;

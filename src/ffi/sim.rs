@@ -1,6 +1,6 @@
 //! `WetHairSim`: create, drive (head, water, step, reset), and read out (vertices, stats).
 
-use super::boundary::{guard, Fail, WetHairResult};
+use super::boundary::{Fail, WetHairResult};
 use super::groom::WetHairGroom;
 use super::types::{WetHairBackendInfo, WetHairSimDesc, WetHairStats, WetHairVertexLayout};
 use crate::params::{VertexAttributes, MAX_WATER_CAPACITY};
@@ -16,7 +16,7 @@ pub struct WetHairSim(pub(crate) Simulation);
 /// `desc` points to a `WetHairSimDesc` filled by `wethair_sim_desc_default`; `out` is writable.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_create(desc: *const WetHairSimDesc, out: *mut *mut WetHairSim) -> WetHairResult {
-    guard("wethair_sim_create", || {
+    boundary!({
         let d = read_def!(desc, WetHairSimDesc, "desc");
         if out.is_null() {
             return Err(super::boundary::null("out"));
@@ -47,7 +47,7 @@ pub unsafe extern "C" fn wethair_sim_destroy(sim: *mut WetHairSim) {
 /// `sim` is valid; `matrix` is NULL or points to 16 floats.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_set_head_transform(sim: *mut WetHairSim, matrix: *const f32) -> WetHairResult {
-    guard("wethair_sim_set_head_transform", || {
+    boundary!({
         let s = nonnull_mut!(sim, "sim");
         if matrix.is_null() {
             return Err(super::boundary::null("matrix"));
@@ -70,7 +70,7 @@ pub unsafe extern "C" fn wethair_sim_add_water(
     velocities: *const f32,
     count: u32,
 ) -> WetHairResult {
-    guard("wethair_sim_add_water", || {
+    boundary!({
         let s = nonnull_mut!(sim, "sim");
         if count == 0 {
             return Ok(());
@@ -108,7 +108,7 @@ pub unsafe extern "C" fn wethair_sim_add_water(
 /// `sim` is valid.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_clear_water(sim: *mut WetHairSim) -> WetHairResult {
-    guard("wethair_sim_clear_water", || {
+    boundary!({
         nonnull_mut!(sim, "sim").0.clear_water();
         Ok(())
     })
@@ -122,7 +122,7 @@ pub unsafe extern "C" fn wethair_sim_clear_water(sim: *mut WetHairSim) -> WetHai
 /// `sim` is valid.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_step(sim: *mut WetHairSim, dt: f32) -> WetHairResult {
-    guard("wethair_sim_step", || {
+    boundary!({
         nonnull_mut!(sim, "sim").0.step(dt)?;
         Ok(())
     })
@@ -134,7 +134,7 @@ pub unsafe extern "C" fn wethair_sim_step(sim: *mut WetHairSim, dt: f32) -> WetH
 /// `sim` is valid.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_reset(sim: *mut WetHairSim) -> WetHairResult {
-    guard("wethair_sim_reset", || {
+    boundary!({
         nonnull_mut!(sim, "sim").0.reset();
         Ok(())
     })
@@ -150,7 +150,7 @@ pub unsafe extern "C" fn wethair_sim_get_vertex_layout(
     sim: *const WetHairSim,
     out: *mut WetHairVertexLayout,
 ) -> WetHairResult {
-    guard("wethair_sim_get_vertex_layout", || {
+    boundary!({
         let s = nonnull!(sim, "sim");
         let out = check_out_size!(out, WetHairVertexLayout, "out");
         let a = s.0.attributes();
@@ -183,7 +183,7 @@ pub unsafe extern "C" fn wethair_sim_get_vertex_buffer(
     capacity: usize,
     written: *mut usize,
 ) -> WetHairResult {
-    guard("wethair_sim_get_vertex_buffer", || {
+    boundary!({
         let s = nonnull_mut!(sim, "sim");
         if dst.is_null() || written.is_null() {
             return Err(super::boundary::null("dst or written"));
@@ -204,11 +204,15 @@ pub unsafe extern "C" fn wethair_sim_get_vertex_buffer(
     })
 }
 
-/// Copies up to `capacity` water particle positions (x y z each) into `dst` and stores the
-/// count in `written`.
+/// Copies every water particle's position (x y z each, m) into `dst` and stores the count
+/// in `written`. `capacity` is in particles (`dst` holds `capacity * 3` floats); a buffer
+/// smaller than the particles held is refused with `WETHAIR_ERROR_BUFFER_TOO_SMALL`, as a
+/// short vertex buffer is, and nothing is written (the count is `WetHairStats::particles`,
+/// and at most `WetHairWaterDesc::capacity`).
 ///
 /// # Safety
-/// `sim` is valid; `dst` holds `capacity * 3` floats; `written` is writable.
+/// `sim` is valid; `dst` holds `capacity * 3` floats (may be NULL when `capacity` is 0);
+/// `written` is writable.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_get_water(
     sim: *const WetHairSim,
@@ -216,17 +220,22 @@ pub unsafe extern "C" fn wethair_sim_get_water(
     capacity: u32,
     written: *mut u32,
 ) -> WetHairResult {
-    guard("wethair_sim_get_water", || {
+    boundary!({
         let s = nonnull!(sim, "sim");
         if written.is_null() || (dst.is_null() && capacity > 0) {
             return Err(super::boundary::null("dst or written"));
         }
         let w = s.0.water_positions()?;
-        let n = w.len().min(capacity as usize);
-        if n > 0 {
-            std::slice::from_raw_parts_mut(dst, n * 3).copy_from_slice(bytemuck::cast_slice(&w[..n]));
+        if w.len() > capacity as usize {
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_BUFFER_TOO_SMALL,
+                format!("capacity {capacity} particles, {} held", w.len()),
+            ));
         }
-        written.write(n as u32);
+        if !w.is_empty() {
+            std::slice::from_raw_parts_mut(dst, w.len() * 3).copy_from_slice(bytemuck::cast_slice(&w));
+        }
+        written.write(w.len() as u32);
         Ok(())
     })
 }
@@ -237,7 +246,7 @@ pub unsafe extern "C" fn wethair_sim_get_water(
 /// `sim` is valid; `out` is writable.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut WetHairStats) -> WetHairResult {
-    guard("wethair_sim_get_stats", || {
+    boundary!({
         let s = nonnull!(sim, "sim");
         let out = check_out_size!(out, WetHairStats, "out");
         let st = s.0.stats();
@@ -269,7 +278,7 @@ pub unsafe extern "C" fn wethair_sim_get_backend_info(
     sim: *const WetHairSim,
     out: *mut WetHairBackendInfo,
 ) -> WetHairResult {
-    guard("wethair_sim_get_backend_info", || {
+    boundary!({
         let s = nonnull!(sim, "sim");
         let out = check_out_size!(out, WetHairBackendInfo, "out");
         let info = s.0.backend_info();
@@ -306,7 +315,7 @@ fn copy_c_string(s: &str, dst: &mut [std::ffi::c_char]) {
 /// `sim` is valid.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_debug_lose_device(sim: *mut WetHairSim) -> WetHairResult {
-    guard("wethair_sim_debug_lose_device", || {
+    boundary!({
         let s = nonnull_mut!(sim, "sim");
         s.0.debug_lose_device();
         Ok(())

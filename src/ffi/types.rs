@@ -1,72 +1,13 @@
 //! The C-visible structs and enums, and their conversion into the Rust API's types.
 
 use super::boundary::Fail;
-use crate::params::{Backend, Integrator, Readback, SimParams, SpringParams, VertexAttributes, WaterParams};
+use super::enums::read_enum;
+use crate::params::{SimParams, SpringParams, VertexAttributes, WaterParams};
 use crate::physics::collide::Shape;
-use crate::physics::spring::DampingModel;
 use glam::Vec3;
 
-/// Which relative velocity a spring damper acts on (`WetHairSimDesc::damping_model`).
-#[repr(C)]
-#[allow(non_camel_case_types)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WetHairDampingModel {
-    /// The paper's form: `c (v_b - v_a)`.
-    WETHAIR_DAMPING_RELATIVE = 0,
-    /// Along the spring only: `c ((v_b - v_a)·d̂) d̂`.
-    WETHAIR_DAMPING_AXIAL = 1,
-    /// Keeps the enum 32 bits wide.
-    WETHAIR_DAMPING_FORCE32 = 0x7fff_ffff,
-}
-
-/// How each substep advances the strands (`WetHairSimDesc::integrator`).
-#[repr(C)]
-#[allow(non_camel_case_types)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WetHairIntegrator {
-    /// The paper's symplectic Euler: cheapest, conditionally stable.
-    WETHAIR_INTEGRATOR_SYMPLECTIC_EULER = 0,
-    /// Linearised implicit Euler with a banded solve per strand: stable for stiff springs.
-    WETHAIR_INTEGRATOR_IMPLICIT_EULER = 1,
-    /// XPBD with small steps: springs as compliant constraints.
-    WETHAIR_INTEGRATOR_XPBD = 2,
-    /// Symplectic Euler when stable for the scene's stiffness, masses and substep, else implicit.
-    WETHAIR_INTEGRATOR_AUTO = 3,
-    /// Keeps the enum 32 bits wide.
-    WETHAIR_INTEGRATOR_FORCE32 = 0x7fff_ffff,
-}
-
-/// Where the step runs (`WetHairSimDesc::backend`).
-#[repr(C)]
-#[allow(non_camel_case_types)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WetHairBackend {
-    /// A hardware GPU when one is found and runs the integrator, else the CPU (a software
-    /// adapter such as lavapipe is skipped); `wethair_sim_get_backend_info` says why.
-    WETHAIR_BACKEND_AUTO = 0,
-    /// The multi-threaded CPU backend.
-    WETHAIR_BACKEND_CPU = 1,
-    /// The GPU (wgpu) backend on any adapter; create fails when there is none.
-    WETHAIR_BACKEND_GPU = 2,
-    /// Keeps the enum 32 bits wide.
-    WETHAIR_BACKEND_FORCE32 = 0x7fff_ffff,
-}
-
-/// How vertices reach host memory on the GPU backend (`WetHairSimDesc::readback`).
-#[repr(C)]
-#[allow(non_camel_case_types)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WetHairReadback {
-    /// `wethair_sim_get_vertex_buffer` waits for the last step and returns its vertices.
-    WETHAIR_READBACK_LATEST = 0,
-    /// It returns the step before the last without waiting (double-buffered staging).
-    WETHAIR_READBACK_PREVIOUS_FRAME = 1,
-    /// Keeps the enum 32 bits wide.
-    WETHAIR_READBACK_FORCE32 = 0x7fff_ffff,
-}
-
 /// Collider shape (`WetHairCollider::shape`).
-#[repr(C)]
+#[repr(u32)]
 #[allow(non_camel_case_types)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WetHairColliderType {
@@ -74,13 +15,11 @@ pub enum WetHairColliderType {
     WETHAIR_COLLIDER_SPHERE = 0,
     /// Capsule: the points within `radius` of the segment `a`–`b`.
     WETHAIR_COLLIDER_CAPSULE = 1,
-    /// Keeps the enum 32 bits wide.
-    WETHAIR_COLLIDER_FORCE32 = 0x7fff_ffff,
 }
 
 /// Vertex attribute bits (`WetHairSimDesc::vertex_attributes`). Present attributes are written
 /// interleaved per vertex in this order: position (3 floats), tangent (3), wetness (1).
-#[repr(C)]
+#[repr(u32)]
 #[allow(non_camel_case_types)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WetHairVertexAttribute {
@@ -90,8 +29,6 @@ pub enum WetHairVertexAttribute {
     WETHAIR_ATTRIBUTE_TANGENT = 2,
     /// Wetness in [0, 1].
     WETHAIR_ATTRIBUTE_WETNESS = 4,
-    /// Keeps the enum 32 bits wide.
-    WETHAIR_ATTRIBUTE_FORCE32 = 0x7fff_ffff,
 }
 
 /// Stiffness (N/m) and damping (N·s/m) of one spring family; 0 stiffness and damping
@@ -317,29 +254,10 @@ impl WetHairSimDesc {
     /// Converts to [`SimParams`], checking the enums and the collider array (floats are
     /// checked by [`SimParams::validate`]).
     pub(crate) fn params(&self) -> Result<SimParams, Fail> {
-        let damping_model = match self.damping_model {
-            0 => DampingModel::Relative,
-            1 => DampingModel::Axial,
-            v => fail_invalid!("damping_model {v} is not a WetHairDampingModel"),
-        };
-        let integrator = match self.integrator {
-            0 => Integrator::SymplecticEuler,
-            1 => Integrator::ImplicitEuler,
-            2 => Integrator::Xpbd,
-            3 => Integrator::Auto,
-            v => fail_invalid!("integrator {v} is not a WetHairIntegrator"),
-        };
-        let backend = match self.backend {
-            0 => Backend::Auto,
-            1 => Backend::Cpu,
-            2 => Backend::Gpu,
-            v => fail_invalid!("backend {v} is not a WetHairBackend"),
-        };
-        let readback = match self.readback {
-            0 => Readback::Latest,
-            1 => Readback::PreviousFrame,
-            v => fail_invalid!("readback {v} is not a WetHairReadback"),
-        };
+        let damping_model = read_enum(self.damping_model, "damping_model")?;
+        let integrator = read_enum(self.integrator, "integrator")?;
+        let backend = read_enum(self.backend, "backend")?;
+        let readback = read_enum(self.readback, "readback")?;
         let n = self.collider_count as usize;
         if n > crate::params::MAX_COLLIDERS {
             return Err(Fail(
@@ -356,17 +274,16 @@ impl WetHairSimDesc {
         };
         let mut colliders = Vec::with_capacity(n);
         for (i, c) in raw.iter().enumerate() {
-            colliders.push(match c.shape {
-                0 => Shape::Sphere {
+            colliders.push(match read_enum(c.shape, &format!("collider {i}'s shape"))? {
+                WetHairColliderType::WETHAIR_COLLIDER_SPHERE => Shape::Sphere {
                     center: Vec3::from(c.a),
                     radius: c.radius,
                 },
-                1 => Shape::Capsule {
+                WetHairColliderType::WETHAIR_COLLIDER_CAPSULE => Shape::Capsule {
                     a: Vec3::from(c.a),
                     b: Vec3::from(c.b),
                     radius: c.radius,
                 },
-                t => fail_invalid!("collider {i} has type {t}, not a WetHairColliderType"),
             });
         }
         let w = &self.water;

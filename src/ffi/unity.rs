@@ -9,7 +9,7 @@
 //! startup: "Load on startup" in its import settings); on any other renderer, or when that did
 //! not happen, simulations run on their own device or the CPU.
 
-use super::boundary::{guard, WetHairResult};
+use super::boundary::WetHairResult;
 use super::sim::WetHairSim;
 use super::types::WetHairSimDesc;
 use std::ffi::c_void;
@@ -340,7 +340,7 @@ pub unsafe extern "system" fn UnityPluginUnload() {
 /// `out` is writable.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_unity_get_status(out: *mut WetHairUnityStatus) -> WetHairResult {
-    guard("wethair_unity_get_status", || {
+    boundary!({
         let out = check_out_size!(out, WetHairUnityStatus, "out");
         let mut st = WetHairUnityStatus::unknown();
         let reason = unity_device(&mut st).err().unwrap_or_default();
@@ -429,7 +429,7 @@ pub unsafe extern "C" fn wethair_unity_sim_create(
     let mut st = WetHairUnityStatus::unknown();
     #[cfg(feature = "unity")]
     if let Ok(host) = unity_device(&mut st) {
-        return guard("wethair_unity_sim_create", || {
+        return boundary!({
             let d = read_def!(desc, WetHairSimDesc, "desc");
             if out.is_null() {
                 return Err(super::boundary::null("out"));

@@ -5,7 +5,7 @@
 //! `uint64_t` (non-dispatchable: VkBuffer, VkSemaphore), so the header needs no `vulkan.h`.
 //! Without the cargo feature `vulkan` every call here returns `WETHAIR_ERROR_UNSUPPORTED`.
 
-use super::boundary::{guard, Fail, WetHairResult};
+use super::boundary::{Fail, WetHairResult};
 use super::sim::WetHairSim;
 use super::types::WetHairSimDesc;
 use std::ffi::{c_char, c_void};
@@ -234,7 +234,7 @@ static INSTANCE_EXTENSION_NAMES: StaticNames = StaticNames([c"VK_KHR_get_physica
 pub unsafe extern "C" fn wethair_vulkan_get_instance_requirements(
     out: *mut WetHairVulkanInstanceRequirements,
 ) -> WetHairResult {
-    guard("wethair_vulkan_get_instance_requirements", || {
+    boundary!({
         let out = check_out_size!(out, WetHairVulkanInstanceRequirements, "out");
         if !cfg!(feature = "vulkan") {
             return Err(unsupported());
@@ -337,7 +337,7 @@ pub unsafe extern "C" fn wethair_vulkan_requirements_create(
     host: *const WetHairVulkanDevice,
     out: *mut *mut WetHairVulkanRequirements,
 ) -> WetHairResult {
-    guard("wethair_vulkan_requirements_create", || {
+    boundary!({
         let d = read_def!(host, WetHairVulkanDevice, "host");
         if out.is_null() {
             return Err(super::boundary::null("out"));
@@ -371,7 +371,7 @@ pub unsafe extern "C" fn wethair_vulkan_requirements_get_info(
     req: *const WetHairVulkanRequirements,
     out: *mut WetHairVulkanRequirementsInfo,
 ) -> WetHairResult {
-    guard("wethair_vulkan_requirements_get_info", || {
+    boundary!({
         let r = nonnull!(req, "req");
         let out = check_out_size!(out, WetHairVulkanRequirementsInfo, "out");
         #[cfg(feature = "vulkan")]
@@ -417,7 +417,7 @@ pub unsafe extern "C" fn wethair_sim_create_vulkan(
     host: *const WetHairVulkanDevice,
     out: *mut *mut WetHairSim,
 ) -> WetHairResult {
-    guard("wethair_sim_create_vulkan", || {
+    boundary!({
         let sd = read_def!(desc, WetHairSimDesc, "desc");
         let d = read_def!(host, WetHairVulkanDevice, "host");
         if out.is_null() {
@@ -455,7 +455,7 @@ pub unsafe extern "C" fn wethair_sim_get_vulkan_buffer(
     sim: *mut WetHairSim,
     out: *mut WetHairVulkanBuffer,
 ) -> WetHairResult {
-    guard("wethair_sim_get_vulkan_buffer", || {
+    boundary!({
         let s = nonnull_mut!(sim, "sim");
         let out = check_out_size!(out, WetHairVulkanBuffer, "out");
         #[cfg(feature = "vulkan")]
@@ -509,7 +509,7 @@ pub unsafe extern "C" fn wethair_sim_get_vulkan_water(
     sim: *mut WetHairSim,
     out: *mut WetHairVulkanWater,
 ) -> WetHairResult {
-    guard("wethair_sim_get_vulkan_water", || {
+    boundary!({
         let s = nonnull_mut!(sim, "sim");
         let out = check_out_size!(out, WetHairVulkanWater, "out");
         #[cfg(feature = "vulkan")]

@@ -1,107 +1,110 @@
-//! The plain-old-data records the GPU passes read, laid out exactly as the WGSL structs in
-//! `shaders/common.wgsl` declare them, and the helpers that create buffers.
+//! The plain-old-data records the GPU passes read (their WGSL twins are generated from these
+//! declarations by `gpu/wgsl.rs`), the word layouts of the status and grid buffers, and the
+//! helpers that create buffers.
 
-use bytemuck::{Pod, Zeroable};
+use super::wgsl::gpu_record;
 
-/// Per-step constants (WGSL `Params`, a uniform).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct Params {
-    /// Substep, s.
-    pub h: f32,
-    /// 1 / substep, computed on the host as the CPU backend does.
-    pub inv_h: f32,
-    /// Air drag on hair, N·s/m.
-    pub drag: f32,
-    /// Collider friction.
-    pub friction: f32,
-    /// Gravity (xyz), m/s².
-    pub g: [f32; 4],
-    /// Hair points.
-    pub points: u32,
-    /// Strands.
-    pub strands: u32,
-    /// Stretch stiffness and damping.
-    pub stretch_k: f32,
-    /// Stretch damping.
-    pub stretch_c: f32,
-    /// Bend stiffness.
-    pub bend_k: f32,
-    /// Bend damping.
-    pub bend_c: f32,
-    /// Eq. 2's r_min.
-    pub r_min: f32,
-    /// Eq. 2's r_max.
-    pub r_max: f32,
-    /// Eq. 2's s.
-    pub adhesion: f32,
-    /// Wetting per substep, min(rate h, 1).
-    pub wet_gain: f32,
-    /// 1 / particle mass.
-    pub particle_inv_mass: f32,
-    /// Particle drag, N·s/m.
-    pub water_drag: f32,
-    /// Particle capacity.
-    pub capacity: u32,
-    /// Floats per vertex.
-    pub stride: u32,
-    /// Position offset in floats, or `u32::MAX`.
-    pub pos_off: u32,
-    /// Tangent offset, or `u32::MAX`.
-    pub tan_off: u32,
-    /// Wetness offset, or `u32::MAX`.
-    pub wet_off: u32,
-    /// Particles waiting in the incoming buffer.
-    pub incoming: u32,
-    /// Most grid cells.
-    pub max_cells: u32,
-    /// Squared domain radius, m².
-    pub domain_r2: f32,
-    /// Domain centre (xyz), placed by this step's final head transform.
-    pub domain_center: [f32; 4],
+gpu_record! {
+    /// Per-step constants (WGSL `Params`, a uniform).
+    pub struct Params {
+        /// Substep, s.
+        pub h: f32,
+        /// 1 / substep, computed on the host as the CPU backend does.
+        pub inv_h: f32,
+        /// Air drag on hair, N·s/m.
+        pub drag: f32,
+        /// Collider friction.
+        pub friction: f32,
+        /// Gravity (xyz), m/s².
+        pub g: [f32; 4],
+        /// Hair points.
+        pub points: u32,
+        /// Strands.
+        pub strands: u32,
+        /// Stretch stiffness and damping.
+        pub stretch_k: f32,
+        /// Stretch damping.
+        pub stretch_c: f32,
+        /// Bend stiffness.
+        pub bend_k: f32,
+        /// Bend damping.
+        pub bend_c: f32,
+        /// Eq. 2's r_min.
+        pub r_min: f32,
+        /// Eq. 2's r_max.
+        pub r_max: f32,
+        /// Eq. 2's s.
+        pub adhesion: f32,
+        /// Wetting per substep, min(rate h, 1).
+        pub wet_gain: f32,
+        /// 1 / particle mass.
+        pub particle_inv_mass: f32,
+        /// Particle drag, N·s/m.
+        pub water_drag: f32,
+        /// Particle capacity.
+        pub capacity: u32,
+        /// Floats per vertex.
+        pub stride: u32,
+        /// Position offset in floats, or `u32::MAX`.
+        pub pos_off: u32,
+        /// Tangent offset, or `u32::MAX`.
+        pub tan_off: u32,
+        /// Wetness offset, or `u32::MAX`.
+        pub wet_off: u32,
+        /// Particles waiting in the incoming buffer.
+        pub incoming: u32,
+        /// Most grid cells.
+        pub max_cells: u32,
+        /// Squared domain radius, m².
+        pub domain_r2: f32,
+        /// Domain centre (xyz), placed by this step's final head transform.
+        pub domain_center: [f32; 4],
+    }
 }
 
-/// Constant data of one hair point (WGSL `Point`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct PointGpu {
-    /// Rest position in head space.
-    pub rest: [f32; 3],
-    /// 1 / mass, 0 when pinned.
-    pub inv_mass: f32,
-    /// Rest length to the next point.
-    pub rest_stretch: f32,
-    /// Rest length to the point after next.
-    pub rest_bend: f32,
-    /// The strand's first point.
-    pub first: u32,
-    /// The strand's last point.
-    pub last: u32,
+gpu_record! {
+    /// Constant data of one hair point (WGSL `Point`).
+    pub struct PointGpu {
+        /// Rest position in head space.
+        pub rest: [f32; 3],
+        /// 1 / mass, 0 when pinned.
+        pub inv_mass: f32,
+        /// Rest length to the next point.
+        pub rest_stretch: f32,
+        /// Rest length to the point after next.
+        pub rest_bend: f32,
+        /// The strand's first point.
+        pub first: u32,
+        /// The strand's last point.
+        pub last: u32,
+    }
 }
 
-/// Dynamic state of one hair point or particle (WGSL `State` / `Particle`): x (w = wetness)
-/// and v.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct StateGpu {
-    /// Position; w is the wetness (hair) or unused (water).
-    pub x: [f32; 4],
-    /// Velocity; w unused.
-    pub v: [f32; 4],
+gpu_record! {
+    /// Dynamic state of one hair point or particle (WGSL `State` / `Particle`): x (w = wetness)
+    /// and v.
+    pub struct StateGpu {
+        /// Position; w is the wetness (hair) or unused (water).
+        pub x: [f32; 4],
+        /// Velocity; w unused.
+        pub v: [f32; 4],
+    }
 }
 
-/// A collider placed for one substep (WGSL `Collider`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct ColliderGpu {
-    /// Axis start (xyz) and radius (w).
-    pub a: [f32; 4],
-    /// Axis (xyz) and 1 / |axis|² (w).
-    pub ab: [f32; 4],
+gpu_record! {
+    /// A collider placed for one substep (WGSL `Collider`).
+    pub struct ColliderGpu {
+        /// Axis start (xyz) and radius (w).
+        pub a: [f32; 4],
+        /// Axis (xyz) and 1 / |axis|² (w).
+        pub ab: [f32; 4],
+    }
 }
 
 /// Workgroup size of the per-point and per-particle passes.
 pub const WG: u32 = 64;
+/// Cells one workgroup of the grid's prefix sum covers (256 invocations x 4 cells).
+pub const SCAN_BLOCK: u32 = 1024;
 /// Workgroups per row of a 2D dispatch.
 pub const MAX_GROUPS_X: u32 = 65_535;
 
@@ -129,3 +132,57 @@ pub fn buffer(dev: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsa
 pub const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
     .union(wgpu::BufferUsages::COPY_DST)
     .union(wgpu::BufferUsages::COPY_SRC);
+
+/// Words before the per-cell counts in the `grid_count` buffer (the particles' bounds as
+/// order-preserving keys: lo.xyz at 0..3, hi.xyz at 3..6).
+pub const GRID_COUNT_HEADER: u32 = 8;
+
+/// Word offsets of the header at the start of the `grid` buffer, written by `grid_setup`.
+pub mod grid_header {
+    /// lo.xyz, as f32 bits.
+    pub const LO: u32 = 0;
+    /// Cell side, f32 bits.
+    pub const CELL: u32 = 3;
+    /// 1 / cell side, f32 bits.
+    pub const INV: u32 = 4;
+    /// dims.xyz.
+    pub const DIMS: u32 = 5;
+    /// dims.x * dims.y * dims.z.
+    pub const CELLS: u32 = 8;
+    /// Particles in the grid.
+    pub const COUNT: u32 = 9;
+    /// start[c] at START + c; start[cells] = count.
+    pub const START: u32 = 16;
+}
+
+/// Word offsets and flags of the hair status block (`status`, 4 words), which every readback
+/// carries first.
+pub mod status {
+    /// Largest v² this step (f32 bits, atomic max).
+    pub const SPEED2: u32 = 0;
+    /// Failure flags.
+    pub const FLAGS: u32 = 1;
+    /// First non-finite point (atomic min; `u32::MAX` when none).
+    pub const FAILED_POINT: u32 = 2;
+    /// Flag: a hair point became non-finite.
+    pub const HAIR_NONFINITE: u32 = 1;
+    /// Flag: a water particle became non-finite.
+    pub const WATER_NONFINITE: u32 = 2;
+}
+
+/// Word offsets of the water state block (`water_state`, 4 words).
+pub mod water_state {
+    /// Particles held.
+    pub const HELD: u32 = 0;
+    /// Particles kept by the cull in progress.
+    pub const KEPT: u32 = 1;
+    /// Particles removed since reset.
+    pub const REMOVED: u32 = 2;
+}
+
+/// An attribute offset meaning "not written" (`Params::pos_off` and friends).
+pub const NO_ATTRIBUTE: u32 = u32::MAX;
+
+/// Bytes of the head transform at the start of each substep's uniform (a column-major 4x4);
+/// the placed colliders follow, one [`ColliderGpu`] each.
+pub const SUBSTEP_HEAD_BYTES: u32 = 64;

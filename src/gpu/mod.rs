@@ -10,6 +10,7 @@ pub mod intercept;
 pub mod pipelines;
 #[cfg(feature = "vulkan")]
 pub mod vulkan;
+pub mod wgsl;
 
 pub use backend::GpuBackend;
 pub use device::GpuDevice;

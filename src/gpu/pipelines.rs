@@ -1,11 +1,12 @@
 //! Shader modules and pipelines assembled from the scene: each module is the shared prelude
 //! plus only the passes the scene uses, so a dry scene's shader has no adhesion code and its
 //! pipelines bind no water buffer. The hair substep's body is written from the pass list, the
-//! same list [`crate::cpu::step::pass_list`] gives the CPU backend.
+//! same list [`crate::plan::pass_list`] gives the CPU backend.
 
-use crate::cpu::step::Pass;
+use crate::plan::Pass;
 
 const COMMON: &str = include_str!("shaders/common.wgsl");
+const GRID: &str = include_str!("shaders/grid.wgsl");
 const HAIR: &str = include_str!("shaders/hair.wgsl");
 const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
 const WATER: &str = include_str!("shaders/water.wgsl");
@@ -28,15 +29,16 @@ pub struct SceneConsts {
     pub iterations: u32,
 }
 
+/// The scene's constants, the generated prelude (shared constants and structs), and the
+/// helpers every module uses.
 fn prelude(c: SceneConsts) -> String {
     format!(
-        "const WG: u32 = {}u;\nconst AXIAL: bool = {};\nconst BEND: bool = {};\nconst N_COLLIDERS: u32 = {}u;\n\
-         const NC: u32 = {}u;\n{COMMON}\n",
-        super::buffers::WG,
+        "const AXIAL: bool = {};\nconst BEND: bool = {};\nconst N_COLLIDERS: u32 = {}u;\nconst NC: u32 = {}u;\n{}{COMMON}\n",
         c.axial,
         c.bend,
         c.colliders,
-        c.colliders.max(1)
+        c.colliders.max(1),
+        super::wgsl::prelude(),
     )
 }
 
@@ -81,8 +83,13 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
          \x20   var x = s.x.xyz;\n    var v = s.v.xyz;\n    var wet = s.x.w;\n    var f = vec3<f32>(0.0);\n\
          {body}    check(i, x, v);\n    state_out[i] = State(vec4<f32>(x, wet), vec4<f32>(v, 0.0));\n}}\n",
         prelude(c),
-        if wet { ADHESION } else { "" },
+        if wet { adhesion() } else { String::new() },
     )
+}
+
+/// Eq. 2 and the grid queries it makes (wet scenes only).
+fn adhesion() -> String {
+    format!("{GRID}\n{ADHESION}")
 }
 
 /// Implicit Euler's hair module: `hair_forces` (drag, adhesion, wetting; per point, only when
@@ -95,7 +102,7 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
         "{}{HAIR}\n{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
          const COLLIDE: bool = {};\n{IMPLICIT}\n",
         prelude(c),
-        if wet { ADHESION } else { "" },
+        if wet { adhesion() } else { String::new() },
         c.max_points.max(2),
         c.iterations.max(1),
         passes.contains(&Pass::Collide),
@@ -124,7 +131,7 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
 
 /// The water module (grid build, append, cull).
 pub fn water_source(c: SceneConsts) -> String {
-    format!("{}{WATER}", prelude(c))
+    format!("{}{GRID}\n{WATER}", prelude(c))
 }
 
 /// The vertex output module.

@@ -5,6 +5,10 @@
 use super::lanes::{Lane, L3, W};
 use glam::{Affine3A, Vec3};
 
+/// Squared distance from the axis below which a point counts as on it: its push-out normal is
+/// then +z (no direction can be taken from the offset).
+pub const ON_AXIS_D2: f32 = 1e-24;
+
 /// A collider shape in head space.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
@@ -84,7 +88,7 @@ pub fn collide_row(x: &mut L3, v: &mut L3, inv_mass: &Lane, c: &Placed, friction
         let d2 = dx * dx + dy * dy + dz * dz;
         let inside = (d2 < r2) & (inv_mass[l] > 0.0);
         // On the axis there is no way out: push along +z, as collide_point does.
-        let on_axis = d2 <= 1e-24;
+        let on_axis = d2 <= ON_AXIS_D2;
         let inv = if on_axis { 0.0 } else { 1.0 / d2.sqrt() };
         let (nx, ny, nz) = if on_axis {
             (0.0, 0.0, 1.0)
@@ -126,7 +130,7 @@ fn closest(c: &Placed, p: Vec3) -> (bool, Vec3, Vec3) {
         return (false, p, Vec3::ZERO);
     }
     // A point exactly on the axis has no direction out: push it along +z (up), a fixed choice.
-    let n = if d2 > 1e-24 { d / d2.sqrt() } else { Vec3::Z };
+    let n = if d2 > ON_AXIS_D2 { d / d2.sqrt() } else { Vec3::Z };
     (true, axis + n * c.radius, n)
 }
 

@@ -24,6 +24,17 @@ use super::spring::{SpringLanes, MIN_LENGTH};
 /// Half-bandwidth of a strand's matrix in scalars (a bend spring couples DOFs 6 ± 2 apart).
 pub const BAND: usize = 8;
 
+/// Smallest pivot the GPU's f32 Cholesky takes (`implicit.wgsl`); this file's f64 solve
+/// floors at 1e-300. Both only keep a singular system from dividing by zero.
+pub const PIVOT_FLOOR_F32: f32 = 1e-30;
+
+/// Sufficient decrease the Armijo line search asks of a step (both solves).
+pub const ARMIJO_C1: f64 = 1e-4;
+
+/// Relative slack in the GPU's f32 Armijo test (`implicit.wgsl`), where the f64 line search
+/// here allows 1e-12: f32 energies of a whole strand round at about 1e-7 of their size.
+pub const ARMIJO_SLACK_F32: f32 = 1e-6;
+
 /// One f64 per strand of a lane group.
 pub type LaneD = [f64; W];
 
@@ -286,7 +297,7 @@ pub fn implicit_euler_block<const AXIAL: bool>(
             for l in 0..W {
                 if !done[l] {
                     // A NaN energy fails the test, so a step that overflows is halved away.
-                    if e[l] <= e0[l] + 1e-4 * step[l] * slope[l] + 1e-12 * e0[l].abs() {
+                    if e[l] <= e0[l] + ARMIJO_C1 * step[l] * slope[l] + 1e-12 * e0[l].abs() {
                         done[l] = true;
                     } else {
                         step[l] *= 0.5;

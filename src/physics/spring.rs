@@ -6,14 +6,17 @@
 
 use super::lanes::{Lane, L3, W};
 
-/// Which velocity the spring damper acts on.
+/// Which relative velocity a spring damper acts on (`WetHairSimDesc::damping_model`);
+/// exported as `WetHairDampingModel`.
+/// cbindgen:rename-all=prefix:WETHAIR_DAMPING_
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u32)]
+#[allow(non_camel_case_types)]
 pub enum DampingModel {
     /// The paper's form: `c (v_b - v_a)`, the whole relative velocity.
-    Relative = 0,
+    RELATIVE = 0,
     /// Along the spring only: `c ((v_b - v_a)·d̂) d̂` (the peers' scene uses this).
-    Axial = 1,
+    AXIAL = 1,
 }
 
 /// Segments shorter than this have no defined direction: the spring exerts no force rather

@@ -6,32 +6,9 @@
 @group(1) @binding(1) var<storage, read_write> water_force: array<atomic<u32>>;
 @group(1) @binding(2) var<storage, read> grid: array<u32>;
 
-// Grid header layout in `grid` (written by grid_setup in water.wgsl).
-const G_LO: u32 = 0u;       // lo.xyz as f32 bits
-const G_CELL: u32 = 3u;     // cell side
-const G_INV: u32 = 4u;      // 1 / cell
-const G_DIMS: u32 = 5u;     // dims.xyz
-const G_CELLS: u32 = 8u;    // dims.x * dims.y * dims.z
-const G_COUNT: u32 = 9u;    // particles
-const G_START: u32 = 16u;   // start[c] at G_START + c, start[cells] = count
-
-fn grid_lo() -> vec3<f32> {
-    return vec3<f32>(bitcast<f32>(grid[G_LO]), bitcast<f32>(grid[G_LO + 1u]), bitcast<f32>(grid[G_LO + 2u]));
-}
-
-fn grid_dims() -> vec3<i32> {
-    return vec3<i32>(i32(grid[G_DIMS]), i32(grid[G_DIMS + 1u]), i32(grid[G_DIMS + 2u]));
-}
-
-// Eq. 4 with clamping (physics/grid.rs `cell_of`).
-fn cell_of(p: vec3<f32>, lo: vec3<f32>, inv_cell: f32, dims: vec3<i32>) -> vec3<i32> {
-    let c = clamp((p - lo) * inv_cell, vec3<f32>(0.0), vec3<f32>(dims - vec3<i32>(1)));
-    return min(max(vec3<i32>(c), vec3<i32>(0)), dims - vec3<i32>(1));
-}
-
-// Eq. 2's factor (physics/adhesion.rs `force_scale`): s g(d) / d within [1e-9, r_max], else 0.
+// Eq. 2's factor (physics/adhesion.rs `force_scale`): s g(d) / d within [MIN_DISTANCE, r_max], else 0.
 fn force_scale(d2: f32) -> f32 {
-    if (d2 > P.r_max * P.r_max || d2 < 1.0e-18) {
+    if (d2 > P.r_max * P.r_max || d2 < MIN_DISTANCE * MIN_DISTANCE) {
         return 0.0;
     }
     let d = sqrt(d2);
@@ -117,7 +94,7 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
         collide(&x, &v, S.colliders[c], P.friction);
     }
     if (non_finite(dot(v, v) + x.x + x.y + x.z)) {
-        atomicOr(&status[1], 2u);
+        atomicOr(&status[STATUS_FLAGS], FLAG_WATER_NONFINITE);
     }
     sorted[k] = Particle(vec4<f32>(x, 0.0), vec4<f32>(v, 0.0));
 }

@@ -3,18 +3,13 @@
 // integrate, collide. Each point gathers the springs it belongs to, so no two invocations
 // write the same point; state_in / state_out ping-pong between substeps.
 
-struct Substep {
-    head: mat4x4<f32>,
-    colliders: array<Collider, NC>,
-}
-
 @group(0) @binding(0) var<uniform> P: Params;
 @group(0) @binding(1) var<uniform> S: Substep;
 @group(0) @binding(2) var<storage, read> points: array<Point>;
 @group(0) @binding(3) var<storage, read> state_in: array<State>;
 @group(0) @binding(4) var<storage, read_write> state_out: array<State>;
-// [0] largest v^2 this step (f32 bits), [1] failure flags (1 hair, 2 water),
-// [2] first non-finite point (min), [3] unused.
+// [STATUS_SPEED2] largest v^2 this step (f32 bits), [STATUS_FLAGS] failure flags,
+// [STATUS_FAILED_POINT] first non-finite point (min), [3] unused.
 @group(0) @binding(5) var<storage, read_write> status: array<atomic<u32>, 4>;
 
 // Eq. 1 (physics/spring.rs `spring`): the force on point a from the spring a-b; b gets minus it.
@@ -22,7 +17,7 @@ fn spring(xa: vec3<f32>, xb: vec3<f32>, va: vec3<f32>, vb: vec3<f32>, rest: f32,
     let d = xb - xa;
     let len = sqrt(dot(d, d));
     var inv = 0.0;
-    if (len > 1.0e-12) {
+    if (len > MIN_LENGTH) {
         inv = 1.0 / len;
     }
     let n = d * inv;
@@ -84,9 +79,9 @@ fn integrate(pt: Point, x: ptr<function, vec3<f32>>, v: ptr<function, vec3<f32>>
 fn check(i: u32, x: vec3<f32>, v: vec3<f32>) {
     let v2 = dot(v, v);
     if (non_finite(v2 + x.x + x.y + x.z)) {
-        atomicOr(&status[1], 1u);
-        atomicMin(&status[2], i);
+        atomicOr(&status[STATUS_FLAGS], FLAG_HAIR_NONFINITE);
+        atomicMin(&status[STATUS_FAILED_POINT], i);
         return;
     }
-    atomicMax(&status[0], bitcast<u32>(v2));
+    atomicMax(&status[STATUS_SPEED2], bitcast<u32>(v2));
 }

@@ -8,9 +8,8 @@
 @group(2) @binding(0) var<storage, read> strand_first: array<u32>;
 
 const N_MAX: u32 = 3u * P_MAX;
-const BAND: u32 = 8u;
 
-var<private> band: array<array<f32, 9>, N_MAX>;
+var<private> band: array<array<f32, BAND + 1u>, N_MAX>;
 var<private> rhs: array<f32, N_MAX>;
 var<private> tgt: array<f32, N_MAX>;
 var<private> xi: array<f32, N_MAX>;
@@ -26,13 +25,13 @@ fn spring_terms(x: ptr<private, array<f32, N_MAX>>, base: u32, a: u32, b: u32, k
                 hess: bool) -> f32 {
     let d = dof3(x, b) - dof3(x, a);
     let len = sqrt(dot(d, d));
-    let ok = len > 1.0e-12;
+    let ok = len > MIN_LENGTH;
     let inv = select(0.0, 1.0 / len, ok);
     let n = d * inv;
     // Damping potential about the spring's vector at the start of the step.
     let d0 = state_in[base + b].x.xyz - state_in[base + a].x.xyz;
     let len0 = sqrt(dot(d0, d0));
-    let n0 = select(vec3<f32>(0.0), d0 / len0, len0 > 1.0e-12);
+    let n0 = select(vec3<f32>(0.0), d0 / len0, len0 > MIN_LENGTH);
     let dd = d - d0;
     let ch = P.h * c;
     let hh = P.h * P.h;
@@ -82,7 +81,7 @@ fn strand_terms(x: ptr<private, array<f32, N_MAX>>, base: u32, p: u32, hess: boo
             e += 0.5 * m * d * d;
             grad[r] = m * d;
             if (hess) {
-                band[r] = array<f32, 9>(select(1.0, m, w > 0.0), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+                band[r] = array<f32, BAND + 1u>(select(1.0, m, w > 0.0), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
             }
         }
     }
@@ -112,7 +111,7 @@ fn solve_banded(n: u32) {
         for (var k = 1u; k <= min(BAND, r); k++) {
             s -= band[r][k] * band[r][k];
         }
-        band[r][0] = sqrt(max(s, 1.0e-30));
+        band[r][0] = sqrt(max(s, PIVOT_FLOOR_F32));
     }
     for (var r = 0u; r < n; r++) {
         var s = rhs[r];
@@ -199,7 +198,7 @@ fn implicit_solve(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
                 trial[r] = xi[r] + step * rhs[r];
             }
             let e = strand_terms(&trial, base, p, false);
-            if (e <= e0 + 1.0e-4 * step * slope + 1.0e-6 * abs(e0)) {
+            if (e <= e0 + ARMIJO_C1 * step * slope + ARMIJO_SLACK_F32 * abs(e0)) {
                 done = true;
                 break;
             }

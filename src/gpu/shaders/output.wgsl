@@ -8,23 +8,21 @@
 @group(0) @binding(3) var<storage, read> status: array<u32, 4>;
 @group(0) @binding(4) var<storage, read_write> vertices: array<f32>;
 
-const NONE: u32 = 0xffffffffu;
-
 @compute @workgroup_size(WG)
 fn write_vertices(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                   @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
-    if (i >= P.points || status[1] != 0u) {
+    if (i >= P.points || status[STATUS_FLAGS] != 0u) {
         return;
     }
     let o = i * P.stride;
     let x = state[i].x;
-    if (P.pos_off != NONE) {
+    if (P.pos_off != NO_ATTRIBUTE) {
         vertices[o + P.pos_off] = x.x;
         vertices[o + P.pos_off + 1u] = x.y;
         vertices[o + P.pos_off + 2u] = x.z;
     }
-    if (P.tan_off != NONE) {
+    if (P.tan_off != NO_ATTRIBUTE) {
         let pt = points[i];
         let d = state[min(i + 1u, pt.last)].x.xyz - state[max(i, pt.first + 1u) - 1u].x.xyz;
         let len = sqrt(dot(d, d));
@@ -36,7 +34,7 @@ fn write_vertices(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
         vertices[o + P.tan_off + 1u] = t.y;
         vertices[o + P.tan_off + 2u] = t.z;
     }
-    if (P.wet_off != NONE) {
+    if (P.wet_off != NO_ATTRIBUTE) {
         vertices[o + P.wet_off] = x.w;
     }
 }

@@ -7,24 +7,15 @@
 @group(0) @binding(1) var<storage, read_write> cur: array<Particle>;
 @group(0) @binding(2) var<storage, read_write> other: array<Particle>;
 @group(0) @binding(3) var<storage, read_write> water_force: array<u32>;
-// [0..3) max of ~key(lo), [3..6) max of key(hi), [8 + c] particles in cell c.
+// [0..3) max of ~key(lo), [3..6) max of key(hi), [GRID_COUNT_HEADER + c] particles in cell c.
 @group(0) @binding(4) var<storage, read_write> grid_count: array<atomic<u32>>;
 @group(0) @binding(5) var<storage, read_write> grid: array<u32>;
-// [0] particles, [1] kept by the cull, [2] removed since reset.
+// [WATER_HELD] particles, [WATER_KEPT] kept by the cull, [WATER_REMOVED] removed since reset.
 @group(0) @binding(6) var<storage, read_write> water_state: array<atomic<u32>, 4>;
 @group(0) @binding(7) var<storage, read> incoming: array<Particle>;
 // The prefix sum's indirect dispatch size: bound only for grid_setup, as a buffer cannot be
 // storage and indirect in one dispatch.
 @group(1) @binding(0) var<storage, read_write> grid_dispatch: array<u32, 3>;
-
-const G_LO: u32 = 0u;
-const G_CELL: u32 = 3u;
-const G_INV: u32 = 4u;
-const G_DIMS: u32 = 5u;
-const G_CELLS: u32 = 8u;
-const G_COUNT: u32 = 9u;
-const G_START: u32 = 16u;
-const SCAN_BLOCK: u32 = 1024u;
 
 // Float bits mapped so that unsigned order is float order.
 fn order_key(f: f32) -> u32 {
@@ -42,22 +33,6 @@ fn order_value(k: u32) -> f32 {
     return bitcast<f32>(~k);
 }
 
-fn grid_lo() -> vec3<f32> {
-    return vec3<f32>(bitcast<f32>(grid[G_LO]), bitcast<f32>(grid[G_LO + 1u]), bitcast<f32>(grid[G_LO + 2u]));
-}
-
-fn grid_dims() -> vec3<i32> {
-    return vec3<i32>(i32(grid[G_DIMS]), i32(grid[G_DIMS + 1u]), i32(grid[G_DIMS + 2u]));
-}
-
-// Eqs. 4-5 with clamping (physics/grid.rs `cell_of`, `index`).
-fn cell_index(p: vec3<f32>) -> u32 {
-    let dims = grid_dims();
-    let c = clamp((p - grid_lo()) * bitcast<f32>(grid[G_INV]), vec3<f32>(0.0), vec3<f32>(dims - vec3<i32>(1)));
-    let ci = min(max(vec3<i32>(c), vec3<i32>(0)), dims - vec3<i32>(1));
-    return u32((ci.x * dims.y + ci.y) * dims.z + ci.z);
-}
-
 // Pass water_append: new particles go after the live ones.
 @compute @workgroup_size(WG)
 fn water_append(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
@@ -66,7 +41,7 @@ fn water_append(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     if (i >= P.incoming) {
         return;
     }
-    let slot = atomicAdd(&water_state[0], 1u);
+    let slot = atomicAdd(&water_state[WATER_HELD], 1u);
     if (slot < P.capacity) {
         cur[slot] = incoming[i];
     }
@@ -80,7 +55,7 @@ var<workgroup> wg_bounds: array<atomic<u32>, 6>;
 fn grid_bounds(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
-    if (i < atomicLoad(&water_state[0])) {
+    if (i < atomicLoad(&water_state[WATER_HELD])) {
         let x = cur[i].x.xyz;
         for (var a = 0u; a < 3u; a++) {
             atomicMax(&wg_bounds[a], ~order_key(x[a]));
@@ -100,7 +75,7 @@ fn grid_bounds(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
 // them; the prefix sum's indirect dispatch size; bounds cleared for the next build.
 @compute @workgroup_size(1)
 fn grid_setup() {
-    let n = atomicLoad(&water_state[0]);
+    let n = atomicLoad(&water_state[WATER_HELD]);
     var lo = vec3<f32>(0.0);
     var hi = vec3<f32>(0.0);
     if (n > 0u) {
@@ -144,7 +119,7 @@ fn grid_count_cells(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgrou
     if (i >= grid[G_COUNT]) {
         return;
     }
-    atomicAdd(&grid_count[8u + cell_index(cur[i].x.xyz)], 1u);
+    atomicAdd(&grid_count[GRID_COUNT_HEADER + cell_index(cur[i].x.xyz)], 1u);
 }
 
 var<workgroup> scan: array<u32, 256>;
@@ -174,7 +149,7 @@ fn grid_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invoca
     var sum = 0u;
     for (var k = 0u; k < 4u; k++) {
         if (base + k < cells) {
-            c[k] = atomicLoad(&grid_count[8u + base + k]);
+            c[k] = atomicLoad(&grid_count[GRID_COUNT_HEADER + base + k]);
         }
         sum += c[k];
     }
@@ -233,7 +208,7 @@ fn grid_scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     }
     let p = cur[i];
     let c = cell_index(p.x.xyz);
-    let slot = grid[G_START + c] + atomicSub(&grid_count[8u + c], 1u) - 1u;
+    let slot = grid[G_START + c] + atomicSub(&grid_count[GRID_COUNT_HEADER + c], 1u) - 1u;
     other[slot] = p;
     water_force[4u * slot] = 0u;
     water_force[4u * slot + 1u] = 0u;
@@ -246,21 +221,21 @@ fn grid_scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
 fn water_cull(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
               @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
-    if (i >= atomicLoad(&water_state[0])) {
+    if (i >= atomicLoad(&water_state[WATER_HELD])) {
         return;
     }
     let p = cur[i];
     let d = p.x.xyz - P.domain_center.xyz;
     if (dot(d, d) > P.domain_r2) {
-        atomicAdd(&water_state[2], 1u);
+        atomicAdd(&water_state[WATER_REMOVED], 1u);
         return;
     }
-    other[atomicAdd(&water_state[1], 1u)] = p;
+    other[atomicAdd(&water_state[WATER_KEPT], 1u)] = p;
 }
 
 // Pass water_cull, part 2 (one invocation): the kept count becomes the count.
 @compute @workgroup_size(1)
 fn water_cull_finish() {
-    atomicStore(&water_state[0], atomicLoad(&water_state[1]));
-    atomicStore(&water_state[1], 0u);
+    atomicStore(&water_state[WATER_HELD], atomicLoad(&water_state[WATER_KEPT]));
+    atomicStore(&water_state[WATER_KEPT], 0u);
 }

@@ -12,11 +12,11 @@
 @compute @workgroup_size(WG)
 fn write_water_vertices(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                         @builtin(local_invocation_index) lid: u32) {
-    if (status[1] != 0u) {
+    if (status[STATUS_FLAGS] != 0u) {
         return;
     }
     let i = linear_id(wid, nwg, lid);
-    let n = min(water_state[0], arrayLength(&water_vertices));
+    let n = min(water_state[WATER_HELD], arrayLength(&water_vertices));
     if (i == 0u) {
         water_draw[0] = n;
         water_draw[1] = 1u;

@@ -1,0 +1,77 @@
+//! The CPU backend behind the [`Engine`] seam: answers in the host's order from the
+//! strand-major blocks.
+
+use super::step::CpuBackend;
+use crate::engine::{Counters, Engine, PointState};
+use crate::error::Result;
+use crate::params::{Backend, Integrator, VertexAttributes};
+use crate::plan::Pass;
+use glam::{Affine3A, Vec3};
+
+impl Engine for CpuBackend {
+    fn kind(&self) -> Backend {
+        Backend::CPU
+    }
+
+    fn integrator(&self) -> Integrator {
+        CpuBackend::integrator(self)
+    }
+
+    fn passes(&self) -> Vec<Pass> {
+        CpuBackend::passes(self)
+    }
+
+    fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
+        CpuBackend::add_water(self, pos, vel)
+    }
+
+    fn clear_water(&mut self) {
+        CpuBackend::clear_water(self)
+    }
+
+    fn step(&mut self, dt: f32, from: &Affine3A, to: &Affine3A) -> Result<f32> {
+        CpuBackend::step(self, dt, from, to).map(|rep| rep.max_speed)
+    }
+
+    fn reset(&mut self, head: &Affine3A) {
+        CpuBackend::reset(self, head)
+    }
+
+    fn write_vertices(&mut self, attrs: VertexAttributes, dst: &mut [f32]) -> Result<()> {
+        CpuBackend::write_vertices(self, attrs, dst);
+        Ok(())
+    }
+
+    fn point_states(&self) -> Result<Vec<PointState>> {
+        let lay = &self.lay;
+        let mut out = Vec::with_capacity(lay.mass.len());
+        for s in 0..lay.strands {
+            let (b, l) = lay.lane_of(s);
+            for i in 0..lay.strand_points(s) {
+                let r = &self.state[b * lay.rows + i];
+                let w = self.wet.get(b * lay.rows + i).map_or(0.0, |w| w[l]);
+                out.push((r.x.get(l), r.v.get(l), w));
+            }
+        }
+        Ok(out)
+    }
+
+    fn water(&self) -> Result<(Vec<Vec3>, Vec<Vec3>)> {
+        Ok(self
+            .water
+            .as_ref()
+            .map_or_else(Default::default, |w| (w.pos.clone(), w.vel.clone())))
+    }
+
+    fn counters(&self) -> Counters {
+        Counters {
+            particles: self.water.as_ref().map_or(0, |w| w.len()) as u32,
+            particles_removed: self.water.as_ref().map_or(0, |w| w.removed),
+            threads: self.threads() as u32,
+        }
+    }
+
+    fn buffers(&self) -> Vec<(&'static str, usize)> {
+        CpuBackend::buffers(self)
+    }
+}

@@ -1,0 +1,333 @@
+//! The CPU backend's block kernel: one substep of one block of 8 strands, pass by pass in the
+//! pass list's order (drag, stretch and bend springs, adhesion, integrate, collide), on SIMD
+//! lanes. `step.rs` schedules it over blocks and substeps.
+
+use super::layout::{Layout, StateRow};
+use crate::params::Integrator;
+use crate::physics::adhesion;
+use crate::physics::collide::{collide_row, Placed};
+use crate::physics::implicit::{implicit_euler_block, BandScratch};
+use crate::physics::integrate::symplectic_euler_row;
+use crate::physics::lanes::{Lane, L3, W};
+use crate::physics::spring::spring;
+use crate::physics::xpbd;
+use glam::{Affine3A, Vec3};
+
+/// Most grid columns one row query walks (a row spanning ~6 cells a side); wider rows query
+/// lane by lane (3 x 3 columns each, as cells are r_max wide).
+const MAX_RUNS: usize = 49;
+
+/// Per-worker scratch, allocated at create (water buffers at the first add).
+#[derive(Debug, Default)]
+pub struct Worker {
+    pub(super) f: Vec<L3>,
+    /// Reaction forces on particles, in grid order, coordinates apart.
+    pub(super) water_force: [Vec<f32>; 3],
+    pub(super) max_v2: f32,
+    pub(super) nonfinite: bool,
+    /// Banded system of one block (implicit Euler only).
+    pub(super) band: Option<BandScratch>,
+    /// Positions before the substep (XPBD only).
+    pub(super) prev: Vec<L3>,
+    /// Constraint multipliers, stretch then bend (XPBD only).
+    pub(super) lambda: Vec<Lane>,
+}
+
+/// Constant inputs of one substep.
+pub(super) struct Ctx<'a> {
+    pub(super) integrator: Integrator,
+    pub(super) solver_iterations: u32,
+    pub(super) lay: &'a Layout,
+    pub(super) avx2: bool,
+    pub(super) h: f32,
+    pub(super) g: [f32; 3],
+    pub(super) drag: f32,
+    pub(super) bend: bool,
+    pub(super) heads: &'a [Affine3A],
+    pub(super) placed: &'a [Placed],
+    pub(super) n_colliders: usize,
+    pub(super) friction: f32,
+    pub(super) water: Option<WaterCtx<'a>>,
+}
+
+/// Water inputs of one substep (read-only while blocks run).
+pub(super) struct WaterCtx<'a> {
+    pub(super) grid: &'a crate::physics::grid::Grid,
+    pub(super) sorted: &'a [Vec<f32>; 3],
+    pub(super) r_min: f32,
+    pub(super) r_max: f32,
+    pub(super) s: f32,
+    pub(super) wet_gain: f32,
+}
+
+/// One substep of one block, compiled for the best instruction set this CPU has (AVX2 where
+/// present, else the baseline). No FMA contraction happens in either, so both give the same
+/// bits.
+#[inline(always)]
+pub(super) fn block_substep<const AXIAL: bool>(
+    ctx: &Ctx,
+    b: usize,
+    s: usize,
+    rows: &mut [StateRow],
+    wet: &mut [Lane],
+    worker: &mut Worker,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if ctx.avx2 {
+        // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")` at create.
+        unsafe { block_substep_avx2::<AXIAL>(ctx, b, s, rows, wet, worker) };
+        return;
+    }
+    block_substep_base::<AXIAL>(ctx, b, s, rows, wet, worker)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn block_substep_avx2<const AXIAL: bool>(
+    ctx: &Ctx,
+    b: usize,
+    s: usize,
+    rows: &mut [StateRow],
+    wet: &mut [Lane],
+    worker: &mut Worker,
+) {
+    block_substep_impl::<AXIAL>(ctx, b, s, rows, wet, worker)
+}
+
+#[inline(never)]
+fn block_substep_base<const AXIAL: bool>(
+    ctx: &Ctx,
+    b: usize,
+    s: usize,
+    rows: &mut [StateRow],
+    wet: &mut [Lane],
+    worker: &mut Worker,
+) {
+    block_substep_impl::<AXIAL>(ctx, b, s, rows, wet, worker)
+}
+
+/// One substep of one block: forces → integrate → collide. The heart of the CPU backend.
+#[inline(always)]
+fn block_substep_impl<const AXIAL: bool>(
+    ctx: &Ctx,
+    b: usize,
+    s: usize,
+    rows: &mut [StateRow],
+    wet: &mut [Lane],
+    worker: &mut Worker,
+) {
+    let lay = ctx.lay;
+    let p = lay.rows;
+    let base = b * p;
+    let params = &lay.params[base..base + p];
+    let f = &mut worker.f[..p];
+
+    // Pass: drag (or clear the force accumulators).
+    for (fi, r) in f.iter_mut().zip(rows.iter()) {
+        for l in 0..W {
+            fi.x[l] = -ctx.drag * r.v.x[l];
+            fi.y[l] = -ctx.drag * r.v.y[l];
+            fi.z[l] = -ctx.drag * r.v.z[l];
+        }
+    }
+    // Pass: stretch springs (i, i+1) (XPBD projects them as constraints instead).
+    // (Implicit Euler evaluates them inside its Newton iterations.)
+    let springs_as_forces = ctx.integrator == Integrator::SYMPLECTIC_EULER;
+    for i in (0..p - 1).filter(|_| springs_as_forces) {
+        let (fa, fb) = f.split_at_mut(i + 1);
+        let (ra, rb) = (&rows[i], &rows[i + 1]);
+        spring::<AXIAL>(&ra.x, &rb.x, &ra.v, &rb.v, &params[i].stretch, &mut fa[i], &mut fb[0]);
+    }
+    // Pass: bend springs (i, i+2).
+    if ctx.bend && springs_as_forces {
+        for i in 0..p - 2 {
+            let (fa, fb) = f.split_at_mut(i + 2);
+            let (ra, rb) = (&rows[i], &rows[i + 2]);
+            spring::<AXIAL>(&ra.x, &rb.x, &ra.v, &rb.v, &params[i].bend, &mut fa[i], &mut fb[0]);
+        }
+    }
+    // Pass: adhesion (eq. 2), gathered per hair point; reactions go to this worker's
+    // particle force buffer (summed over workers before the particles move).
+    if let Some(w) = &ctx.water {
+        for (i, r) in rows.iter().enumerate() {
+            // Which lanes can have a particle within r_max (SIMD prefilter), minus padding.
+            let mut lanes = w.grid.may_have_near_lanes(&r.x, w.r_max) & lay.real_lanes[base + i] as u32;
+            if lanes == 0 {
+                continue;
+            }
+            // Row path: one query for the lanes' bounds, each particle against all lanes at once.
+            // Morton-ordered strands keep most rows compact; a row too wide for MAX_RUNS columns
+            // goes lane by lane.
+            let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+            let mut mask = [0.0f32; W];
+            for l in 0..W {
+                if lanes & (1 << l) != 0 {
+                    mask[l] = 1.0;
+                    lo = lo.min(r.x.get(l));
+                    hi = hi.max(r.x.get(l));
+                }
+            }
+            let mut runs = [(0u32, 0u32); MAX_RUNS];
+            let mut acc = L3::ZERO;
+            let mut near = [0.0f32; W];
+            if let Some(n) = w.grid.runs_in_box(lo - w.r_max, hi + w.r_max, &mut runs) {
+                gather_runs(w, &r.x, &mask, &runs[..n], &mut worker.water_force, &mut acc, &mut near);
+            } else {
+                while lanes != 0 {
+                    let l = lanes.trailing_zeros() as usize;
+                    lanes &= lanes - 1;
+                    let mut one = [0.0f32; W];
+                    one[l] = 1.0;
+                    let x = r.x.get(l);
+                    let n = w
+                        .grid
+                        .runs_in_box(x - w.r_max, x + w.r_max, &mut runs)
+                        .expect("a point's query spans 3x3 columns");
+                    gather_runs(w, &r.x, &one, &runs[..n], &mut worker.water_force, &mut acc, &mut near);
+                }
+            }
+            let fi = &mut f[i];
+            for l in 0..W {
+                fi.x[l] += acc.x[l];
+                fi.y[l] += acc.y[l];
+                fi.z[l] += acc.z[l];
+                wet[i][l] += (1.0 - wet[i][l]) * w.wet_gain * near[l];
+            }
+        }
+    }
+    // Pass: integrate; pinned points take the head's target.
+    let head = &ctx.heads[s];
+    let target = |i: usize| -> Option<L3> {
+        if !lay.pinned_row[base + i] {
+            return None;
+        }
+        let rest = &lay.rest_local[base + i];
+        let mut t = L3::ZERO;
+        for l in 0..W {
+            t.set(l, head.transform_point3(rest.get(l)));
+        }
+        Some(t)
+    };
+    match ctx.integrator {
+        Integrator::IMPLICIT_EULER => {
+            let sc = worker.band.as_mut().expect("band scratch allocated for implicit Euler");
+            let iters = ctx.solver_iterations;
+            implicit_euler_block::<AXIAL>(rows, f, params, &target, ctx.bend, ctx.g, ctx.h, iters, sc);
+        }
+        Integrator::XPBD => {
+            let prev = &mut worker.prev[..p];
+            let lambda = &mut worker.lambda[..2 * p];
+            lambda.fill([0.0; W]);
+            for i in 0..p {
+                let r = &mut rows[i];
+                xpbd::predict_row(
+                    &mut r.x,
+                    &mut r.v,
+                    &mut prev[i],
+                    &f[i],
+                    &params[i].inv_mass,
+                    target(i).as_ref(),
+                    ctx.g,
+                    ctx.h,
+                );
+            }
+            for _ in 0..ctx.solver_iterations.max(1) {
+                for i in 0..p - 1 {
+                    let (ra, rb) = rows.split_at_mut(i + 1);
+                    let (wa, wb) = (&params[i].inv_mass, &params[i + 1].inv_mass);
+                    xpbd::project(
+                        &mut ra[i].x,
+                        &mut rb[0].x,
+                        wa,
+                        wb,
+                        &params[i].stretch,
+                        &mut lambda[i],
+                        ctx.h,
+                    );
+                }
+                if ctx.bend {
+                    for i in 0..p - 2 {
+                        let (ra, rb) = rows.split_at_mut(i + 2);
+                        let (wa, wb) = (&params[i].inv_mass, &params[i + 2].inv_mass);
+                        xpbd::project(
+                            &mut ra[i].x,
+                            &mut rb[0].x,
+                            wa,
+                            wb,
+                            &params[i].bend,
+                            &mut lambda[p + i],
+                            ctx.h,
+                        );
+                    }
+                }
+            }
+            for i in 0..p {
+                xpbd::finish_row(&rows[i].x, &mut rows[i].v, &prev[i], ctx.h);
+            }
+        }
+        _ => {
+            for i in 0..p {
+                let r = &mut rows[i];
+                let t = target(i);
+                symplectic_euler_row(&mut r.x, &mut r.v, &f[i], &params[i].inv_mass, t.as_ref(), ctx.g, ctx.h);
+            }
+        }
+    }
+    let mut max_v2 = worker.max_v2;
+    let mut check = 0.0f32;
+    for i in 0..p {
+        let r = &mut rows[i];
+        // Pass: collide.
+        for c in &ctx.placed[s * ctx.n_colliders..(s + 1) * ctx.n_colliders] {
+            collide_row(&mut r.x, &mut r.v, &params[i].inv_mass, c, ctx.friction);
+        }
+        for l in 0..W {
+            let v2 = r.v.x[l] * r.v.x[l] + r.v.y[l] * r.v.y[l] + r.v.z[l] * r.v.z[l];
+            max_v2 = max_v2.max(v2);
+            // Any NaN or inf in a lane makes the running sum non-finite.
+            check += v2 + r.x.x[l] + r.x.y[l] + r.x.z[l];
+        }
+    }
+    worker.max_v2 = max_v2;
+    if !check.is_finite() {
+        worker.nonfinite = true;
+    }
+}
+
+/// Eq. 2 between the lanes of `x` in `mask` and the particles of grid `runs` (slices of the
+/// grid-ordered particles): adds the hair's forces to `acc`, marks `near` lanes, and
+/// subtracts the reactions from `forces` (this worker's, in grid order).
+#[inline(always)]
+fn gather_runs(
+    w: &WaterCtx,
+    x: &L3,
+    mask: &[f32; W],
+    runs: &[(u32, u32)],
+    forces: &mut [Vec<f32>; 3],
+    acc: &mut L3,
+    near: &mut [f32; W],
+) {
+    let [fx, fy, fz] = forces;
+    for &(s, e) in runs {
+        let (s, e) = (s as usize, e as usize);
+        let run = adhesion::Run {
+            x: &w.sorted[0][s..e],
+            y: &w.sorted[1][s..e],
+            z: &w.sorted[2][s..e],
+        };
+        let (ox, oy, oz) = (&mut fx[s..e], &mut fy[s..e], &mut fz[s..e]);
+        adhesion::gather_run_lanes(x, mask, run, ox, oy, oz, acc, near, w.r_min, w.r_max, w.s);
+    }
+}
+
+/// Whether this CPU runs AVX2 (checked once per simulation).
+pub(super) fn cpu_has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}

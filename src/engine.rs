@@ -1,0 +1,168 @@
+//! The seam between [`crate::Simulation`] and its backends: the [`Engine`] trait both the CPU
+//! and the GPU backend implement, and [`create`], which picks one as the parameters ask.
+//! `Simulation` holds a `Box<dyn Engine>` and never asks which backend it has.
+
+use crate::error::{Error, Result};
+use crate::groom::Groom;
+use crate::params::{Backend, Integrator, SimParams, VertexAttributes};
+use crate::plan::Pass;
+use glam::{Affine3A, Vec3};
+
+/// Which backend runs the simulation, on what, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BackendInfo {
+    /// [`Backend::CPU`] or [`Backend::GPU`].
+    pub backend: Backend,
+    /// The GPU adapter's name and API ("llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan)"), or the
+    /// CPU's thread count.
+    pub device: String,
+    /// Why [`Backend::AUTO`] chose the CPU (empty when it did not fall back).
+    pub fallback_reason: String,
+}
+
+/// Counters a backend keeps (the rest of [`crate::Stats`] is the simulation's).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Counters {
+    /// Water particles now.
+    pub particles: u32,
+    /// Particles removed for leaving the domain since create or reset.
+    pub particles_removed: u64,
+    /// Worker threads (0 on the GPU).
+    pub threads: u32,
+}
+
+/// Position, velocity and wetness of one hair point.
+pub type PointState = (Vec3, Vec3, f32);
+
+/// What a backend does for a simulation. Every method answers in the host's order (strand
+/// after strand); the backend keeps its own layout behind it.
+pub trait Engine: std::fmt::Debug + Send {
+    /// [`Backend::CPU`] or [`Backend::GPU`].
+    fn kind(&self) -> Backend;
+    /// The integrator in use (`Auto` resolved).
+    fn integrator(&self) -> Integrator;
+    /// The passes the next step runs, in order ([`crate::plan::pass_list`] for this scene).
+    fn passes(&self) -> Vec<Pass>;
+    /// Adds water particles (checked by [`crate::plan::check_new_particles`]); storage is made
+    /// at the first call.
+    fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()>;
+    /// Removes every particle (wetness stays).
+    fn clear_water(&mut self);
+    /// Advances by `dt` in the configured substeps while the head moves `from` → `to`; returns
+    /// the largest point speed known after it (the GPU's is the previous step's, as its last
+    /// status read found it).
+    fn step(&mut self, dt: f32, from: &Affine3A, to: &Affine3A) -> Result<f32>;
+    /// Back to the rest pose at `head`: zero velocity, dry, no water.
+    fn reset(&mut self, head: &Affine3A);
+    /// Writes `attrs` of every point into `dst`, exactly `points * attrs.stride()` floats.
+    fn write_vertices(&mut self, attrs: VertexAttributes, dst: &mut [f32]) -> Result<()>;
+    /// Every point's state (on the GPU a blocking readback).
+    fn point_states(&self) -> Result<Vec<PointState>>;
+    /// Water positions and velocities (order changes when particles are removed).
+    fn water(&self) -> Result<(Vec<Vec3>, Vec<Vec3>)>;
+    /// Particle and thread counters.
+    fn counters(&self) -> Counters;
+    /// Every buffer the backend holds and its size in bytes.
+    fn buffers(&self) -> Vec<(&'static str, usize)>;
+    /// The GPU compute entry points one step dispatches (none on the CPU).
+    fn gpu_dispatches(&self) -> Vec<&'static str> {
+        Vec::new()
+    }
+    /// Makes a GPU device fail as a lost one would (tests of a host's error path).
+    fn lose_device(&self) {}
+    /// Starts GPU timestamp queries around each step; false where there are none.
+    fn enable_gpu_timing(&mut self) -> bool {
+        false
+    }
+    /// GPU time of the last step, ms, once timing is enabled.
+    fn last_step_gpu_ms(&self) -> Option<Result<f64>> {
+        None
+    }
+    /// A GPU grid built now over the particles: its dims and per-cell counts.
+    fn gpu_grid_counts(&mut self) -> Option<Result<(glam::IVec3, Vec<u32>)>> {
+        None
+    }
+    /// The vertex buffer as the host's Vulkan sees it (host-shared GPU simulations only).
+    #[cfg(feature = "vulkan")]
+    fn shared_frame(&mut self) -> Result<crate::gpu::vulkan::SharedFrame> {
+        Err(not_shared("the vertex VkBuffer is"))
+    }
+    /// The water as the host's Vulkan sees it (host-shared GPU simulations only).
+    #[cfg(feature = "vulkan")]
+    fn shared_water(&mut self) -> Result<crate::gpu::vulkan::SharedWater> {
+        Err(not_shared("the water VkBuffers are"))
+    }
+}
+
+/// The refusal of a Vulkan share by a simulation that does not run on the host's device.
+#[cfg(feature = "vulkan")]
+pub fn not_shared(what: &str) -> Error {
+    Error::Unsupported(format!(
+        "{what} shared only by simulations created on the host's VkDevice"
+    ))
+}
+
+/// A backend for `groom` under `p`, as `p.backend` asks (see [`Backend`]), at rest under
+/// `head`.
+pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn Engine>, BackendInfo)> {
+    let cpu = |reason: String| -> Result<(Box<dyn Engine>, BackendInfo)> {
+        let c = crate::cpu::step::CpuBackend::new(groom, p, head)?;
+        let info = BackendInfo {
+            backend: Backend::CPU,
+            device: format!("CPU, {} threads", c.threads()),
+            fallback_reason: reason,
+        };
+        Ok((Box::new(c), info))
+    };
+    #[cfg(not(feature = "gpu"))]
+    {
+        let why = "this build has no GPU backend (feature `gpu`)";
+        match p.backend {
+            Backend::CPU => cpu(String::new()),
+            Backend::GPU => Err(Error::Unsupported(why.into())),
+            Backend::AUTO => cpu(why.into()),
+        }
+    }
+    #[cfg(feature = "gpu")]
+    {
+        let integrator = crate::plan::resolve_integrator(p, groom);
+        match p.backend {
+            Backend::CPU => cpu(String::new()),
+            Backend::GPU => {
+                let dev = crate::gpu::GpuDevice::open(true)?;
+                create_gpu(dev, groom, p, integrator, head)
+            }
+            Backend::AUTO => {
+                if integrator == Integrator::XPBD {
+                    return cpu(format!("{integrator:?} runs on the CPU backend only"));
+                }
+                match crate::gpu::GpuDevice::open(false) {
+                    Err(e) => cpu(e.to_string()),
+                    Ok(dev) => match create_gpu(dev, groom, p, integrator, head) {
+                        Ok(r) => Ok(r),
+                        Err(e) => cpu(format!("the GPU backend failed to start: {e}")),
+                    },
+                }
+            }
+        }
+    }
+}
+
+/// The GPU backend on `dev` (an adapter of ours, or the host's VkDevice).
+#[cfg(feature = "gpu")]
+pub fn create_gpu(
+    dev: crate::gpu::GpuDevice,
+    groom: &Groom,
+    p: &SimParams,
+    integrator: Integrator,
+    head: &Affine3A,
+) -> Result<(Box<dyn Engine>, BackendInfo)> {
+    let device = dev.adapter_name();
+    let g = crate::gpu::GpuBackend::new(dev, groom, p, integrator, head)?;
+    let info = BackendInfo {
+        backend: Backend::GPU,
+        device,
+        fallback_reason: String::new(),
+    };
+    Ok((Box::new(g), info))
+}

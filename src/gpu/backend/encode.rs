@@ -1,0 +1,255 @@
+//! A step's command buffers: the per-step parameters and per-substep heads and colliders,
+//! then the passes of every substep in the plan's order, the vertex output, and the
+//! submissions (split where the host shares the vertex buffer).
+
+use super::super::buffers::{groups, ColliderGpu, Params, NO_ATTRIBUTE, SUBSTEP_HEAD_BYTES};
+use super::super::pipelines as pl;
+use super::GpuBackend;
+use crate::error::Result;
+use crate::params::{Readback, VertexAttributes};
+use crate::physics::collide::Placed;
+use crate::physics::grid::MAX_CELLS;
+use glam::Affine3A;
+use std::sync::atomic::Ordering;
+
+/// Bytes of one placed collider in a substep's uniform.
+const COLLIDER_BYTES: usize = std::mem::size_of::<ColliderGpu>();
+
+impl GpuBackend {
+    pub(super) fn write_params(&self, h: f32, incoming: u32, to: &Affine3A) {
+        let p = &self.params;
+        let a = p.attributes;
+        let off = |bit| a.offset(bit).map_or(NO_ATTRIBUTE, |o| o as u32);
+        let c = to.transform_point3(self.domain.center_local);
+        let rec = Params {
+            h,
+            inv_h: 1.0 / h,
+            drag: p.air_drag,
+            friction: p.friction,
+            g: p.gravity.extend(0.0).to_array(),
+            points: self.points,
+            strands: self.strands,
+            stretch_k: p.stretch.stiffness,
+            stretch_c: p.stretch.damping,
+            bend_k: p.bend.stiffness,
+            bend_c: p.bend.damping,
+            r_min: p.water.r_min,
+            r_max: p.water.r_max,
+            adhesion: p.water.adhesion,
+            wet_gain: (p.water.wetting_rate * h).min(1.0),
+            particle_inv_mass: 1.0 / p.water.particle_mass,
+            water_drag: p.water.drag,
+            capacity: p.water.capacity,
+            stride: a.stride() as u32,
+            pos_off: off(VertexAttributes::POSITION),
+            tan_off: off(VertexAttributes::TANGENT),
+            wet_off: off(VertexAttributes::WETNESS),
+            incoming,
+            max_cells: MAX_CELLS as u32,
+            domain_r2: self.domain.radius * self.domain.radius,
+            domain_center: c.extend(0.0).to_array(),
+        };
+        self.dev
+            .queue
+            .write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&rec));
+    }
+
+    /// Uploads each substep's head transform and placed colliders (from `self.heads`, through
+    /// `self.sub_bytes`: no allocation per step).
+    pub(super) fn write_substeps(&mut self) {
+        let nc = self.params.colliders.len();
+        let bytes = &mut self.sub_bytes;
+        for (s, head) in self.heads.iter().enumerate() {
+            let at = s * self.sub_stride as usize;
+            let m = glam::Mat4::from(*head).to_cols_array();
+            let head_end = at + SUBSTEP_HEAD_BYTES as usize;
+            bytes[at..head_end].copy_from_slice(bytemuck::cast_slice(&m));
+            for (c, shape) in self.params.colliders.iter().enumerate() {
+                let pl: Placed = shape.place(head);
+                let rec = ColliderGpu {
+                    a: pl.a.extend(pl.radius).to_array(),
+                    ab: pl.ab.extend(pl.inv_len2).to_array(),
+                };
+                let o = head_end + COLLIDER_BYTES * c;
+                bytes[o..o + COLLIDER_BYTES].copy_from_slice(bytemuck::bytes_of(&rec));
+            }
+            debug_assert!(SUBSTEP_HEAD_BYTES as usize + COLLIDER_BYTES * nc <= self.sub_stride as usize);
+        }
+        self.dev.queue.write_buffer(&self.sub_buf, 0, bytes);
+    }
+
+    /// Advances by `dt` in the configured substeps while the head moves `from` → `to`.
+    /// Returns once the work is submitted; failures inside the step show at the next read.
+    pub fn step(&mut self, dt: f32, from: &Affine3A, to: &Affine3A) -> Result<()> {
+        self.dev.check()?;
+        let h = dt / self.n_sub as f32;
+        crate::physics::head::substep_heads_into(from, to, &mut self.heads);
+        self.write_substeps();
+        let incoming = self.water.as_ref().map_or(0, |w| w.pending);
+        self.write_params(h, incoming, to);
+        let mut enc = self.dev.device.create_command_encoder(&Default::default());
+        // The step's speed maximum starts again; failure flags stay until reset.
+        enc.clear_buffer(&self.status, 0, Some(4));
+        let wet = self.wet();
+        {
+            let desc = wgpu::ComputePassDescriptor {
+                label: Some("step"),
+                timestamp_writes: self.timing.as_ref().map(|t| wgpu::ComputePassTimestampWrites {
+                    query_set: &t.queries,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: Some(1),
+                }),
+            };
+            let mut pass = enc.begin_compute_pass(&desc);
+            if let Some(w) = self.water.as_mut().filter(|w| w.pending > 0) {
+                pass.set_pipeline(&w.pipes[0]);
+                pass.set_bind_group(0, &w.build_bg[w.cur], &[]);
+                let (gx, gy) = groups(w.pending);
+                pass.dispatch_workgroups(gx, gy, 1);
+                w.bound = (w.bound + w.pending).min(self.params.water.capacity);
+                w.pending = 0;
+            }
+            for s in 0..self.n_sub {
+                let off = [(s as u64 * self.sub_stride) as u32];
+                if let (true, Some(w)) = (wet, self.water.as_mut()) {
+                    // Pass water_grid.
+                    w.encode_grid(&mut pass, true);
+                    let (gx, gy) = groups(w.bound);
+                    // Forces, adhesion, integrate, collide; then the particles move.
+                    let k = &w.wet_hair;
+                    k.encode(
+                        &mut pass,
+                        &self.hair_bg[self.cur],
+                        &off,
+                        Some(&w.hair_bg[w.cur]),
+                        self.strands_bg.as_ref(),
+                        self.points,
+                        self.strands,
+                    );
+                    if let Some(p) = &k.water {
+                        pass.set_pipeline(p);
+                        pass.set_bind_group(1, &w.hair_bg[w.cur], &[]);
+                        pass.dispatch_workgroups(gx, gy, 1);
+                    }
+                    w.cur = 1 - w.cur;
+                } else {
+                    self.dry_hair.encode(
+                        &mut pass,
+                        &self.hair_bg[self.cur],
+                        &off,
+                        None,
+                        self.strands_bg.as_ref(),
+                        self.points,
+                        self.strands,
+                    );
+                }
+                self.cur = 1 - self.cur;
+            }
+            if let (true, Some(w)) = (wet, self.water.as_mut()) {
+                // Pass water_cull.
+                let (gx, gy) = groups(w.bound);
+                pass.set_bind_group(0, &w.build_bg[w.cur], &[]);
+                pass.set_pipeline(&w.pipes[8]);
+                pass.dispatch_workgroups(gx, gy, 1);
+                pass.set_pipeline(&w.pipes[9]);
+                pass.dispatch_workgroups(1, 1, 1);
+                w.cur = 1 - w.cur;
+            }
+        }
+        if let Some(t) = &self.timing {
+            enc.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
+        }
+        self.frame += 1;
+        self.vertices_current = false;
+        let deferred = self.params.readback == Readback::PREVIOUS_FRAME && !self.staging.is_empty();
+        if self.shares_vertices() {
+            // The host may still be drawing the last frame: only the vertex write waits for its
+            // release, so the step's passes go in a submission of their own and run meanwhile.
+            self.submit(enc);
+            enc = self.dev.device.create_command_encoder(&Default::default());
+        }
+        if deferred || self.shares_vertices() {
+            self.encode_vertices(&mut enc);
+        }
+        let ring_slot = if self.shares_vertices() {
+            self.status_slot(&mut enc)
+        } else {
+            None
+        };
+        if deferred {
+            let k = (self.frame % 2) as usize;
+            self.settle(k);
+            self.encode_copy(&mut enc, k);
+        }
+        self.submit(enc);
+        if deferred {
+            self.map(((self.frame % 2) as usize, self.frame));
+        }
+        if let Some(k) = ring_slot {
+            let s = &mut self.status_ring[k];
+            s.frame = Some(self.frame);
+            let ready = s.ready.clone();
+            s.buf.map_async(wgpu::MapMode::Read, .., move |r| {
+                if r.is_ok() {
+                    ready.store(true, Ordering::Release);
+                }
+            });
+        }
+        self.dev.check()
+    }
+
+    pub(super) fn encode_vertices(&mut self, enc: &mut wgpu::CommandEncoder) {
+        if self.vertices_current {
+            return;
+        }
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&self.output);
+        pass.set_bind_group(0, &self.output_bg[self.cur], &[]);
+        let (gx, gy) = groups(self.points);
+        pass.dispatch_workgroups(gx, gy, 1);
+        drop(pass);
+        self.encode_water_vertices(enc);
+        self.vertices_current = true;
+        self.wrote_vertices = true;
+    }
+
+    /// Pass write_water_vertices, where the host draws the particles and they exist.
+    pub(super) fn encode_water_vertices(&mut self, enc: &mut wgpu::CommandEncoder) {
+        let (Some(ws), Some(w)) = (&mut self.water_share, &self.water) else {
+            return;
+        };
+        let d = &self.dev.device;
+        let bg = ws.bg.get_or_insert_with(|| {
+            let mk = |i: usize| {
+                pl::bind(
+                    d,
+                    "water output",
+                    &ws.layout,
+                    &[&w.particles[i], &w.state, &self.status, &ws.vertices, &ws.draw],
+                    None,
+                )
+            };
+            [mk(0), mk(1)]
+        });
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&ws.pipe);
+        pass.set_bind_group(0, &bg[w.cur], &[]);
+        let (gx, gy) = groups(self.params.water.capacity);
+        pass.dispatch_workgroups(gx, gy, 1);
+    }
+
+    /// Submits `enc`, telling the device whether it writes the vertices.
+    pub(super) fn submit(&mut self, enc: wgpu::CommandEncoder) {
+        let wrote = std::mem::take(&mut self.wrote_vertices);
+        self.dev.submit(enc.finish(), wrote);
+    }
+
+    /// Whether the host draws straight from the vertex buffer (a host-shared device): then
+    /// every step writes it.
+    pub(super) fn shares_vertices(&self) -> bool {
+        #[cfg(feature = "vulkan")]
+        return self.dev.shared.is_some();
+        #[cfg(not(feature = "vulkan"))]
+        false
+    }
+}

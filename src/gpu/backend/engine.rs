@@ -1,0 +1,109 @@
+//! The GPU backend behind the [`Engine`] seam.
+
+use super::GpuBackend;
+use crate::engine::{Counters, Engine, PointState};
+use crate::error::Result;
+use crate::params::{Backend, Integrator, VertexAttributes};
+use crate::plan::Pass;
+use glam::{Affine3A, Vec3};
+
+impl Engine for GpuBackend {
+    fn kind(&self) -> Backend {
+        Backend::GPU
+    }
+
+    fn integrator(&self) -> Integrator {
+        GpuBackend::integrator(self)
+    }
+
+    fn passes(&self) -> Vec<Pass> {
+        GpuBackend::passes(self)
+    }
+
+    fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
+        GpuBackend::add_water(self, pos, vel)
+    }
+
+    fn clear_water(&mut self) {
+        GpuBackend::clear_water(self)
+    }
+
+    /// A failure seen by the last status read is reported before more work is submitted; the
+    /// speed returned is that status's (the step just submitted has not run yet).
+    fn step(&mut self, dt: f32, from: &Affine3A, to: &Affine3A) -> Result<f32> {
+        let last = self.last_status();
+        self.check_status(&last)?;
+        GpuBackend::step(self, dt, from, to)?;
+        Ok(last.max_speed)
+    }
+
+    fn reset(&mut self, head: &Affine3A) {
+        GpuBackend::reset(self, head)
+    }
+
+    /// The layout was fixed at create (the output pass writes `attrs`), so only the floats
+    /// are copied here.
+    fn write_vertices(&mut self, _attrs: VertexAttributes, dst: &mut [f32]) -> Result<()> {
+        self.read_vertices(dst).map(|_| ())
+    }
+
+    fn point_states(&self) -> Result<Vec<PointState>> {
+        Ok(self
+            .read_state()?
+            .into_iter()
+            .map(|p| (Vec3::from_slice(&p.x), Vec3::from_slice(&p.v), p.x[3]))
+            .collect())
+    }
+
+    fn water(&self) -> Result<(Vec<Vec3>, Vec<Vec3>)> {
+        Ok(self
+            .read_water()?
+            .iter()
+            .map(|p| (Vec3::from_slice(&p.x), Vec3::from_slice(&p.v)))
+            .unzip())
+    }
+
+    /// Reads the status of the last step (waits for it); zeros if the device failed.
+    fn counters(&self) -> Counters {
+        let (st, removed) = self.peek_status().unwrap_or_default();
+        Counters {
+            particles: st.particles,
+            particles_removed: removed,
+            threads: 0,
+        }
+    }
+
+    fn buffers(&self) -> Vec<(&'static str, usize)> {
+        GpuBackend::buffers(self)
+    }
+
+    fn gpu_dispatches(&self) -> Vec<&'static str> {
+        self.dispatches()
+    }
+
+    fn lose_device(&self) {
+        GpuBackend::lose_device(self)
+    }
+
+    fn enable_gpu_timing(&mut self) -> bool {
+        self.enable_timing()
+    }
+
+    fn last_step_gpu_ms(&self) -> Option<Result<f64>> {
+        GpuBackend::last_step_gpu_ms(self)
+    }
+
+    fn gpu_grid_counts(&mut self) -> Option<Result<(glam::IVec3, Vec<u32>)>> {
+        Some(self.read_grid_counts())
+    }
+
+    #[cfg(feature = "vulkan")]
+    fn shared_frame(&mut self) -> Result<crate::gpu::vulkan::SharedFrame> {
+        GpuBackend::shared_frame(self)
+    }
+
+    #[cfg(feature = "vulkan")]
+    fn shared_water(&mut self) -> Result<crate::gpu::vulkan::SharedWater> {
+        GpuBackend::shared_water(self)
+    }
+}

@@ -1,0 +1,452 @@
+//! The GPU backend: the simulation state lives in device buffers and a step is one command
+//! buffer of compute passes; nothing returns to the host unless it asks (an explicit
+//! readback, blocking or one frame behind). One concern per file: creation and the backend's
+//! state here, `kernels` (hair kernels from the pass list), `water`, `encode` (the step's
+//! command buffers), `share` (the host's Vulkan), `readback`, and `engine` (the seam).
+
+mod encode;
+mod engine;
+mod kernels;
+mod readback;
+mod share;
+mod water;
+
+use super::buffers::{self as b, Params, PointGpu, StateGpu, STORAGE};
+use super::device::GpuDevice;
+use super::pipelines::{self as pl, SceneConsts, Slot};
+use crate::error::{Error, Result};
+use crate::groom::Groom;
+use crate::params::{Integrator, SimParams};
+use crate::plan::{has_bend, pass_list, Pass, WaterDomain};
+use glam::{Affine3A, Vec3};
+use kernels::HairKernels;
+use readback::Staging;
+use share::WaterShare;
+use std::sync::atomic::Ordering;
+use water::{WaterGpu, WATER_ENTRIES};
+
+/// Longest strand the GPU's implicit solve takes. One invocation solves one strand with its
+/// banded system in private memory, about 168 bytes per point: 64 points need 10.75 KiB, and
+/// NVIDIA's driver (H100, 580.159) loses the device at 96 points (16 KiB).
+pub const MAX_IMPLICIT_POINTS: usize = 64;
+
+/// What the last status read found.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Status {
+    /// Largest point speed in the step, m/s.
+    pub max_speed: f32,
+    /// First non-finite point (host order), if a step failed.
+    pub failed_point: Option<u32>,
+    /// Whether a water particle became non-finite.
+    pub water_failed: bool,
+    /// Particles held.
+    pub particles: u32,
+}
+
+/// The GPU backend's state.
+#[derive(Debug)]
+pub struct GpuBackend {
+    params: SimParams,
+    consts: SceneConsts,
+    integrator: Integrator,
+    points: u32,
+    strands: u32,
+    strand_first: Vec<u32>,
+    rest_local: Vec<Vec3>,
+    bend: bool,
+    n_sub: usize,
+    sub_stride: u64,
+    params_buf: wgpu::Buffer,
+    sub_buf: wgpu::Buffer,
+    points_buf: wgpu::Buffer,
+    state: [wgpu::Buffer; 2],
+    status: wgpu::Buffer,
+    vertices: wgpu::Buffer,
+    hair_layout: wgpu::BindGroupLayout,
+    /// Hair bind groups: [in = A, out = B], [in = B, out = A].
+    hair_bg: [wgpu::BindGroup; 2],
+    dry_hair: HairKernels,
+    /// The strand table's layout and bind group (implicit Euler only).
+    strands_layout: Option<wgpu::BindGroupLayout>,
+    strands_bg: Option<wgpu::BindGroup>,
+    output: wgpu::ComputePipeline,
+    output_bg: [wgpu::BindGroup; 2],
+    cur: usize,
+    water: Option<WaterGpu>,
+    /// Host-shared device only, once the host asks for the water as Vulkan buffers.
+    water_share: Option<WaterShare>,
+    /// Where particles are culled (head space).
+    domain: WaterDomain,
+    staging: Vec<Staging>,
+    /// Host-shared device only: each step's status block, read back without waiting (two
+    /// slots), so a failed step is reported though the host never reads through us.
+    status_ring: Vec<Staging>,
+    frame: u64,
+    last: Status,
+    /// Whether the vertex buffer holds the current state.
+    vertices_current: bool,
+    /// GPU timestamps around each step's compute pass (only once asked for).
+    timing: Option<Timing>,
+    /// Head transform per substep, and their upload bytes (reused every step).
+    heads: Vec<Affine3A>,
+    sub_bytes: Vec<u8>,
+    /// Whether the encoder being filled writes the vertex buffer (the host's ready signal).
+    wrote_vertices: bool,
+    /// Last, so that every buffer and pipeline above is released before the device.
+    dev: GpuDevice,
+}
+
+/// Timestamp queries around the step's compute pass, resolved into a small buffer.
+#[derive(Debug)]
+pub(super) struct Timing {
+    pub(super) queries: wgpu::QuerySet,
+    pub(super) resolve: wgpu::Buffer,
+    pub(super) period_ns: f32,
+}
+
+impl GpuBackend {
+    /// Uploads the groom and builds the dry pipelines. `integrator` must be symplectic Euler.
+    pub fn new(
+        dev: GpuDevice,
+        groom: &Groom,
+        params: &SimParams,
+        integrator: Integrator,
+        head: &Affine3A,
+    ) -> Result<Self> {
+        if !matches!(integrator, Integrator::SYMPLECTIC_EULER | Integrator::IMPLICIT_EULER) {
+            return Err(Error::Unsupported(format!(
+                "the GPU backend runs symplectic and implicit Euler; {integrator:?} runs on the CPU backend"
+            )));
+        }
+        if integrator == Integrator::IMPLICIT_EULER && groom.max_strand_points() > MAX_IMPLICIT_POINTS {
+            return Err(Error::Unsupported(format!(
+                "the GPU's implicit solve takes strands of up to {MAX_IMPLICIT_POINTS} points (this groom has {}); \
+                 longer strands run implicit Euler on the CPU backend",
+                groom.max_strand_points()
+            )));
+        }
+        let d = &dev.device;
+        let points = groom.point_count() as u32;
+        let strands = groom.strand_count() as u32;
+        let state_bytes = points as u64 * 32;
+        let stride = params.attributes.stride() as u64;
+        if state_bytes > dev.limits.max_storage_buffer_binding_size {
+            return Err(Error::Capacity(format!(
+                "{points} points need {state_bytes} bytes of state; {} allows {} per buffer",
+                dev.info.name, dev.limits.max_storage_buffer_binding_size
+            )));
+        }
+        let pos = groom.positions();
+        let rest = crate::plan::rest_lengths(groom);
+        let mut pts = Vec::with_capacity(points as usize);
+        for s in 0..groom.strand_count() {
+            let r = groom.strand_range(s);
+            let (first, last) = (r.start as u32, r.end as u32 - 1);
+            for i in r {
+                let free = !groom.pinned()[i];
+                pts.push(PointGpu {
+                    rest: pos[i].to_array(),
+                    inv_mass: if free { 1.0 / groom.masses()[i] } else { 0.0 },
+                    rest_stretch: rest[i][0],
+                    rest_bend: rest[i][1],
+                    first,
+                    last,
+                });
+            }
+        }
+        let rows = groom.max_strand_points();
+        let bend = has_bend(params, rows);
+        let consts = SceneConsts {
+            axial: params.damping_model == crate::DampingModel::AXIAL,
+            colliders: params.colliders.len() as u32,
+            bend,
+            max_points: rows as u32,
+            iterations: params.solver_iterations,
+        };
+        let n_sub = params.substeps as usize;
+        let align = dev.limits.min_uniform_buffer_offset_alignment as u64;
+        let collider_bytes = std::mem::size_of::<super::buffers::ColliderGpu>() as u64;
+        let sub_size = b::SUBSTEP_HEAD_BYTES as u64 + collider_bytes * consts.colliders.max(1) as u64;
+        let sub_stride = sub_size.next_multiple_of(align);
+        let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
+        let params_buf = b::buffer(d, "params", std::mem::size_of::<Params>() as u64, uniform);
+        let sub_buf = b::buffer(d, "substeps", sub_stride * n_sub as u64, uniform);
+        let points_buf = b::buffer(d, "points", points as u64 * 32, STORAGE);
+        dev.queue.write_buffer(&points_buf, 0, bytemuck::cast_slice(&pts));
+        let state = [
+            b::buffer(d, "state_a", state_bytes, STORAGE),
+            b::buffer(d, "state_b", state_bytes, STORAGE),
+        ];
+        let status = b::buffer(d, "status", 16, STORAGE);
+        let vertices = b::buffer(
+            d,
+            "vertices",
+            points as u64 * stride * 4,
+            STORAGE | wgpu::BufferUsages::VERTEX,
+        );
+        let hair_layout = pl::layout(
+            d,
+            "hair",
+            &[
+                Slot::Uniform,
+                Slot::UniformDynamic,
+                Slot::Read,
+                Slot::Read,
+                Slot::ReadWrite,
+                Slot::ReadWrite,
+            ],
+        );
+        let mk_hair = |i: usize| {
+            pl::bind(
+                d,
+                "hair",
+                &hair_layout,
+                &[&params_buf, &sub_buf, &points_buf, &state[i], &state[1 - i], &status],
+                Some((1, sub_size)),
+            )
+        };
+        let hair_bg = [mk_hair(0), mk_hair(1)];
+        let out_layout = pl::layout(
+            d,
+            "output",
+            &[Slot::Uniform, Slot::Read, Slot::Read, Slot::Read, Slot::ReadWrite],
+        );
+        let mk_out = |i: usize| {
+            pl::bind(
+                d,
+                "output",
+                &out_layout,
+                &[&params_buf, &points_buf, &state[i], &status, &vertices],
+                None,
+            )
+        };
+        let output_bg = [mk_out(0), mk_out(1)];
+        let dry_passes = pass_list(params, integrator, bend, false);
+        let strand_table = (integrator == Integrator::IMPLICIT_EULER).then(|| {
+            let buf = b::buffer(d, "strand_first", groom.strand_first.len() as u64 * 4, STORAGE);
+            dev.queue
+                .write_buffer(&buf, 0, bytemuck::cast_slice(&groom.strand_first));
+            let layout = pl::layout(d, "strands", &[Slot::Read]);
+            let bg = pl::bind(d, "strands", &layout, &[&buf], None);
+            (layout, bg)
+        });
+        let dry_hair = HairKernels::new(
+            d,
+            consts,
+            &dry_passes,
+            &hair_layout,
+            None,
+            strand_table.as_ref().map(|s| &s.0),
+        );
+        let out_mod = pl::module(d, "output", &pl::output_source(consts));
+        let output = pl::pipelines(d, &out_mod, &[&out_layout], &["write_vertices"]).remove(0);
+        let mut be = GpuBackend {
+            dev,
+            params: params.clone(),
+            consts,
+            integrator,
+            points,
+            strands,
+            strand_first: groom.strand_first.clone(),
+            rest_local: pos.to_vec(),
+            bend,
+            n_sub,
+            sub_stride,
+            params_buf,
+            sub_buf,
+            points_buf,
+            state,
+            status,
+            vertices,
+            hair_layout,
+            hair_bg,
+            dry_hair,
+            strands_layout: strand_table.as_ref().map(|s| s.0.clone()),
+            strands_bg: strand_table.map(|s| s.1),
+            output,
+            output_bg,
+            cur: 0,
+            water: None,
+            water_share: None,
+            domain: WaterDomain::new(groom, params),
+            staging: Vec::new(),
+            status_ring: Vec::new(),
+            frame: 0,
+            last: Status::default(),
+            vertices_current: false,
+            timing: None,
+            heads: vec![*head; n_sub],
+            sub_bytes: vec![0; sub_stride as usize * n_sub],
+            wrote_vertices: false,
+        };
+        // The vertex output reads its layout (stride, attribute offsets) from the step
+        // parameters: write them now, so vertices read before the first step are the rest
+        // pose and not zeros (the step rewrites them with its own time step).
+        be.write_params(1.0 / 60.0, 0, head);
+        be.reset(head);
+        be.dev.wait()?;
+        Ok(be)
+    }
+
+    /// The adapter in use.
+    pub fn adapter_name(&self) -> String {
+        self.dev.adapter_name()
+    }
+
+    /// The integrator in use.
+    pub fn integrator(&self) -> Integrator {
+        self.integrator
+    }
+
+    /// Hair points.
+    pub fn points(&self) -> usize {
+        self.points as usize
+    }
+
+    pub(super) fn wet(&self) -> bool {
+        self.water.as_ref().is_some_and(|w| w.bound > 0 || w.pending > 0)
+    }
+
+    /// The passes the next step runs, in order: the same list as the CPU's for this scene.
+    pub fn passes(&self) -> Vec<Pass> {
+        pass_list(&self.params, self.integrator, self.bend, self.wet())
+    }
+
+    /// The compute entry points one step dispatches, in order (per substep, then per step).
+    pub fn dispatches(&self) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        let wet = self.wet();
+        if self.water.as_ref().is_some_and(|w| w.pending > 0) {
+            v.push("water_append");
+        }
+        if wet {
+            v.extend_from_slice(&WATER_ENTRIES[1..8]);
+        }
+        let k = if wet {
+            self.water.as_ref().map(|w| &w.wet_hair)
+        } else {
+            None
+        }
+        .unwrap_or(&self.dry_hair);
+        if k.forces.is_some() {
+            v.push("hair_forces");
+        }
+        v.push(if k.implicit { "implicit_solve" } else { "hair_substep" });
+        if wet {
+            v.extend_from_slice(&["water_integrate", "water_cull", "water_cull_finish"]);
+        }
+        v
+    }
+
+    /// Every device buffer with its size in bytes.
+    pub fn buffers(&self) -> Vec<(&'static str, usize)> {
+        let mut v = vec![
+            ("params", self.params_buf.size() as usize),
+            ("substeps", self.sub_buf.size() as usize),
+            ("points", self.points_buf.size() as usize),
+            ("state", 2 * self.state[0].size() as usize),
+            ("status", self.status.size() as usize),
+            ("vertices", self.vertices.size() as usize),
+        ];
+        if let Some(w) = &self.water {
+            v.push(("water_particles", 2 * w.particles[0].size() as usize));
+            v.push(("water_reactions", w.force.size() as usize));
+            v.push((
+                "water_grid",
+                (w.grid.size() + w.grid_count.size() + w.state.size() + w.dispatch.size()) as usize,
+            ));
+            v.push(("water_incoming", w.incoming.size() as usize));
+        }
+        if let Some(ws) = &self.water_share {
+            v.push(("water_shared", (ws.vertices.size() + ws.draw.size()) as usize));
+        }
+        if !self.staging.is_empty() {
+            v.push(("readback", self.staging.iter().map(|s| s.buf.size() as usize).sum()));
+        }
+        v
+    }
+
+    /// Back to the rest pose at `head`, dry, no water, status cleared.
+    pub fn reset(&mut self, head: &Affine3A) {
+        let st: Vec<StateGpu> = self
+            .rest_local
+            .iter()
+            .map(|p| StateGpu {
+                x: head.transform_point3(*p).extend(0.0).to_array(),
+                v: [0.0; 4],
+            })
+            .collect();
+        self.dev
+            .queue
+            .write_buffer(&self.state[0], 0, bytemuck::cast_slice(&st));
+        self.cur = 0;
+        self.dev
+            .queue
+            .write_buffer(&self.status, 0, bytemuck::cast_slice(&[0u32, 0, u32::MAX, 0])); // no failed point
+        if let Some(w) = &mut self.water {
+            self.dev
+                .queue
+                .write_buffer(&w.state, 0, bytemuck::cast_slice(&[0u32; 4]));
+            w.bound = 0;
+            w.pending = 0;
+            w.removed = 0;
+        }
+        self.last = Status::default();
+        for s in self.staging.iter_mut().chain(self.status_ring.iter_mut()) {
+            if s.frame.take().is_some() {
+                self.dev.device.poll(wgpu::PollType::wait_indefinitely()).ok();
+                s.buf.unmap();
+                s.ready.store(false, Ordering::Release);
+            }
+        }
+        self.vertices_current = false;
+    }
+
+    /// Starts timing each step on the GPU with timestamp queries. Returns false when the
+    /// adapter has none (then only wall-clock timing is possible).
+    pub fn enable_timing(&mut self) -> bool {
+        if !self.dev.timestamps {
+            return false;
+        }
+        if self.timing.is_none() {
+            let d = &self.dev.device;
+            self.timing = Some(Timing {
+                queries: d.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("step timestamps"),
+                    ty: wgpu::QueryType::Timestamp,
+                    count: 2,
+                }),
+                resolve: b::buffer(
+                    d,
+                    "timestamps",
+                    16,
+                    wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                ),
+                period_ns: self.dev.queue.get_timestamp_period(),
+            });
+        }
+        true
+    }
+
+    /// GPU time of the last step's compute pass, ms (waits for it), once timing is enabled.
+    pub fn last_step_gpu_ms(&self) -> Option<Result<f64>> {
+        let t = self.timing.as_ref()?;
+        Some(self.read_buffers(&[(&t.resolve, 16)], None).map(|bytes| {
+            let q: &[u64] = bytemuck::cast_slice(&bytes[..16]);
+            q[1].saturating_sub(q[0]) as f64 * t.period_ns as f64 * 1e-6
+        }))
+    }
+
+    /// Makes the device fail as a lost device would (tests of the error path).
+    pub fn lose_device(&self) {
+        self.dev.lose();
+    }
+}
+
+impl Drop for GpuBackend {
+    fn drop(&mut self) {
+        // Let submitted work finish before buffers go (wgpu keeps them alive, but a host that
+        // destroys and recreates expects the device idle).
+        let _ = self.dev.device.poll(wgpu::PollType::wait_indefinitely());
+    }
+}

@@ -1,0 +1,282 @@
+//! Water on the GPU: the particle, grid and reaction buffers and their pipelines (made at the
+//! first `add_water`), pass water_grid's encoding, adding and clearing particles, and the
+//! blocking reads tests use (particles, grid counts).
+
+use super::super::buffers::{self as b, grid_header as gh, groups, StateGpu, GRID_COUNT_HEADER, SCAN_BLOCK, STORAGE};
+use super::super::pipelines::{self as pl, Slot};
+use super::kernels::HairKernels;
+use super::GpuBackend;
+use crate::error::{Error, Result};
+use crate::physics::grid::MAX_CELLS;
+use crate::plan::{check_new_particles, pass_list};
+use glam::Vec3;
+
+/// Water buffers and pipelines, created at the first `add_water`.
+#[derive(Debug)]
+pub(super) struct WaterGpu {
+    pub(super) particles: [wgpu::Buffer; 2],
+    pub(super) force: wgpu::Buffer,
+    pub(super) grid_count: wgpu::Buffer,
+    pub(super) grid: wgpu::Buffer,
+    pub(super) state: wgpu::Buffer,
+    pub(super) dispatch: wgpu::Buffer,
+    pub(super) incoming: wgpu::Buffer,
+    /// Build bind groups: [cur = A, other = B], [cur = B, other = A].
+    pub(super) build_bg: [wgpu::BindGroup; 2],
+    /// The indirect-dispatch buffer as storage (grid_setup only).
+    pub(super) dispatch_bg: wgpu::BindGroup,
+    /// Hair-side bind groups: sorted = B (when cur = A), sorted = A.
+    pub(super) hair_bg: [wgpu::BindGroup; 2],
+    /// Pipelines by entry point (see `WATER_ENTRIES`).
+    pub(super) pipes: Vec<wgpu::ComputePipeline>,
+    /// The hair kernels of the wet scene.
+    pub(super) wet_hair: HairKernels,
+    /// Which particle buffer holds the particles.
+    pub(super) cur: usize,
+    /// An upper bound on the particles held (exact after a status read).
+    pub(super) bound: u32,
+    /// Particles uploaded, waiting for the next step's append.
+    pub(super) pending: u32,
+    /// Removed since create or reset, as of the last status read.
+    pub(super) removed: u64,
+}
+
+pub(super) const WATER_ENTRIES: [&str; 10] = [
+    "water_append",
+    "grid_bounds",
+    "grid_setup",
+    "grid_count_cells",
+    "grid_scan_blocks",
+    "grid_scan_sums",
+    "grid_scan_add",
+    "grid_scatter",
+    "water_cull",
+    "water_cull_finish",
+];
+
+impl WaterGpu {
+    /// Encodes pass water_grid over the held particles: bounds, setup, count, prefix sum and,
+    /// with `scatter`, the scatter into grid order (without it the counts stay for a test).
+    pub(super) fn encode_grid(&self, pass: &mut wgpu::ComputePass, scatter: bool) {
+        let (gx, gy) = groups(self.bound.max(1));
+        pass.set_bind_group(0, &self.build_bg[self.cur], &[]);
+        let last = if scatter { 8 } else { 7 };
+        for (k, p) in self.pipes[1..last].iter().enumerate() {
+            pass.set_pipeline(p);
+            match WATER_ENTRIES[k + 1] {
+                "grid_setup" => {
+                    pass.set_bind_group(1, &self.dispatch_bg, &[]);
+                    pass.dispatch_workgroups(1, 1, 1)
+                }
+                "grid_scan_sums" => pass.dispatch_workgroups(1, 1, 1),
+                "grid_scan_blocks" | "grid_scan_add" => pass.dispatch_workgroups_indirect(&self.dispatch, 0),
+                _ => pass.dispatch_workgroups(gx, gy, 1),
+            }
+        }
+    }
+}
+
+impl GpuBackend {
+    /// Uploads particles (they join at the next step); water buffers are created at the
+    /// first call.
+    pub fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
+        check_new_particles(pos, vel)?;
+        if pos.is_empty() {
+            return Ok(());
+        }
+        let cap = self.params.water.capacity;
+        if self.water.is_none() {
+            if pos.len() > cap as usize {
+                return Err(Error::Capacity(format!(
+                    "{} particles exceed the water capacity {cap}",
+                    pos.len()
+                )));
+            }
+            self.water = Some(self.create_water()?);
+        }
+        let n = pos.len() as u32;
+        let w = self.water.as_ref().expect("created above");
+        if w.bound + w.pending + n > cap {
+            // The bound may be stale after culls: read the exact count first.
+            self.read_status()?;
+        }
+        let w = self.water.as_mut().expect("created above");
+        if w.bound + w.pending + n > cap {
+            return Err(Error::Capacity(format!(
+                "{} particles held + {} waiting + {n} added exceeds the water capacity {cap}",
+                w.bound, w.pending
+            )));
+        }
+        let recs: Vec<StateGpu> = pos
+            .iter()
+            .enumerate()
+            .map(|(i, p)| StateGpu {
+                x: p.extend(0.0).to_array(),
+                v: vel.get(i).copied().unwrap_or(Vec3::ZERO).extend(0.0).to_array(),
+            })
+            .collect();
+        self.dev
+            .queue
+            .write_buffer(&w.incoming, w.pending as u64 * 32, bytemuck::cast_slice(&recs));
+        w.pending += n;
+        Ok(())
+    }
+
+    /// Removes every particle.
+    pub fn clear_water(&mut self) {
+        if let Some(w) = &mut self.water {
+            self.dev
+                .queue
+                .write_buffer(&w.state, 0, bytemuck::cast_slice(&[0u32, 0]));
+            w.bound = 0;
+            w.pending = 0;
+        }
+        if self.water_share.is_some() {
+            // The host draws the particles: its next frame shows them gone.
+            self.vertices_current = false;
+        }
+    }
+
+    pub(super) fn create_water(&self) -> Result<WaterGpu> {
+        let d = &self.dev.device;
+        let cap = self.params.water.capacity as u64;
+        let particles = [
+            b::buffer(d, "particles_a", cap * 32, STORAGE),
+            b::buffer(d, "particles_b", cap * 32, STORAGE),
+        ];
+        let force = b::buffer(d, "water_force", cap * 16, STORAGE);
+        let grid_count = b::buffer(
+            d,
+            "grid_count",
+            (GRID_COUNT_HEADER as u64 + MAX_CELLS as u64) * 4,
+            STORAGE,
+        );
+        // Header, start[0..=cells], and the prefix sum's per-block totals (one per SCAN_BLOCK cells).
+        let block_sums = MAX_CELLS.div_ceil(SCAN_BLOCK as usize) as u64;
+        let grid = b::buffer(
+            d,
+            "grid",
+            (gh::START as u64 + MAX_CELLS as u64 + 1 + block_sums) * 4,
+            STORAGE,
+        );
+        let state = b::buffer(d, "water_state", 16, STORAGE);
+        let dispatch = b::buffer(d, "grid_dispatch", 16, STORAGE | wgpu::BufferUsages::INDIRECT);
+        // Particles added in one frame; the whole capacity at most.
+        let incoming = b::buffer(d, "water_incoming", cap * 32, STORAGE);
+        let build_layout = pl::layout(
+            d,
+            "water build",
+            &[
+                Slot::Uniform,
+                Slot::ReadWrite,
+                Slot::ReadWrite,
+                Slot::ReadWrite,
+                Slot::ReadWrite,
+                Slot::ReadWrite,
+                Slot::ReadWrite,
+                Slot::Read,
+            ],
+        );
+        let dispatch_layout = pl::layout(d, "grid dispatch", &[Slot::ReadWrite]);
+        let dispatch_bg = pl::bind(d, "grid dispatch", &dispatch_layout, &[&dispatch], None);
+        let hair_layout = pl::layout(d, "water hair", &[Slot::ReadWrite, Slot::ReadWrite, Slot::Read]);
+        let mk_build = |i: usize| {
+            pl::bind(
+                d,
+                "water build",
+                &build_layout,
+                &[
+                    &self.params_buf,
+                    &particles[i],
+                    &particles[1 - i],
+                    &force,
+                    &grid_count,
+                    &grid,
+                    &state,
+                    &incoming,
+                ],
+                None,
+            )
+        };
+        let mk_hair = |i: usize| pl::bind(d, "water hair", &hair_layout, &[&particles[1 - i], &force, &grid], None);
+        let water_mod = pl::module(d, "water", &pl::water_source(self.consts));
+        let pipes = WATER_ENTRIES
+            .iter()
+            .map(|&e| {
+                let layouts: &[&wgpu::BindGroupLayout] = if e == "grid_setup" {
+                    &[&build_layout, &dispatch_layout]
+                } else {
+                    &[&build_layout]
+                };
+                pl::pipelines(d, &water_mod, layouts, &[e]).remove(0)
+            })
+            .collect();
+        let wet_passes = pass_list(&self.params, self.integrator, self.bend, true);
+        let wet_hair = HairKernels::new(
+            d,
+            self.consts,
+            &wet_passes,
+            &self.hair_layout,
+            Some(&hair_layout),
+            self.strands_layout.as_ref(),
+        );
+        self.dev.check()?;
+        Ok(WaterGpu {
+            build_bg: [mk_build(0), mk_build(1)],
+            dispatch_bg,
+            hair_bg: [mk_hair(0), mk_hair(1)],
+            particles,
+            force,
+            grid_count,
+            grid,
+            state,
+            dispatch,
+            incoming,
+            pipes,
+            wet_hair,
+            cur: 0,
+            bound: 0,
+            pending: 0,
+            removed: 0,
+        })
+    }
+
+    /// Every particle (blocking; order is the GPU's).
+    pub fn read_water(&self) -> Result<Vec<StateGpu>> {
+        let (st, _) = self.peek_status()?;
+        let Some(w) = &self.water else { return Ok(Vec::new()) };
+        let n = st.particles as u64;
+        let bytes = self.read_buffers(&[(&w.particles[w.cur], n * 32)], None)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes[..n as usize * 32]))
+    }
+
+    /// Per-cell particle counts of a grid built now over the held particles, with its dims
+    /// (tests compare them with the CPU grid's).
+    pub fn read_grid_counts(&mut self) -> Result<(glam::IVec3, Vec<u32>)> {
+        let Some(w) = &self.water else {
+            return Err(Error::InvalidArgument("no water".into()));
+        };
+        let mut enc = self.dev.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            w.encode_grid(&mut pass, false);
+        }
+        self.dev.submit(enc.finish(), false);
+        let bytes = self.read_buffers(&[(&w.grid, w.grid.size())], None)?;
+        let g: &[u32] = bytemuck::cast_slice(&bytes);
+        let word = |at: u32| g[at as usize];
+        let dims = glam::IVec3::new(
+            word(gh::DIMS) as i32,
+            word(gh::DIMS + 1) as i32,
+            word(gh::DIMS + 2) as i32,
+        );
+        let start = |c: usize| g[gh::START as usize + c];
+        let counts = (0..word(gh::CELLS) as usize).map(|c| start(c + 1) - start(c)).collect();
+        // Without the scatter the counts stay: clear them for the next build.
+        let mut enc = self.dev.device.create_command_encoder(&Default::default());
+        enc.clear_buffer(&w.grid_count, 0, None);
+        self.dev.submit(enc.finish(), false);
+        self.dev.wait()?;
+        Ok((dims, counts))
+    }
+}

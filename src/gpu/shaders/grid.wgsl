@@ -1,0 +1,24 @@
+// The dense grid's header and eqs. 4-5 with clamping (physics/grid.rs `cell_of`, `index`),
+// shared by the water module (which builds the grid) and the wet hair module (which queries
+// it). Both bind the grid's words as `grid`; the G_* offsets come from the prelude.
+
+fn grid_lo() -> vec3<f32> {
+    return vec3<f32>(bitcast<f32>(grid[G_LO]), bitcast<f32>(grid[G_LO + 1u]), bitcast<f32>(grid[G_LO + 2u]));
+}
+
+fn grid_dims() -> vec3<i32> {
+    return vec3<i32>(i32(grid[G_DIMS]), i32(grid[G_DIMS + 1u]), i32(grid[G_DIMS + 2u]));
+}
+
+// Eq. 4 with clamping: the cell holding p (any p: outside points clamp to the boundary cells).
+fn cell_of(p: vec3<f32>, lo: vec3<f32>, inv_cell: f32, dims: vec3<i32>) -> vec3<i32> {
+    let c = clamp((p - lo) * inv_cell, vec3<f32>(0.0), vec3<f32>(dims - vec3<i32>(1)));
+    return min(max(vec3<i32>(c), vec3<i32>(0)), dims - vec3<i32>(1));
+}
+
+// Eq. 5: the linear index of the cell holding p.
+fn cell_index(p: vec3<f32>) -> u32 {
+    let dims = grid_dims();
+    let ci = cell_of(p, grid_lo(), bitcast<f32>(grid[G_INV]), dims);
+    return u32((ci.x * dims.y + ci.y) * dims.z + ci.z);
+}

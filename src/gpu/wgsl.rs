@@ -1,0 +1,146 @@
+//! The WGSL prelude generated from the Rust definitions: every struct the shaders share with
+//! the host and every constant both sides use is written here once, in Rust, and printed into
+//! the top of each module ([`prelude`]). `tests/shaders.rs` reads the compiled modules back
+//! through naga and checks each struct's member offsets and size against the Rust record.
+
+use super::buffers::{self, grid_header as gh, ColliderGpu, Params, PointGpu, StateGpu};
+
+/// A field type with a WGSL spelling.
+pub trait WgslType {
+    /// The type as WGSL writes it.
+    const WGSL: &'static str;
+}
+
+impl WgslType for f32 {
+    const WGSL: &'static str = "f32";
+}
+impl WgslType for u32 {
+    const WGSL: &'static str = "u32";
+}
+impl WgslType for [f32; 3] {
+    const WGSL: &'static str = "vec3<f32>";
+}
+impl WgslType for [f32; 4] {
+    const WGSL: &'static str = "vec4<f32>";
+}
+
+/// One field of a [`GpuRecord`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Field {
+    /// The field's name, the same in Rust and WGSL.
+    pub name: &'static str,
+    /// Its WGSL type.
+    pub wgsl: &'static str,
+    /// Its byte offset in the Rust record.
+    pub offset: usize,
+}
+
+/// A `#[repr(C)]` record the shaders read with the same layout: its fields in order.
+pub trait GpuRecord: bytemuck::Pod {
+    /// Fields in declaration order.
+    const FIELDS: &'static [Field];
+}
+
+/// Declares a GPU record: the `#[repr(C)]` Pod struct and its [`GpuRecord`] field table, from
+/// one list of fields.
+macro_rules! gpu_record {
+    ($(#[$m:meta])* pub struct $name:ident { $($(#[$fm:meta])* pub $field:ident: $ty:ty,)* }) => {
+        $(#[$m])*
+        #[repr(C)]
+        #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+        pub struct $name {
+            $($(#[$fm])* pub $field: $ty,)*
+        }
+
+        impl $crate::gpu::wgsl::GpuRecord for $name {
+            const FIELDS: &'static [$crate::gpu::wgsl::Field] = &[$($crate::gpu::wgsl::Field {
+                name: stringify!($field),
+                wgsl: <$ty as $crate::gpu::wgsl::WgslType>::WGSL,
+                offset: std::mem::offset_of!($name, $field),
+            },)*];
+        }
+    };
+}
+pub(crate) use gpu_record;
+
+/// The WGSL structs the host writes or reads, by WGSL name, with their Rust records'
+/// fields and sizes: `State` and `Particle` are both [`StateGpu`].
+pub fn records() -> [(&'static str, &'static [Field], usize); 5] {
+    fn rec<T: GpuRecord>(name: &'static str) -> (&'static str, &'static [Field], usize) {
+        (name, T::FIELDS, std::mem::size_of::<T>())
+    }
+    [
+        rec::<Params>("Params"),
+        rec::<PointGpu>("Point"),
+        rec::<StateGpu>("State"),
+        rec::<StateGpu>("Particle"),
+        rec::<ColliderGpu>("Collider"),
+    ]
+}
+
+/// A constant of the prelude: a `u32` or an `f32`.
+#[derive(Clone, Copy, Debug)]
+pub enum Const {
+    /// Written `Nu`.
+    U32(u32),
+    /// Written in the shortest form that reads back to the same f32.
+    F32(f32),
+}
+
+/// Every constant the shaders share with Rust, by WGSL name (scene constants such as `AXIAL`
+/// come from [`crate::gpu::pipelines::SceneConsts`] instead).
+pub fn constants() -> Vec<(&'static str, Const)> {
+    use crate::physics::{adhesion, collide, implicit, spring};
+    use Const::*;
+    vec![
+        ("WG", U32(buffers::WG)),
+        ("SCAN_BLOCK", U32(buffers::SCAN_BLOCK)),
+        ("GRID_COUNT_HEADER", U32(buffers::GRID_COUNT_HEADER)),
+        ("G_LO", U32(gh::LO)),
+        ("G_CELL", U32(gh::CELL)),
+        ("G_INV", U32(gh::INV)),
+        ("G_DIMS", U32(gh::DIMS)),
+        ("G_CELLS", U32(gh::CELLS)),
+        ("G_COUNT", U32(gh::COUNT)),
+        ("G_START", U32(gh::START)),
+        ("STATUS_SPEED2", U32(buffers::status::SPEED2)),
+        ("STATUS_FLAGS", U32(buffers::status::FLAGS)),
+        ("STATUS_FAILED_POINT", U32(buffers::status::FAILED_POINT)),
+        ("FLAG_HAIR_NONFINITE", U32(buffers::status::HAIR_NONFINITE)),
+        ("FLAG_WATER_NONFINITE", U32(buffers::status::WATER_NONFINITE)),
+        ("WATER_HELD", U32(buffers::water_state::HELD)),
+        ("WATER_KEPT", U32(buffers::water_state::KEPT)),
+        ("WATER_REMOVED", U32(buffers::water_state::REMOVED)),
+        ("NO_ATTRIBUTE", U32(buffers::NO_ATTRIBUTE)),
+        ("BAND", U32(implicit::BAND as u32)),
+        ("MIN_LENGTH", F32(spring::MIN_LENGTH)),
+        ("MIN_DISTANCE", F32(adhesion::MIN_DISTANCE)),
+        ("ON_AXIS_D2", F32(collide::ON_AXIS_D2)),
+        ("PIVOT_FLOOR_F32", F32(implicit::PIVOT_FLOOR_F32)),
+        ("ARMIJO_C1", F32(implicit::ARMIJO_C1 as f32)),
+        ("ARMIJO_SLACK_F32", F32(implicit::ARMIJO_SLACK_F32)),
+        ("SUBSTEP_HEAD_BYTES", U32(buffers::SUBSTEP_HEAD_BYTES)),
+    ]
+}
+
+/// The generated part of every module's prelude: constants, then the shared structs (the
+/// per-substep uniform last, as it holds `NC` colliders, a scene constant).
+pub fn prelude() -> String {
+    let mut s = String::from("// Generated from the Rust definitions (gpu/wgsl.rs): constants and shared structs.\n");
+    for (name, c) in constants() {
+        s.push_str(&match c {
+            Const::U32(v) => format!("const {name}: u32 = {v}u;\n"),
+            Const::F32(v) => format!("const {name}: f32 = {v:e};\n"),
+        });
+    }
+    for (name, fields, _) in records() {
+        s.push_str(&format!("struct {name} {{\n"));
+        for f in fields {
+            s.push_str(&format!("    {}: {},\n", f.name, f.wgsl));
+        }
+        s.push_str("}\n");
+    }
+    // The head transform (column-major 4x4, SUBSTEP_HEAD_BYTES) then the placed colliders.
+    s.push_str("struct Substep {\n    head: mat4x4<f32>,\n    colliders: array<Collider, NC>,\n}\n");
+    s
+}

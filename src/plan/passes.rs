@@ -1,0 +1,95 @@
+//! The pass list: the passes a step runs for a scene, in order. Both backends build their
+//! step from this one list (the CPU calls one function per pass, the GPU emits one WGSL call
+//! per pass), and a pass the scene does not need is not in it.
+
+use crate::params::{Integrator, SimParams};
+
+/// One pass of the step, as reported by [`crate::Simulation::passes`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pass {
+    /// Rebuild the water grid (counting sort).
+    WaterGrid,
+    /// Linear air drag on hair points.
+    Drag,
+    /// Stretch springs (i, i+1).
+    StretchSprings,
+    /// Bend springs (i, i+2).
+    BendSprings,
+    /// Eq. 2 between hair points and particles.
+    Adhesion,
+    /// Symplectic Euler (or XPBD's prediction); pinned points follow the head.
+    Integrate,
+    /// Implicit Euler: springs, Jacobians and each strand's banded solve, per Newton iteration.
+    ImplicitSolve,
+    /// XPBD: project stretch then bend constraints.
+    ProjectConstraints,
+    /// Push hair out of colliders.
+    Collide,
+    /// Integrate water particles (and collide them).
+    WaterIntegrate,
+    /// Remove particles that left the domain (once per step).
+    WaterCull,
+}
+
+impl Pass {
+    /// The pass's name, the same as the GPU entry point that mirrors it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Pass::WaterGrid => "water_grid",
+            Pass::Drag => "drag",
+            Pass::StretchSprings => "stretch_springs",
+            Pass::BendSprings => "bend_springs",
+            Pass::Adhesion => "adhesion",
+            Pass::Integrate => "integrate",
+            Pass::ImplicitSolve => "implicit_solve",
+            Pass::ProjectConstraints => "project_constraints",
+            Pass::Collide => "collide",
+            Pass::WaterIntegrate => "water_integrate",
+            Pass::WaterCull => "water_cull",
+        }
+    }
+}
+
+/// Whether a scene has bend springs: strands of more than two points (`max_points` is the
+/// longest strand's) and a bend family that is not switched off.
+pub fn has_bend(p: &SimParams, max_points: usize) -> bool {
+    max_points > 2 && (p.bend.stiffness > 0.0 || p.bend.damping > 0.0)
+}
+
+/// The passes a step runs for these parameters, in order: both backends build their step
+/// from this one list. `bend`: the scene has bend springs ([`has_bend`]); `wet`: it holds
+/// water now.
+pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -> Vec<Pass> {
+    let mut v = Vec::new();
+    if wet {
+        v.push(Pass::WaterGrid);
+    }
+    if p.air_drag > 0.0 {
+        v.push(Pass::Drag);
+    }
+    let explicit = integrator == Integrator::SYMPLECTIC_EULER;
+    if explicit && (p.stretch.stiffness > 0.0 || p.stretch.damping > 0.0) {
+        v.push(Pass::StretchSprings);
+    }
+    if explicit && bend {
+        v.push(Pass::BendSprings);
+    }
+    if wet {
+        v.push(Pass::Adhesion);
+    }
+    v.push(match integrator {
+        Integrator::IMPLICIT_EULER => Pass::ImplicitSolve,
+        _ => Pass::Integrate,
+    });
+    if integrator == Integrator::XPBD {
+        v.push(Pass::ProjectConstraints);
+    }
+    if !p.colliders.is_empty() {
+        v.push(Pass::Collide);
+    }
+    if wet {
+        v.push(Pass::WaterIntegrate);
+        v.push(Pass::WaterCull);
+    }
+    v
+}
