@@ -2,7 +2,7 @@
 //! and the GPU backend implement, and [`create`], which picks one as the parameters ask.
 //! `Simulation` holds a `Box<dyn Engine>` and never asks which backend it has.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::groom::Groom;
 use crate::params::{Backend, Integrator, SimParams, VertexAttributes};
 use crate::plan::Pass;
@@ -96,8 +96,8 @@ pub trait Engine: std::fmt::Debug + Send {
 
 /// The refusal of a Vulkan share by a simulation that does not run on the host's device.
 #[cfg(feature = "vulkan")]
-pub fn not_shared(what: &str) -> Error {
-    Error::Unsupported(format!(
+pub fn not_shared(what: &str) -> crate::error::Error {
+    crate::error::Error::Unsupported(format!(
         "{what} shared only by simulations created on the host's VkDevice"
     ))
 }
@@ -119,7 +119,7 @@ pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn 
         let why = "this build has no GPU backend (feature `gpu`)";
         match p.backend {
             Backend::CPU => cpu(String::new()),
-            Backend::GPU => Err(Error::Unsupported(why.into())),
+            Backend::GPU => Err(crate::error::Error::Unsupported(why.into())),
             Backend::AUTO => cpu(why.into()),
         }
     }

@@ -169,13 +169,3 @@ macro_rules! check_out_size {
         p
     }};
 }
-
-/// Returns an invalid-argument failure with a formatted message.
-macro_rules! fail_invalid {
-    ($($arg:tt)*) => {
-        return Err($crate::ffi::boundary::Fail(
-            $crate::ffi::WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
-            format!($($arg)*),
-        ))
-    };
-}

@@ -301,7 +301,12 @@ unsafe fn host_vulkan(d: &WetHairVulkanDevice, need_device: bool) -> Result<crat
             user: d.queue_user_data,
         }),
         (None, None) => None,
-        _ => fail_invalid!("host->queue_lock and host->queue_unlock must be set together"),
+        _ => {
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
+                "host->queue_lock and host->queue_unlock must be set together".into(),
+            ))
+        }
     };
     // SAFETY: the host passes vkGetInstanceProcAddr as void*; the types agree.
     let gipa: vk::PFN_vkGetInstanceProcAddr = std::mem::transmute(d.get_instance_proc_addr);

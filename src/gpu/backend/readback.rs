@@ -20,6 +20,22 @@ pub(super) struct Staging {
     pub(super) ready: Arc<AtomicBool>,
 }
 
+impl Staging {
+    /// An unmapped staging buffer of `size` bytes that holds no frame yet.
+    pub(super) fn new(dev: &wgpu::Device, label: &str, size: u64) -> Staging {
+        Staging {
+            buf: b::buffer(
+                dev,
+                label,
+                size,
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+            frame: None,
+            ready: Arc::default(),
+        }
+    }
+}
+
 impl GpuBackend {
     pub(super) fn ensure_staging(&mut self) {
         if !self.staging.is_empty() {
@@ -32,16 +48,7 @@ impl GpuBackend {
         };
         let size = STATUS_BYTES + self.vertices.size();
         for _ in 0..n {
-            self.staging.push(Staging {
-                buf: b::buffer(
-                    &self.dev.device,
-                    "readback",
-                    size,
-                    wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                ),
-                frame: None,
-                ready: Arc::default(),
-            });
+            self.staging.push(Staging::new(&self.dev.device, "readback", size));
         }
     }
 

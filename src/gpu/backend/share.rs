@@ -2,13 +2,15 @@
 //! buffers for an indirect draw (made at the host's first ask), and the status ring that
 //! reports a failed step to a host that never reads through us.
 
+#[cfg(feature = "vulkan")]
 use super::super::buffers::{self as b, STORAGE};
+#[cfg(feature = "vulkan")]
 use super::super::pipelines::{self as pl, Slot};
 use super::readback::{decode_status, Staging, STATUS_BYTES};
 use super::GpuBackend;
+#[cfg(feature = "vulkan")]
 use crate::error::{Error, Result};
 use std::sync::atomic::Ordering;
-use std::sync::Arc;
 
 /// Host-shared devices whose host draws the particles (made at its first ask): their
 /// positions and the indirect draw's arguments, written with the vertices in the submission
@@ -118,16 +120,8 @@ impl GpuBackend {
     pub(super) fn status_slot(&mut self, enc: &mut wgpu::CommandEncoder) -> Option<usize> {
         if self.status_ring.is_empty() {
             for _ in 0..2 {
-                self.status_ring.push(Staging {
-                    buf: b::buffer(
-                        &self.dev.device,
-                        "status readback",
-                        STATUS_BYTES,
-                        wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    ),
-                    frame: None,
-                    ready: Arc::default(),
-                });
+                self.status_ring
+                    .push(Staging::new(&self.dev.device, "status readback", STATUS_BYTES));
             }
         }
         self.poll_status_ring();
