@@ -4,7 +4,7 @@
 
 use crate::error::Result;
 use crate::groom::Groom;
-use crate::params::{Backend, Integrator, SimParams, VertexAttributes};
+use crate::params::{Backend, Integrator, SimParams};
 use crate::plan::Pass;
 use glam::{Affine3A, Vec3};
 
@@ -54,8 +54,9 @@ pub trait Engine: std::fmt::Debug + Send {
     fn step(&mut self, dt: f32, from: &Affine3A, to: &Affine3A) -> Result<f32>;
     /// Back to the rest pose at `head`: zero velocity, dry, no water.
     fn reset(&mut self, head: &Affine3A);
-    /// Writes `attrs` of every point into `dst`, exactly `points * attrs.stride()` floats.
-    fn write_vertices(&mut self, attrs: VertexAttributes, dst: &mut [f32]) -> Result<()>;
+    /// Writes the attributes the parameters ask for, of every point, into `dst`: exactly
+    /// `points * params.attributes.stride()` floats.
+    fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()>;
     /// Every point's state (on the GPU a blocking readback).
     fn point_states(&self) -> Result<Vec<PointState>>;
     /// Water positions and velocities (order changes when particles are removed).

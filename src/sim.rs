@@ -287,10 +287,7 @@ impl Simulation {
                 dst.len()
             )));
         }
-        let r = self
-            .engine
-            .write_vertices(self.params.attributes, &mut dst[..n])
-            .map(|_| n);
+        let r = self.engine.write_vertices(&mut dst[..n]).map(|_| n);
         self.settle(r)
     }
 

@@ -4,7 +4,7 @@
 use super::step::CpuBackend;
 use crate::engine::{Counters, Engine, PointState};
 use crate::error::Result;
-use crate::params::{Backend, Integrator, VertexAttributes};
+use crate::params::{Backend, Integrator};
 use crate::plan::Pass;
 use glam::{Affine3A, Vec3};
 
@@ -37,8 +37,8 @@ impl Engine for CpuBackend {
         CpuBackend::reset(self, head)
     }
 
-    fn write_vertices(&mut self, attrs: VertexAttributes, dst: &mut [f32]) -> Result<()> {
-        CpuBackend::write_vertices(self, attrs, dst);
+    fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()> {
+        CpuBackend::write_vertices(self, dst);
         Ok(())
     }
 

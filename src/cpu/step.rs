@@ -9,7 +9,7 @@ use super::kernel::{block_substep, cpu_has_avx2, Ctx, WaterCtx, Worker};
 use super::layout::{Layout, StateRow};
 use super::water::Water;
 use crate::error::{Error, Result};
-use crate::params::{Integrator, SimParams, VertexAttributes};
+use crate::params::{Integrator, SimParams};
 use crate::physics::collide::Placed;
 use crate::physics::implicit::BandScratch;
 use crate::physics::lanes::{Lane, L3, W};
@@ -330,7 +330,8 @@ impl CpuBackend {
 
     /// Writes the host's attributes for every real point, strand after strand, into `dst`
     /// (exactly `points * stride` floats).
-    pub fn write_vertices(&self, attrs: VertexAttributes, dst: &mut [f32]) {
+    pub fn write_vertices(&self, dst: &mut [f32]) {
+        let attrs = self.params.attributes;
         super::output::write_vertices(&self.lay, &self.state, &self.wet, attrs, self.pool.as_ref(), dst);
     }
 }

@@ -3,7 +3,7 @@
 use super::GpuBackend;
 use crate::engine::{Counters, Engine, PointState};
 use crate::error::Result;
-use crate::params::{Backend, Integrator, VertexAttributes};
+use crate::params::{Backend, Integrator};
 use crate::plan::Pass;
 use glam::{Affine3A, Vec3};
 
@@ -41,9 +41,8 @@ impl Engine for GpuBackend {
         GpuBackend::reset(self, head)
     }
 
-    /// The layout was fixed at create (the output pass writes `attrs`), so only the floats
-    /// are copied here.
-    fn write_vertices(&mut self, _attrs: VertexAttributes, dst: &mut [f32]) -> Result<()> {
+    /// The output pass writes the attributes fixed at create; this copies its floats.
+    fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()> {
         self.read_vertices(dst).map(|_| ())
     }
 
