@@ -683,7 +683,9 @@ WetHairResult wethair_sim_clear_water(struct WetHairSim *sim);
 // `sim` is valid.
 WetHairResult wethair_sim_step(struct WetHairSim *sim, float dt);
 
-// Returns to the rest pose at the current head transform: still, dry, no water.
+// Returns to the rest pose at the current head transform: still, dry, no water; an
+// instability is forgotten. After a device failure it returns `WETHAIR_ERROR_DEVICE` and
+// changes nothing (destroy the simulation).
 //
 // # Safety
 // `sim` is valid.
@@ -731,8 +733,9 @@ WetHairResult wethair_sim_get_stats(const struct WetHairSim *sim, struct WetHair
 WetHairResult wethair_sim_get_backend_info(const struct WetHairSim *sim, struct WetHairBackendInfo *out);
 
 // Makes a GPU simulation's device fail as a lost device would, so that a host can test its
-// error path: later calls on `sim` return `WETHAIR_ERROR_DEVICE`. No effect on the CPU
-// backend. For tests only.
+// error path: every later call on `sim` (reset and the reads included; destroy excepted)
+// returns `WETHAIR_ERROR_DEVICE`, as after a real loss. No effect on the CPU backend. For
+// tests only.
 //
 // # Safety
 // `sim` is valid.

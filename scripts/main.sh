@@ -4,6 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+. scripts/env.sh
 cargo build --release --quiet
 make -C examples/c --quiet build/render
 mkdir -p out

@@ -5,12 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-# Mesa warns on every device open without a private runtime dir.
-if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
-    XDG_RUNTIME_DIR=$(mktemp -d)
-    chmod 700 "$XDG_RUNTIME_DIR"
-    export XDG_RUNTIME_DIR
-fi
+. scripts/env.sh
 step() { printf '\n== %s\n' "$*"; }
 
 # One build for everything: the default features plus the Unity plugin entry points.
@@ -40,6 +35,20 @@ mkdir -p out
 test -s out/test-render.png
 ./examples/c/build/render --out out/test-render-gpu.png --frames 60 --backend gpu
 test -s out/test-render-gpu.png
+
+step "Linking against the build tree as the README shows (no install): shared with its SONAME link, and static"
+ln -sf libwethair.so target/release/libwethair.so.0.1
+cc -std=c11 -D_POSIX_C_SOURCE=199309L -Iinclude examples/c/smoke.c -o target/smoke-tree \
+    -Ltarget/release -lwethair -Wl,-rpath,"$PWD/target/release" -lm
+./target/smoke-tree --backend cpu >/dev/null
+cc -std=c11 -D_POSIX_C_SOURCE=199309L -Iinclude examples/c/smoke.c -o target/smoke-tree-static \
+    target/release/libwethair.a -lm -ldl -lpthread
+./target/smoke-tree-static --backend cpu >/dev/null
+
+step "The main job prints only its own lines (no Mesa warning without XDG_RUNTIME_DIR)"
+env -u XDG_RUNTIME_DIR bash scripts/main.sh --frames 10 --out out/test-main.png 2>&1 | tee target/main.log
+! grep -qi "error\|warning" target/main.log
+grep -q "^timing: dry" target/main.log
 
 step "C++ wrapper (bindings/cpp/wethair.hpp, g++ -std=c++17 -Wall -Wextra -Werror): the paper scene"
 ./examples/c/build/cpp_paper_scene
@@ -160,5 +169,5 @@ valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definit
     ./examples/c/build/smoke 60 1000 --backend cpu
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
-c_checks=31  # header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
+c_checks=34  # build-tree links shared and static, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
 printf '\nwethair tests: %d passed, 0 failed\n' "$((rust + c_checks))"

@@ -71,6 +71,11 @@ pub trait Engine: std::fmt::Debug + Send {
     }
     /// Makes a GPU device fail as a lost one would (tests of a host's error path).
     fn lose_device(&self) {}
+    /// The device's failure, once it has failed (lost, out of memory, validation); never on
+    /// the CPU.
+    fn device_failure(&self) -> Option<crate::error::Error> {
+        None
+    }
     /// Starts GPU timestamp queries around each step; false where there are none.
     fn enable_gpu_timing(&mut self) -> bool {
         false

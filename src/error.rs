@@ -18,8 +18,9 @@ pub enum Error {
     Parse(String),
     /// A step produced a non-finite value; the simulation must be reset.
     Unstable {
-        /// Index (in the host's order) of the first strand found non-finite.
-        strand: u32,
+        /// Index (in the host's order) of the first strand found non-finite; `None` when a
+        /// water particle failed rather than hair.
+        strand: Option<u32>,
         /// Human-readable detail.
         detail: String,
     },
@@ -40,9 +41,13 @@ impl fmt::Display for Error {
             Error::Parse(m) => write!(f, "malformed groom: {m}"),
             Error::Device(m) => write!(f, "GPU device error: {m}"),
             Error::Unsupported(m) => write!(f, "unsupported: {m}"),
-            Error::Unstable { strand, detail } => {
-                write!(f, "unstable: strand {strand} became non-finite ({detail})")
+            Error::Unstable {
+                strand: Some(s),
+                detail,
+            } => {
+                write!(f, "unstable: strand {s} became non-finite ({detail})")
             }
+            Error::Unstable { strand: None, detail } => write!(f, "unstable: {detail}"),
         }
     }
 }

@@ -177,6 +177,7 @@ impl Simulation {
     /// reflection). Pinned points and colliders move from the previous transform to this one
     /// over the step's substeps.
     pub fn set_head_transform(&mut self, m: Mat4) -> Result<()> {
+        self.check_device()?;
         let a = m.to_cols_array();
         if a.iter().any(|v| !v.is_finite()) {
             return Err(invalid!("head transform has a non-finite entry"));
@@ -196,12 +197,30 @@ impl Simulation {
 
     /// Adds water particles at `pos` with velocities `vel` (empty: at rest).
     pub fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
+        self.check_device()?;
         self.engine.add_water(pos, vel)
     }
 
     /// Removes every water particle (hair stays as wet as it is).
-    pub fn clear_water(&mut self) {
-        self.engine.clear_water()
+    pub fn clear_water(&mut self) -> Result<()> {
+        self.check_device()?;
+        self.engine.clear_water();
+        Ok(())
+    }
+
+    /// A failed device fails every later call, as the header promises: the failure recorded,
+    /// or one the device reports now (recorded from here on).
+    pub fn check_device(&mut self) -> Result<()> {
+        let r = self.device_ok();
+        self.settle(r)
+    }
+
+    /// [`Simulation::check_device`] without recording: for the reads that take `&self`.
+    pub fn device_ok(&self) -> Result<()> {
+        if let Some(e @ Error::Device(_)) = &self.failed {
+            return Err(e.clone());
+        }
+        self.engine.device_failure().map_or(Ok(()), Err)
     }
 
     /// Advances the simulation by `dt` seconds (0 < dt <= 1).
@@ -236,15 +255,16 @@ impl Simulation {
     }
 
     /// Back to the rest pose at the current head transform: zero velocity, dry, no water,
-    /// counters cleared, failure forgotten (a lost GPU device stays failed).
-    pub fn reset(&mut self) {
+    /// counters cleared, failure forgotten. A failed GPU device stays failed: the reset
+    /// returns its error and changes nothing.
+    pub fn reset(&mut self) -> Result<()> {
+        self.check_device()?;
         self.engine.reset(&self.head);
         self.head_prev = self.head;
-        if !matches!(self.failed, Some(Error::Device(_))) {
-            self.failed = None;
-        }
+        self.failed = None;
         self.steps = 0;
         self.max_speed = 0.0;
+        Ok(())
     }
 
     /// Whether a step failed and the simulation waits for a reset.
@@ -428,6 +448,9 @@ impl Simulation {
     /// path; later calls return [`Error::Device`]. Does nothing on the CPU backend.
     pub fn debug_lose_device(&mut self) {
         self.engine.lose_device();
+        if let Some(e) = self.engine.device_failure() {
+            self.failed = Some(e);
+        }
     }
 
     /// Starts measuring each step's GPU time with timestamp queries (GPU backend, adapters with

@@ -276,7 +276,7 @@ fn pipelines_hold_only_the_scene_passes() {
     let d = g.gpu_dispatches();
     assert_eq!(d[0], "water_append");
     assert!(d.contains(&"grid_scatter") && d.contains(&"water_integrate"), "{d:?}");
-    g.clear_water();
+    g.clear_water().unwrap();
     assert_eq!(g.gpu_dispatches(), vec!["hair_substep"]);
 }
 
@@ -310,7 +310,7 @@ fn vertices_before_the_first_step_are_the_rest_pose() {
             "{readback:?}: fresh vertices differ from the CPU's by {worst}"
         );
         g.step(1.0 / 60.0).unwrap();
-        g.reset();
+        g.reset().unwrap();
         got.fill(0.0);
         g.write_vertices(&mut got).unwrap();
         let worst = want.iter().zip(&got).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max);
@@ -373,11 +373,11 @@ fn a_lost_device_is_an_error_code_not_a_panic() {
     // The water read back too: an error, not an empty list that looks like "no water".
     assert!(matches!(g.water_positions(), Err(Error::Device(_))));
     assert!(matches!(g.step(1.0 / 60.0), Err(Error::Device(_))));
-    g.reset();
     assert!(
-        matches!(g.step(1.0 / 60.0), Err(Error::Device(_))),
+        matches!(g.reset(), Err(Error::Device(_))),
         "a reset does not revive a lost device"
     );
+    assert!(matches!(g.step(1.0 / 60.0), Err(Error::Device(_))));
 }
 
 /// Extreme cases of the accuracy issue that apply to symplectic Euler.
@@ -399,7 +399,7 @@ fn gpu_unstable_step_is_reported_and_never_reaches_the_vertices() {
     }
     assert!(matches!(err, Some(Error::Unstable { .. })), "{err:?}");
     assert!(v.iter().all(|x| x.is_finite()), "a NaN reached the host's buffer");
-    g.reset();
+    g.reset().unwrap();
     g.step(1e-6).unwrap();
     g.write_vertices(&mut v).unwrap();
 }

@@ -58,7 +58,7 @@ fn passes_appear_only_with_their_feature() {
     let names: Vec<_> = sim.buffers().iter().map(|b| b.0).collect();
     assert!(names.contains(&"water_grid") && names.contains(&"wetness"));
     // Water gone: its passes go too (buffers stay for the next shower).
-    sim.clear_water();
+    sim.clear_water().unwrap();
     assert!(!sim.passes().contains(&Pass::Adhesion));
 }
 

@@ -348,10 +348,14 @@ fn adhesion_row_and_point_forms_agree() {
         z: &cols[2],
     };
     let (mut fx, mut fy, mut fz) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let (mut acc, mut near) = (L3::ZERO, [0.0; W]);
-    adhesion::gather_run_lanes(
-        &x, &[1.0; W], run, &mut fx, &mut fy, &mut fz, &mut acc, &mut near, r0, r1, s,
-    );
+    let (mut acc, mut near, mut reactions) = (L3::ZERO, [0.0; W], Vec::new());
+    adhesion::gather_run_lanes(&x, &[1.0; W], run, 0, &mut reactions, &mut acc, &mut near, r0, r1, s);
+    for r in &reactions {
+        let j = r.slot as usize;
+        fx[j] += r.f[0];
+        fy[j] += r.f[1];
+        fz[j] += r.f[2];
+    }
     // The per-point form: the scalar law, pair by pair.
     let (mut gx, mut gy, mut gz) = (vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]);
     for l in 0..W {

@@ -21,8 +21,9 @@ const MAX_RUNS: usize = 49;
 #[derive(Debug, Default)]
 pub struct Worker {
     pub(super) f: Vec<L3>,
-    /// Reaction forces on particles, in grid order, coordinates apart.
-    pub(super) water_force: [Vec<f32>; 3],
+    /// Reactions on particles from this worker's blocks, in block order (then the order the
+    /// kernel found them); summed per particle after every worker is done.
+    pub(super) reactions: Vec<adhesion::Reaction>,
     pub(super) max_v2: f32,
     pub(super) nonfinite: bool,
     /// Banded system of one block (implicit Euler only).
@@ -146,8 +147,8 @@ fn block_substep_impl<const AXIAL: bool>(
             spring::<AXIAL>(&ra.x, &rb.x, &ra.v, &rb.v, &params[i].bend, &mut fa[i], &mut fb[0]);
         }
     }
-    // Pass: adhesion (eq. 2), gathered per hair point; reactions go to this worker's
-    // particle force buffer (summed over workers before the particles move).
+    // Pass: adhesion (eq. 2), gathered per hair point; reactions go to this worker's list
+    // (summed per particle, in block order, before the particles move).
     if let Some(w) = &ctx.water {
         for (i, r) in rows.iter().enumerate() {
             // Which lanes can have a particle within r_max (SIMD prefilter), minus padding.
@@ -171,7 +172,7 @@ fn block_substep_impl<const AXIAL: bool>(
             let mut acc = L3::ZERO;
             let mut near = [0.0f32; W];
             if let Some(n) = w.grid.runs_in_box(lo - w.r_max, hi + w.r_max, &mut runs) {
-                gather_runs(w, &r.x, &mask, &runs[..n], &mut worker.water_force, &mut acc, &mut near);
+                gather_runs(w, &r.x, &mask, &runs[..n], &mut worker.reactions, &mut acc, &mut near);
             } else {
                 while lanes != 0 {
                     let l = lanes.trailing_zeros() as usize;
@@ -183,7 +184,7 @@ fn block_substep_impl<const AXIAL: bool>(
                         .grid
                         .runs_in_box(x - w.r_max, x + w.r_max, &mut runs)
                         .expect("a point's query spans 3x3 columns");
-                    gather_runs(w, &r.x, &one, &runs[..n], &mut worker.water_force, &mut acc, &mut near);
+                    gather_runs(w, &r.x, &one, &runs[..n], &mut worker.reactions, &mut acc, &mut near);
                 }
             }
             let fi = &mut f[i];
@@ -284,8 +285,9 @@ fn block_substep_impl<const AXIAL: bool>(
         for l in 0..W {
             let v2 = r.v.x[l] * r.v.x[l] + r.v.y[l] * r.v.y[l] + r.v.z[l] * r.v.z[l];
             max_v2 = max_v2.max(v2);
-            // Any NaN or inf in a lane makes the running sum non-finite.
-            check += v2 + r.x.x[l] + r.x.y[l] + r.x.z[l];
+            // `blown_up`, lane-wise: each product is 0 unless its factor is NaN or inf (a
+            // speed whose square overflows included), and a sum of zeros cannot overflow.
+            check += v2 * 0.0 + r.x.x[l] * 0.0 + r.x.y[l] * 0.0 + r.x.z[l] * 0.0;
         }
     }
     worker.max_v2 = max_v2;
@@ -295,28 +297,26 @@ fn block_substep_impl<const AXIAL: bool>(
 }
 
 /// Eq. 2 between the lanes of `x` in `mask` and the particles of grid `runs` (slices of the
-/// grid-ordered particles): adds the hair's forces to `acc`, marks `near` lanes, and
-/// subtracts the reactions from `forces` (this worker's, in grid order).
+/// grid-ordered particles): adds the hair's forces to `acc`, marks `near` lanes, and appends
+/// the particles' reactions to `reactions` (this worker's).
 #[inline(always)]
 fn gather_runs(
     w: &WaterCtx,
     x: &L3,
     mask: &[f32; W],
     runs: &[(u32, u32)],
-    forces: &mut [Vec<f32>; 3],
+    reactions: &mut Vec<adhesion::Reaction>,
     acc: &mut L3,
     near: &mut [f32; W],
 ) {
-    let [fx, fy, fz] = forces;
     for &(s, e) in runs {
-        let (s, e) = (s as usize, e as usize);
+        let (s0, e) = (s as usize, e as usize);
         let run = adhesion::Run {
-            x: &w.sorted[0][s..e],
-            y: &w.sorted[1][s..e],
-            z: &w.sorted[2][s..e],
+            x: &w.sorted[0][s0..e],
+            y: &w.sorted[1][s0..e],
+            z: &w.sorted[2][s0..e],
         };
-        let (ox, oy, oz) = (&mut fx[s..e], &mut fy[s..e], &mut fz[s..e]);
-        adhesion::gather_run_lanes(x, mask, run, ox, oy, oz, acc, near, w.r_min, w.r_max, w.s);
+        adhesion::gather_run_lanes(x, mask, run, s, reactions, acc, near, w.r_min, w.r_max, w.s);
     }
 }
 

@@ -12,6 +12,7 @@ use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
 use crate::physics::collide::Placed;
 use crate::physics::implicit::BandScratch;
+use crate::physics::integrate::blown_up;
 use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::spring::DampingModel;
 use crate::plan::{has_bend, pass_list, resolve_integrator, Pass, WaterDomain};
@@ -135,7 +136,7 @@ impl CpuBackend {
             out.push(("water_grid", w.grid.bytes() + w.sorted.iter().map(bytes).sum::<usize>()));
             out.push((
                 "water_reactions",
-                self.workers.iter().flat_map(|k| k.water_force.iter()).map(bytes).sum(),
+                self.workers.iter().map(|k| bytes(&k.reactions)).sum::<usize>() + bytes(&w.force),
             ));
         }
         out
@@ -154,11 +155,7 @@ impl CpuBackend {
             self.water = Some(Water::new(&self.params.water, self.domain));
             self.wet = vec![[0.0; W]; self.state.len()];
             for w in &mut self.workers {
-                w.water_force = [
-                    Vec::with_capacity(cap),
-                    Vec::with_capacity(cap),
-                    Vec::with_capacity(cap),
-                ];
+                w.reactions = Vec::with_capacity(cap);
             }
         }
         self.water.as_mut().expect("allocated above").add(pos, vel, cap)
@@ -206,9 +203,11 @@ impl CpuBackend {
                 self.run_blocks(s..s + 1, h, true, axial);
                 let placed = &self.placed[s * nc..(s + 1) * nc];
                 let water = self.water.as_mut().expect("wet");
-                let forces = self.workers.iter().map(|w| &w.water_force);
+                // Workers hold contiguous block ranges in order, so their lists one after
+                // another are every block's reactions in block order, whatever the thread count.
+                let reactions = self.workers.iter().map(|w| &w.reactions[..]);
                 water.integrate(
-                    forces,
+                    reactions,
                     &self.params.water,
                     self.params.gravity,
                     h,
@@ -219,7 +218,7 @@ impl CpuBackend {
             let water = self.water.as_mut().expect("wet");
             if water.pos.iter().chain(&water.vel).any(|p| !p.is_finite()) {
                 return Err(Error::Unstable {
-                    strand: u32::MAX,
+                    strand: None,
                     detail: "a water particle became non-finite".into(),
                 });
             }
@@ -264,16 +263,10 @@ impl CpuBackend {
                 wet_gain: (p.water.wetting_rate * h).min(1.0),
             }),
         };
-        let n_particles = water.map_or(0, |w| w.len());
         let rows = self.lay.rows;
         let per_chunk = self.lay.blocks.div_ceil(self.workers.len()).max(1);
         let run = |k: usize, state: &mut [StateRow], wet: &mut [Lane], worker: &mut Worker| {
-            if ctx.water.is_some() {
-                for c in &mut worker.water_force {
-                    c.clear();
-                    c.resize(n_particles, 0.0);
-                }
-            }
+            worker.reactions.clear();
             let first = k * per_chunk;
             for (j, rows_b) in state.chunks_mut(rows).enumerate() {
                 let wet_b = if wet.is_empty() {
@@ -314,18 +307,17 @@ impl CpuBackend {
         }
     }
 
-    /// Host index of the first strand holding a non-finite position or velocity.
-    fn first_nonfinite_strand(&self) -> u32 {
-        for s in 0..self.lay.strands {
+    /// Host index of the first strand with a point that [`blown_up`] (the kernel's test), or
+    /// `None` if none is.
+    fn first_nonfinite_strand(&self) -> Option<u32> {
+        (0..self.lay.strands).find_map(|s| {
             let (b, l) = self.lay.lane_of(s);
             let n = self.lay.strand_points(s);
-            for r in &self.state[b * self.lay.rows..b * self.lay.rows + n] {
-                if !(r.x.get(l).is_finite() && r.v.get(l).is_finite()) {
-                    return s as u32;
-                }
-            }
-        }
-        u32::MAX
+            let rows = &self.state[b * self.lay.rows..b * self.lay.rows + n];
+            rows.iter()
+                .any(|r| blown_up(r.x.get(l), r.v.get(l)))
+                .then_some(s as u32)
+        })
     }
 
     /// Writes the host's attributes for every real point, strand after strand, into `dst`

@@ -4,6 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::params::WaterParams;
+use crate::physics::adhesion::Reaction;
 use crate::physics::collide::{collide_point, Placed};
 use crate::physics::grid::Grid;
 use crate::plan::{check_new_particles, WaterDomain};
@@ -20,6 +21,8 @@ pub struct Water {
     pub grid: Grid,
     /// Positions in grid order (slot k is particle `grid.sorted()[k]`), coordinates apart.
     pub sorted: [Vec<f32>; 3],
+    /// Force on each particle, in grid order (drag, then the hair's reactions).
+    pub force: Vec<Vec3>,
     /// Domain centre in head space.
     pub center_local: Vec3,
     /// Domain radius, m.
@@ -42,6 +45,7 @@ impl Water {
                 Vec::with_capacity(cap),
                 Vec::with_capacity(cap),
             ],
+            force: Vec::with_capacity(cap),
             center_local: domain.center_local,
             radius: domain.radius,
             removed: 0,
@@ -87,11 +91,12 @@ impl Water {
         }
     }
 
-    /// Pass `water_integrate`: symplectic Euler for every particle with the summed reaction
-    /// forces of all workers (each in grid order), then the colliders.
+    /// Pass `water_integrate`: symplectic Euler for every particle under its drag plus the
+    /// hair's reactions, summed in the order given (block order, so the same bits for any
+    /// thread count), then the colliders.
     pub fn integrate<'a>(
         &mut self,
-        forces: impl Iterator<Item = &'a [Vec<f32>; 3]> + Clone,
+        reactions: impl Iterator<Item = &'a [Reaction]>,
         p: &WaterParams,
         g: Vec3,
         h: f32,
@@ -99,11 +104,15 @@ impl Water {
         friction: f32,
     ) {
         let inv_m = 1.0 / p.particle_mass;
+        self.force.clear();
+        self.force
+            .extend(self.grid.sorted().iter().map(|&j| -p.drag * self.vel[j as usize]));
+        for r in reactions.flatten() {
+            self.force[r.slot as usize] += Vec3::from(r.f);
+        }
         for (k, &j) in self.grid.sorted().iter().enumerate() {
             let j = j as usize;
-            let f = forces.clone().fold(-p.drag * self.vel[j], |acc, w| {
-                acc + Vec3::new(w[0][k], w[1][k], w[2][k])
-            });
+            let f = self.force[k];
             let v = self.vel[j] + h * (f * inv_m + g);
             let mut x = self.pos[j] + h * v;
             let mut v = v;

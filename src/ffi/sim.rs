@@ -109,7 +109,7 @@ pub unsafe extern "C" fn wethair_sim_add_water(
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_clear_water(sim: *mut WetHairSim) -> WetHairResult {
     boundary!({
-        nonnull_mut!(sim, "sim").0.clear_water();
+        nonnull_mut!(sim, "sim").0.clear_water()?;
         Ok(())
     })
 }
@@ -128,14 +128,16 @@ pub unsafe extern "C" fn wethair_sim_step(sim: *mut WetHairSim, dt: f32) -> WetH
     })
 }
 
-/// Returns to the rest pose at the current head transform: still, dry, no water.
+/// Returns to the rest pose at the current head transform: still, dry, no water; an
+/// instability is forgotten. After a device failure it returns `WETHAIR_ERROR_DEVICE` and
+/// changes nothing (destroy the simulation).
 ///
 /// # Safety
 /// `sim` is valid.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_reset(sim: *mut WetHairSim) -> WetHairResult {
     boundary!({
-        nonnull_mut!(sim, "sim").0.reset();
+        nonnull_mut!(sim, "sim").0.reset()?;
         Ok(())
     })
 }
@@ -153,6 +155,7 @@ pub unsafe extern "C" fn wethair_sim_get_vertex_layout(
     boundary!({
         let s = nonnull!(sim, "sim");
         let out = check_out_size!(out, WetHairVertexLayout, "out");
+        s.0.device_ok()?;
         let a = s.0.attributes();
         let off = |bit| a.offset(bit).map_or(-1, |o| (o * 4) as i32);
         out.write(WetHairVertexLayout {
@@ -225,6 +228,7 @@ pub unsafe extern "C" fn wethair_sim_get_water(
         if written.is_null() || (dst.is_null() && capacity > 0) {
             return Err(super::boundary::null("dst or written"));
         }
+        s.0.device_ok()?;
         let w = s.0.water_positions()?;
         if w.len() > capacity as usize {
             return Err(Fail(
@@ -249,6 +253,7 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
     boundary!({
         let s = nonnull!(sim, "sim");
         let out = check_out_size!(out, WetHairStats, "out");
+        s.0.device_ok()?;
         let st = s.0.stats();
         out.write(WetHairStats {
             struct_size: std::mem::size_of::<WetHairStats>() as u32,
@@ -281,6 +286,7 @@ pub unsafe extern "C" fn wethair_sim_get_backend_info(
     boundary!({
         let s = nonnull!(sim, "sim");
         let out = check_out_size!(out, WetHairBackendInfo, "out");
+        s.0.device_ok()?;
         let info = s.0.backend_info();
         let mut rec = WetHairBackendInfo {
             struct_size: std::mem::size_of::<WetHairBackendInfo>() as u32,
@@ -308,8 +314,9 @@ fn copy_c_string(s: &str, dst: &mut [std::ffi::c_char]) {
 }
 
 /// Makes a GPU simulation's device fail as a lost device would, so that a host can test its
-/// error path: later calls on `sim` return `WETHAIR_ERROR_DEVICE`. No effect on the CPU
-/// backend. For tests only.
+/// error path: every later call on `sim` (reset and the reads included; destroy excepted)
+/// returns `WETHAIR_ERROR_DEVICE`, as after a real loss. No effect on the CPU backend. For
+/// tests only.
 ///
 /// # Safety
 /// `sim` is valid.

@@ -1,5 +1,5 @@
-//! The paper scene, defined exactly as `shared/peers/scene.py` so that wethair runs side by
-//! side with other engines: roots on the upper hemisphere of a 0.1 m head by a Fibonacci
+//! The paper scene as `docs/METHOD.md` §6 defines it (the scene wethair is compared with other
+//! engines on): roots on the upper hemisphere of a 0.1 m head by a Fibonacci
 //! spiral, strands straight along the normal, 0.02 m segments, 1 g per point, roots pinned.
 
 use super::Groom;

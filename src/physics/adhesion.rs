@@ -60,19 +60,31 @@ pub struct Run<'a> {
     pub z: &'a [f32],
 }
 
+/// The reaction of one row of hair points on one particle: what the particle in grid slot
+/// `slot` receives (minus the sum of the forces on the row's lanes). Reactions are kept as a
+/// list in the order they were found and summed per particle in that order afterwards, so the
+/// sum does not depend on how blocks were shared among threads.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Reaction {
+    /// The particle's grid slot.
+    pub slot: u32,
+    /// Force on the particle, N.
+    pub f: [f32; 3],
+}
+
 /// Eq. 2 between the `W` hair points of a lane row (`mask[l]` is 1 for lanes to include, 0
-/// otherwise) and every particle of a run. Adds the forces on the hair lanes to `acc`, marks in
-/// `near` the lanes with a particle within `r_max`, and subtracts each particle's reaction (the
-/// sum over lanes) from `(fx, fy, fz)`. One particle against eight hair points is one SIMD pass.
+/// otherwise) and every particle of a run, whose first particle sits in grid slot
+/// `first_slot`. Adds the forces on the hair lanes to `acc`, marks in `near` the lanes with a
+/// particle within `r_max`, and appends each touched particle's reaction (minus the sum over
+/// lanes) to `reactions`. One particle against eight hair points is one SIMD pass.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn gather_run_lanes(
     x: &L3,
     mask: &Lane,
     run: Run,
-    fx: &mut [f32],
-    fy: &mut [f32],
-    fz: &mut [f32],
+    first_slot: u32,
+    reactions: &mut Vec<Reaction>,
     acc: &mut L3,
     near: &mut Lane,
     r_min: f32,
@@ -81,7 +93,7 @@ pub fn gather_run_lanes(
 ) {
     let r2 = r_max * r_max;
     let parts = run.x.iter().zip(run.y).zip(run.z);
-    for ((((&qx, &qy), &qz), ox), (oy, oz)) in parts.zip(fx.iter_mut()).zip(fy.iter_mut().zip(fz.iter_mut())) {
+    for (j, ((&qx, &qy), &qz)) in parts.enumerate() {
         let mut d2s = [0.0f32; W];
         let mut hit = 0u32;
         for l in 0..W {
@@ -105,8 +117,9 @@ pub fn gather_run_lanes(
             acc.y[l] += ry[l];
             acc.z[l] += rz[l];
         }
-        *ox -= hsum(&rx);
-        *oy -= hsum(&ry);
-        *oz -= hsum(&rz);
+        reactions.push(Reaction {
+            slot: first_slot + j as u32,
+            f: [-hsum(&rx), -hsum(&ry), -hsum(&rz)],
+        });
     }
 }

@@ -35,3 +35,11 @@ pub fn symplectic_euler_row(x: &mut L3, v: &mut L3, f: &L3, inv_mass: &Lane, tar
         }
     }
 }
+
+/// Whether a point's state has left the floats: a NaN or infinite position, or a velocity
+/// whose squared speed is not finite (a finite velocity of 1e20 m/s counts: its square
+/// overflows). Both backends fail a step on it and name the point's strand.
+#[inline]
+pub fn blown_up(x: glam::Vec3, v: glam::Vec3) -> bool {
+    !(x.is_finite() && v.length_squared().is_finite())
+}

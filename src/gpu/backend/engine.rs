@@ -84,6 +84,10 @@ impl Engine for GpuBackend {
         GpuBackend::lose_device(self)
     }
 
+    fn device_failure(&self) -> Option<crate::error::Error> {
+        self.dev.check().err()
+    }
+
     fn enable_gpu_timing(&mut self) -> bool {
         self.enable_timing()
     }

@@ -114,13 +114,13 @@ impl GpuBackend {
         if let Some(p) = st.failed_point {
             let strand = self.strand_first.partition_point(|&f| f <= p).saturating_sub(1) as u32;
             return Err(Error::Unstable {
-                strand,
+                strand: Some(strand),
                 detail: "a GPU step produced a non-finite position or velocity".into(),
             });
         }
         if st.water_failed {
             return Err(Error::Unstable {
-                strand: u32::MAX,
+                strand: None,
                 detail: "a water particle became non-finite".into(),
             });
         }
