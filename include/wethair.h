@@ -6,6 +6,11 @@
  *    wethair_last_error_message() (per thread) says what was wrong.
  *  - Def structs start with struct_size; fill them with their _default() function first.
  *    Output structs (WetHairStats, WetHairVertexLayout): set struct_size = sizeof(...) first.
+ *    The ABI only grows: every size from a struct's first released layout to this header's
+ *    is accepted (a host built against an older header keeps working; fields past its size
+ *    take their defaults, outputs are written up to its size); a larger size is refused with
+ *    WETHAIR_ERROR_STRUCT_SIZE. A _default() function writes the struct's first released
+ *    layout; a struct that grows gets a sized default function for its new fields.
  *  - Enums arrive from C as uint32_t and are validated; floats are checked for NaN, inf, sign.
  *  - No panic crosses the boundary (WETHAIR_ERROR_PANIC; destroy the object involved).
  *  - Thread safety: different handles may be used from different threads at once; calls on
@@ -213,6 +218,28 @@ typedef uint32_t WetHairReadback;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Which way is up in a groom file (`WetHairLoadDesc::up_axis`); exported as
+// `WetHairUpAxis`.
+enum WetHairUpAxis
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Keep the file's axes (the file is z up like the simulation's defaults, or the host
+  // works in the file's own convention and sets gravity to match).
+  WETHAIR_UP_AXIS_KEEP = 0,
+  // The file is y up: turn it a quarter turn about x so that its y becomes z
+  // (`(x, y, z)` to `(x, -z, y)`, a rotation: handedness is kept).
+  WETHAIR_UP_AXIS_Y_TO_Z = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum WetHairUpAxis WetHairUpAxis;
+#else
+typedef uint32_t WetHairUpAxis;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // Opaque strand set; create with `wethair_groom_*`, free with `wethair_groom_destroy`.
 typedef struct WetHairGroom WetHairGroom;
 
@@ -241,6 +268,28 @@ typedef struct WetHairGroomDesc {
   // Mass of every point when `masses` is NULL, kg, > 0. Default 1e-3.
   float default_mass;
 } WetHairGroomDesc;
+
+// How `wethair_groom_load_with_desc` reads a groom file into simulation units. Fill with
+// `wethair_load_desc_default()` (the file as it is, 1 g per point), then set what differs.
+typedef struct WetHairLoadDesc {
+  // `sizeof(WetHairLoadDesc)`, set by `wethair_load_desc_default`.
+  uint32_t struct_size;
+  // Metres per file unit, > 0 (0.01 for centimetres). Default 1.
+  float scale;
+  // A `WetHairUpAxis` value: `WETHAIR_UP_AXIS_Y_TO_Z` turns a y-up file to the simulation's
+  // z up. Default `WETHAIR_UP_AXIS_KEEP`.
+  uint32_t up_axis;
+  // Mass of every point, kg, > 0, used when `linear_density` is 0. Default 1e-3.
+  float point_mass;
+  // Mass per metre of strand, kg/m, >= 0; > 0 gives each point half of its two segments'
+  // mass. Default 0.
+  float linear_density;
+  // Keep every Nth strand, >= 1. Default 1 (all).
+  uint32_t strand_stride;
+  // Resample each strand to this many points evenly spaced along its length: 0 (keep the
+  // file's points) or 2..=256. Default 0.
+  uint32_t resample_points;
+} WetHairLoadDesc;
 
 // Stiffness (N/m) and damping (N·s/m) of one spring family; 0 stiffness and damping
 // removes the family's pass.
@@ -598,11 +647,22 @@ WetHairResult wethair_groom_create(const struct WetHairGroomDesc *desc, struct W
 // `out` is writable.
 WetHairResult wethair_groom_create_paper_scene(uint32_t strands, uint32_t points, struct WetHairGroom **out);
 
-// Loads a TressFX `.tfx` or Cem Yuksel `.hair` file; every point gets `point_mass` kg.
+// Loads a groom file in its own units and axes; every point gets `point_mass` kg. Reads
+// TressFX `.tfx` (3.x and 4.x), Cem Yuksel `.hair` and USC-HairSalon `.data` files. For
+// units, up axis, masses by length, subsampling or resampling use
+// `wethair_groom_load_with_desc`.
 //
 // # Safety
 // `path` is a NUL-terminated string; `out` is writable.
 WetHairResult wethair_groom_load(const char *path, float point_mass, struct WetHairGroom **out);
+
+// Loads a groom file as `wethair_groom_load` does, then applies `desc` (see
+// `WetHairLoadDesc`): scale to metres, up axis, point masses, every Nth strand, resampling.
+//
+// # Safety
+// `path` is a NUL-terminated string; `desc` was filled by `wethair_load_desc_default`; `out`
+// is writable.
+WetHairResult wethair_groom_load_with_desc(const char *path, const struct WetHairLoadDesc *desc, struct WetHairGroom **out);
 
 // Reports a groom's strand and point counts (either output may be NULL).
 //
@@ -642,6 +702,13 @@ void wethair_sim_desc_default(struct WetHairSimDesc *desc);
 // # Safety
 // `desc` is NULL or points to writable memory for one `WetHairGroomDesc`.
 void wethair_groom_desc_default(struct WetHairGroomDesc *desc);
+
+// Fills `desc` with the load defaults (the file as it is, 1 g per point) and its
+// `struct_size`. NULL is ignored.
+//
+// # Safety
+// `desc` is NULL or points to writable memory for one `WetHairLoadDesc`.
+void wethair_load_desc_default(struct WetHairLoadDesc *desc);
 
 // Creates a simulation from `desc` (its groom is copied).
 //

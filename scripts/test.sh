@@ -45,6 +45,11 @@ cc -std=c11 -D_POSIX_C_SOURCE=199309L -Iinclude examples/c/smoke.c -o target/smo
     target/release/libwethair.a -lm -ldl -lpthread
 ./target/smoke-tree-static --backend cpu >/dev/null
 
+step "A host built against the saved 0.1.0 header (tests/abi) works with this library"
+cc -std=c11 -Wall -Wextra -Werror -Itests/abi tests/abi/old_host.c -o target/old_host \
+    -Ltarget/release -lwethair -Wl,-rpath,"$PWD/target/release" -lm
+./target/old_host
+
 step "The main job prints only its own lines (no Mesa warning without XDG_RUNTIME_DIR)"
 env -u XDG_RUNTIME_DIR bash scripts/main.sh --frames 10 --out out/test-main.png 2>&1 | tee target/main.log
 ! grep -qi "error\|warning" target/main.log
@@ -169,5 +174,5 @@ valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definit
     ./examples/c/build/smoke 60 1000 --backend cpu
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
-c_checks=34  # build-tree links shared and static, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
+c_checks=35  # build-tree links shared and static, 0.1.0 host, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
 printf '\nwethair tests: %d passed, 0 failed\n' "$((rust + c_checks))"

@@ -190,3 +190,63 @@ fn cpu_results_do_not_depend_on_the_thread_count_with_water() {
         }
     }
 }
+
+/// Items 8 and 14 through C: `wethair_groom_load_with_desc` with units and axes; a bad enum or
+/// float names its field; sizes outside first-release..=now are refused naming the range.
+#[test]
+fn load_desc_through_c_and_struct_size_ranges() {
+    let path = std::ffi::CString::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ponytail_back.tfx")).unwrap();
+    unsafe {
+        let mut d = std::mem::MaybeUninit::<WetHairLoadDesc>::zeroed();
+        wethair_load_desc_default(d.as_mut_ptr());
+        let mut d = d.assume_init();
+        assert_eq!(d.struct_size as usize, std::mem::size_of::<WetHairLoadDesc>());
+        d.scale = 0.01;
+        d.up_axis = wethair::groom::UpAxis::Y_TO_Z as u32;
+        let mut g = null_mut();
+        assert_eq!(
+            wethair_groom_load_with_desc(path.as_ptr(), &d, &mut g),
+            WETHAIR_OK,
+            "{}",
+            last_error()
+        );
+        let (mut ns, mut np) = (0, 0);
+        assert_eq!(wethair_groom_get_counts(g, &mut ns, &mut np), WETHAIR_OK);
+        assert_eq!((ns, np), (517, 517 * 16));
+        wethair_groom_destroy(g);
+
+        let sentinel = 0x5a5a as *mut WetHairGroom;
+        for (field, patch) in [
+            (
+                "up_axis",
+                (|d: &mut WetHairLoadDesc| d.up_axis = 7) as fn(&mut WetHairLoadDesc),
+            ),
+            ("scale", |d| d.scale = -1.0),
+            ("linear_density", |d| d.linear_density = f32::NAN),
+            ("strand_stride", |d| d.strand_stride = 0),
+        ] {
+            let mut bad = d;
+            patch(&mut bad);
+            let mut out = sentinel;
+            let r = wethair_groom_load_with_desc(path.as_ptr(), &bad, &mut out);
+            assert_eq!(r, WETHAIR_ERROR_INVALID_ARGUMENT, "{field}");
+            assert!(last_error().contains(field), "{field}: {}", last_error());
+            assert_eq!(out, sentinel, "{field}: output written on failure");
+        }
+        let mut big = d;
+        big.struct_size += 4;
+        let mut out = sentinel;
+        assert_eq!(
+            wethair_groom_load_with_desc(path.as_ptr(), &big, &mut out),
+            WETHAIR_ERROR_STRUCT_SIZE
+        );
+        assert!(
+            last_error().contains("accepts sizeof(WetHairLoadDesc) of 28"),
+            "{}",
+            last_error()
+        );
+    }
+    for (name, first, now) in struct_sizes() {
+        assert!(first <= now && first >= 8, "{name}: first {first}, now {now}");
+    }
+}

@@ -113,23 +113,98 @@ pub(crate) fn null(name: &str) -> Fail {
     Fail(WetHairResult::WETHAIR_ERROR_NULL_POINTER, format!("{name} is NULL"))
 }
 
+/// A C struct that leads with a `u32 struct_size`. The ABI only grows: a host compiled
+/// against an older header passes its older, smaller size, so every size from `FIRST_SIZE`
+/// (the layout of the first release that had the struct) up to today's is accepted. A def
+/// struct's fields past the host's size take their defaults; an output struct is written only
+/// up to the host's size. Larger sizes (a newer header than this library) are refused.
+///
+/// # Safety
+/// The type is `#[repr(C)]`, starts with `struct_size: u32`, and any bytes are valid for it
+/// once its leading `FIRST_SIZE` bytes are (pointers may be NULL, enums are `u32` fields).
+pub(crate) unsafe trait SizedStruct: Copy {
+    /// `sizeof` in the first release that had the struct (0.1.0 for the first structs).
+    const FIRST_SIZE: usize;
+}
+
+/// A def struct: one the host fills (after `..._default()`) and passes in.
+pub(crate) trait DefStruct: SizedStruct {
+    /// The values `..._default()` writes; a shorter struct's missing fields take them.
+    fn defaults() -> Self;
+}
+
 /// Checks a def or output struct: not NULL, and its leading `struct_size` (read alone first,
-/// so a smaller struct from an older host is never over-read) is this library's size of `T`.
-pub(crate) fn check_struct<T>(p: *const T, name: &str) -> Result<(), Fail> {
+/// so a smaller struct from an older host is never over-read) within
+/// `FIRST_SIZE..=size_of::<T>()`. Returns the host's size.
+pub(crate) fn check_struct<T: SizedStruct>(p: *const T, name: &str) -> Result<usize, Fail> {
     if p.is_null() {
         return Err(null(name));
     }
     // SAFETY: p is non-NULL and, per the API, points to at least a u32 struct_size.
     let size = unsafe { std::ptr::read_unaligned(p as *const u32) } as usize;
-    let want = std::mem::size_of::<T>();
-    if size != want {
+    let (first, now) = (T::FIRST_SIZE, std::mem::size_of::<T>());
+    if !(first..=now).contains(&size) {
         let ty = std::any::type_name::<T>().rsplit("::").next().unwrap_or("the struct");
+        let accepted = if first == now {
+            format!("{now}")
+        } else {
+            format!("{first}..={now}")
+        };
         return Err(Fail(
             WetHairResult::WETHAIR_ERROR_STRUCT_SIZE,
-            format!("{name}->struct_size is {size}, this library expects {want} (sizeof({ty}))"),
+            format!("{name}->struct_size is {size}; this library accepts sizeof({ty}) of {accepted}"),
         ));
     }
-    Ok(())
+    Ok(size)
+}
+
+/// Reads a def struct of the host's size over the defaults (see [`SizedStruct`]).
+pub(crate) fn read_def<T: DefStruct>(p: *const T, name: &str) -> Result<T, Fail> {
+    let size = check_struct(p, name)?;
+    let mut v = T::defaults();
+    // SAFETY: the host's struct holds `size` bytes (its struct_size), `v` holds at least that
+    // many (checked above), and any bytes are valid for T (SizedStruct's contract).
+    unsafe { std::ptr::copy_nonoverlapping(p as *const u8, &mut v as *mut T as *mut u8, size) };
+    Ok(v)
+}
+
+/// What every `..._default(p)` does: writes `T`'s defaults in its *first released* layout
+/// (`FIRST_SIZE` bytes, `struct_size` set to it), so a host built against that header is never
+/// written past its struct. A struct that grows gets a sized default function with its new
+/// fields. NULL is ignored.
+pub(crate) fn write_default<T: DefStruct>(p: *mut T) {
+    if !p.is_null() {
+        Out {
+            ptr: p,
+            size: T::FIRST_SIZE,
+        }
+        .write(T::defaults());
+    }
+}
+
+/// An output struct checked by [`check_struct`]: written only on success, only up to the
+/// host's size, with `struct_size` left at the host's size.
+pub(crate) struct Out<T> {
+    ptr: *mut T,
+    size: usize,
+}
+
+impl<T: SizedStruct> Out<T> {
+    /// Checks `p` as an output of type `T`.
+    pub(crate) fn new(p: *mut T, name: &str) -> Result<Self, Fail> {
+        let size = check_struct(p as *const T, name)?;
+        Ok(Out { ptr: p, size })
+    }
+
+    /// Writes the first `size` bytes of `v`, its `struct_size` set to the host's.
+    pub(crate) fn write(self, mut v: T) {
+        // SAFETY: every SizedStruct starts with a u32 struct_size; the host's struct holds
+        // `size` bytes, and `v` at least as many.
+        unsafe {
+            (&mut v as *mut T as *mut u32).write(self.size as u32);
+            std::ptr::copy_nonoverlapping(&v as *const T as *const u8, self.ptr as *mut u8, self.size);
+        }
+    }
 }
 
 /// Turns a nullable pointer into a reference, or fails with `WETHAIR_ERROR_NULL_POINTER`.
@@ -152,12 +227,11 @@ macro_rules! nonnull_mut {
     };
 }
 
-/// Reads a def struct behind a pointer after [`check_struct`].
+/// Reads a def struct behind a pointer (an owned copy; see [`read_def`]).
 macro_rules! read_def {
     ($p:expr, $ty:ty, $name:literal) => {{
         let p: *const $ty = $p;
-        $crate::ffi::boundary::check_struct(p, $name)?;
-        unsafe { &*p }
+        $crate::ffi::boundary::read_def::<$ty>(p, $name)?
     }};
 }
 
@@ -165,7 +239,6 @@ macro_rules! read_def {
 macro_rules! check_out_size {
     ($p:expr, $ty:ty, $name:literal) => {{
         let p: *mut $ty = $p;
-        $crate::ffi::boundary::check_struct(p as *const $ty, $name)?;
-        p
+        $crate::ffi::boundary::Out::<$ty>::new(p, $name)?
     }};
 }

@@ -6,6 +6,7 @@
 
 use super::boundary::{Fail, WetHairResult};
 use super::types::{WetHairColliderType, WetHairVertexAttribute};
+use crate::groom::UpAxis;
 use crate::params::{Backend, Integrator, Readback};
 use crate::physics::spring::DampingModel;
 
@@ -64,6 +65,7 @@ c_enum!(
     "WETHAIR_READBACK_",
     [LATEST, PREVIOUS_FRAME]
 );
+c_enum!(UpAxis, "WetHairUpAxis", "WETHAIR_UP_AXIS_", [KEEP, Y_TO_Z]);
 c_enum!(
     WetHairColliderType,
     "WetHairColliderType",
@@ -124,6 +126,7 @@ pub fn c_enum_constants() -> Vec<(&'static str, &'static str, u32)> {
     all::<Integrator>(&mut out);
     all::<Backend>(&mut out);
     all::<Readback>(&mut out);
+    all::<UpAxis>(&mut out);
     all::<WetHairColliderType>(&mut out);
     all::<WetHairVertexAttribute>(&mut out);
     all::<WetHairResult>(&mut out);

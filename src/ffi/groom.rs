@@ -1,7 +1,7 @@
 //! `WetHairGroom`: strands from the host's arrays, the paper scene, or a file.
 
 use super::boundary::{Fail, WetHairResult};
-use super::types::WetHairGroomDesc;
+use super::types::{WetHairGroomDesc, WetHairLoadDesc};
 use crate::groom::{self, Groom, MAX_POINTS, MAX_STRANDS};
 use glam::Vec3;
 use std::ffi::{c_char, CStr};
@@ -79,7 +79,10 @@ pub unsafe extern "C" fn wethair_groom_create_paper_scene(
     })
 }
 
-/// Loads a TressFX `.tfx` or Cem Yuksel `.hair` file; every point gets `point_mass` kg.
+/// Loads a groom file in its own units and axes; every point gets `point_mass` kg. Reads
+/// TressFX `.tfx` (3.x and 4.x), Cem Yuksel `.hair` and USC-HairSalon `.data` files. For
+/// units, up axis, masses by length, subsampling or resampling use
+/// `wethair_groom_load_with_desc`.
 ///
 /// # Safety
 /// `path` is a NUL-terminated string; `out` is writable.
@@ -94,14 +97,43 @@ pub unsafe extern "C" fn wethair_groom_load(
             return Err(super::boundary::null("path or out"));
         }
         crate::error::check_positive("point_mass", point_mass)?;
-        let p = CStr::from_ptr(path).to_str().map_err(|_| {
-            Fail(
-                WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
-                "path is not UTF-8".into(),
-            )
-        })?;
+        let p = utf8_path(path)?;
         publish(groom::load_file(std::path::Path::new(p), point_mass)?, out);
         Ok(())
+    })
+}
+
+/// Loads a groom file as `wethair_groom_load` does, then applies `desc` (see
+/// `WetHairLoadDesc`): scale to metres, up axis, point masses, every Nth strand, resampling.
+///
+/// # Safety
+/// `path` is a NUL-terminated string; `desc` was filled by `wethair_load_desc_default`; `out`
+/// is writable.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_groom_load_with_desc(
+    path: *const c_char,
+    desc: *const WetHairLoadDesc,
+    out: *mut *mut WetHairGroom,
+) -> WetHairResult {
+    boundary!({
+        let d = read_def!(desc, WetHairLoadDesc, "desc");
+        if path.is_null() || out.is_null() {
+            return Err(super::boundary::null("path or out"));
+        }
+        let options = d.options()?;
+        let p = utf8_path(path)?;
+        publish(groom::load_file_with(std::path::Path::new(p), &options)?, out);
+        Ok(())
+    })
+}
+
+/// A C path as UTF-8, or `WETHAIR_ERROR_INVALID_ARGUMENT`.
+unsafe fn utf8_path<'a>(path: *const c_char) -> Result<&'a str, Fail> {
+    CStr::from_ptr(path).to_str().map_err(|_| {
+        Fail(
+            WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
+            "path is not UTF-8".into(),
+        )
     })
 }
 

@@ -43,9 +43,7 @@ pub extern "C" fn wethair_last_error_message() -> *const c_char {
 /// `desc` is NULL or points to writable memory for one `WetHairSimDesc`.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_desc_default(desc: *mut WetHairSimDesc) {
-    if !desc.is_null() {
-        desc.write(WetHairSimDesc::default_values());
-    }
+    super::boundary::write_default(desc);
 }
 
 /// Fills `desc` with empty arrays, 1 g per point, and its `struct_size`. NULL is ignored.
@@ -54,16 +52,15 @@ pub unsafe extern "C" fn wethair_sim_desc_default(desc: *mut WetHairSimDesc) {
 /// `desc` is NULL or points to writable memory for one `WetHairGroomDesc`.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_groom_desc_default(desc: *mut WetHairGroomDesc) {
-    if !desc.is_null() {
-        desc.write(WetHairGroomDesc {
-            struct_size: std::mem::size_of::<WetHairGroomDesc>() as u32,
-            strand_count: 0,
-            strand_point_counts: std::ptr::null(),
-            positions: std::ptr::null(),
-            point_count: 0,
-            pinned: std::ptr::null(),
-            masses: std::ptr::null(),
-            default_mass: 1.0e-3,
-        });
-    }
+    super::boundary::write_default(desc);
+}
+
+/// Fills `desc` with the load defaults (the file as it is, 1 g per point) and its
+/// `struct_size`. NULL is ignored.
+///
+/// # Safety
+/// `desc` is NULL or points to writable memory for one `WetHairLoadDesc`.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_load_desc_default(desc: *mut super::types::WetHairLoadDesc) {
+    super::boundary::write_default(desc);
 }

@@ -145,6 +145,76 @@ pub struct WetHairGroomDesc {
     pub default_mass: f32,
 }
 
+impl WetHairGroomDesc {
+    /// Empty arrays, 1 g per point, and this struct's size.
+    pub fn default_values() -> Self {
+        WetHairGroomDesc {
+            struct_size: std::mem::size_of::<WetHairGroomDesc>() as u32,
+            strand_count: 0,
+            strand_point_counts: std::ptr::null(),
+            positions: std::ptr::null(),
+            point_count: 0,
+            pinned: std::ptr::null(),
+            masses: std::ptr::null(),
+            default_mass: 1.0e-3,
+        }
+    }
+}
+
+/// How `wethair_groom_load_with_desc` reads a groom file into simulation units. Fill with
+/// `wethair_load_desc_default()` (the file as it is, 1 g per point), then set what differs.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairLoadDesc {
+    /// `sizeof(WetHairLoadDesc)`, set by `wethair_load_desc_default`.
+    pub struct_size: u32,
+    /// Metres per file unit, > 0 (0.01 for centimetres). Default 1.
+    pub scale: f32,
+    /// A `WetHairUpAxis` value: `WETHAIR_UP_AXIS_Y_TO_Z` turns a y-up file to the simulation's
+    /// z up. Default `WETHAIR_UP_AXIS_KEEP`.
+    pub up_axis: u32,
+    /// Mass of every point, kg, > 0, used when `linear_density` is 0. Default 1e-3.
+    pub point_mass: f32,
+    /// Mass per metre of strand, kg/m, >= 0; > 0 gives each point half of its two segments'
+    /// mass. Default 0.
+    pub linear_density: f32,
+    /// Keep every Nth strand, >= 1. Default 1 (all).
+    pub strand_stride: u32,
+    /// Resample each strand to this many points evenly spaced along its length: 0 (keep the
+    /// file's points) or 2..=256. Default 0.
+    pub resample_points: u32,
+}
+
+impl WetHairLoadDesc {
+    /// The defaults `wethair_load_desc_default` writes.
+    pub fn default_values() -> Self {
+        let o = crate::groom::LoadOptions::default();
+        WetHairLoadDesc {
+            struct_size: std::mem::size_of::<Self>() as u32,
+            scale: o.scale,
+            up_axis: o.up_axis as u32,
+            point_mass: o.point_mass,
+            linear_density: o.linear_density,
+            strand_stride: o.strand_stride,
+            resample_points: o.resample_points,
+        }
+    }
+
+    /// The options, or the first invalid field.
+    pub(crate) fn options(&self) -> Result<crate::groom::LoadOptions, Fail> {
+        let o = crate::groom::LoadOptions {
+            scale: self.scale,
+            up_axis: read_enum(self.up_axis, "up_axis")?,
+            point_mass: self.point_mass,
+            linear_density: self.linear_density,
+            strand_stride: self.strand_stride,
+            resample_points: self.resample_points,
+        };
+        o.validate()?;
+        Ok(o)
+    }
+}
+
 /// Where each attribute sits in the interleaved vertex buffer.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default)]

@@ -197,8 +197,13 @@ fn unsupported() -> Fail {
 /// `device` is NULL or writable.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_vulkan_device_default(device: *mut WetHairVulkanDevice) {
-    if !device.is_null() {
-        device.write(WetHairVulkanDevice {
+    super::boundary::write_default(device);
+}
+
+impl WetHairVulkanDevice {
+    /// NULL handles, empty lists, API version 0 and this struct's size.
+    pub fn default_values() -> Self {
+        WetHairVulkanDevice {
             struct_size: std::mem::size_of::<WetHairVulkanDevice>() as u32,
             api_version: 0,
             get_instance_proc_addr: std::ptr::null(),
@@ -215,7 +220,7 @@ pub unsafe extern "C" fn wethair_vulkan_device_default(device: *mut WetHairVulka
             queue_lock: None,
             queue_unlock: None,
             queue_user_data: std::ptr::null_mut(),
-        });
+        }
     }
 }
 
@@ -349,7 +354,7 @@ pub unsafe extern "C" fn wethair_vulkan_requirements_create(
         }
         #[cfg(feature = "vulkan")]
         {
-            let inner = crate::gpu::vulkan::requirements(&host_vulkan(d, false)?)?;
+            let inner = crate::gpu::vulkan::requirements(&host_vulkan(&d, false)?)?;
             let extension_ptrs = inner.device_extensions.iter().map(|c| c.as_ptr()).collect();
             let name_ptrs = inner.feature_names.iter().map(|c| c.as_ptr()).collect();
             out.write(Box::into_raw(Box::new(WetHairVulkanRequirements {
@@ -432,7 +437,7 @@ pub unsafe extern "C" fn wethair_sim_create_vulkan(
         let params = sd.params()?;
         #[cfg(feature = "vulkan")]
         {
-            let hv = host_vulkan(d, true)?;
+            let hv = host_vulkan(&d, true)?;
             let sim = crate::sim::Simulation::new_on_vulkan(&groom.0, params, &hv)?;
             out.write(Box::into_raw(Box::new(WetHairSim(sim))));
             Ok(())

@@ -5,12 +5,16 @@
 //! simulation copies what it needs at create, so a groom can be dropped or reused afterwards.
 
 mod cyhair;
+mod options;
 mod paper;
 mod tfx;
+mod usc;
 
 pub use cyhair::load_cyhair;
+pub use options::{LoadOptions, UpAxis};
 pub use paper::{paper_scene, PaperScene};
 pub use tfx::load_tfx;
+pub use usc::load_usc;
 
 use crate::error::{invalid, Error, Result};
 use glam::Vec3;
@@ -196,17 +200,33 @@ pub(crate) fn truncated(what: &str) -> Error {
 }
 
 /// Loads a groom from a file, choosing the format by its content (`HAIR` signature) or
-/// extension (`.tfx`). Units are the file's own; `mass` is given to every point.
+/// extension (`.tfx`, `.data`). Units are the file's own; `mass` is given to every point.
 pub fn load_file(path: &std::path::Path, mass: f32) -> Result<Groom> {
+    load_file_with(path, &LoadOptions::with_point_mass(mass))
+}
+
+/// Loads a groom from a file (as [`load_file`]) and applies `options`: scale, up axis,
+/// masses, subsampling and resampling.
+pub fn load_file_with(path: &std::path::Path, options: &LoadOptions) -> Result<Groom> {
+    options.validate()?;
     let bytes = std::fs::read(path).map_err(|e| Error::Io(format!("{}: {e}", path.display())))?;
-    if bytes.starts_with(b"HAIR") {
-        load_cyhair(&bytes, mass)
-    } else if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("tfx")) {
-        load_tfx(&bytes, mass)
+    let has_ext = |x: &str| path.extension().is_some_and(|e| e.eq_ignore_ascii_case(x));
+    let m = options.point_mass;
+    let file = if bytes.starts_with(b"HAIR") {
+        load_cyhair(&bytes, m)
+    } else if has_ext("tfx") {
+        load_tfx(&bytes, m)
+    } else if has_ext("data") {
+        load_usc(&bytes, m)
     } else {
         Err(Error::Parse(format!(
-            "{}: not a Cem Yuksel .hair file (no HAIR signature) nor a .tfx file",
+            "{}: not a Cem Yuksel .hair file (no HAIR signature), a TressFX .tfx file nor a \
+             USC-HairSalon .data file",
             path.display()
         )))
+    }?;
+    if *options == LoadOptions::with_point_mass(m) {
+        return Ok(file);
     }
+    options.apply(&file)
 }

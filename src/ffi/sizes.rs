@@ -1,0 +1,72 @@
+//! Every struct that leads with `struct_size`, with the size of its first released layout
+//! (what a host compiled against that header passes), and the defaults that fields past an
+//! older host's size take. `tests/abi/` compiles a C program against the saved 0.1.0 header
+//! and drives the library with these sizes.
+
+use super::boundary::{DefStruct, SizedStruct};
+use super::types::{
+    WetHairBackendInfo, WetHairGroomDesc, WetHairLoadDesc, WetHairSimDesc, WetHairStats, WetHairVertexLayout,
+};
+use super::unity::WetHairUnityStatus;
+use super::vulkan::{
+    WetHairVulkanBuffer, WetHairVulkanDevice, WetHairVulkanInstanceRequirements, WetHairVulkanRequirementsInfo,
+    WetHairVulkanWater,
+};
+
+/// `sized!(Type = first size, ...)`: the [`SizedStruct`] impls, one line per struct.
+macro_rules! sized {
+    ($($ty:ty = $first:expr),+ $(,)?) => {
+        $(
+            // SAFETY: each is #[repr(C)], starts with `struct_size: u32`, and holds only
+            // integers, floats, nullable pointers, optional function pointers and char arrays.
+            unsafe impl SizedStruct for $ty {
+                const FIRST_SIZE: usize = $first;
+            }
+        )+
+        /// Each struct's name, first released size and size now (`tests/ffi.rs`).
+        pub fn struct_sizes() -> Vec<(&'static str, usize, usize)> {
+            vec![$((stringify!($ty), $first, std::mem::size_of::<$ty>())),+]
+        }
+    };
+}
+
+sized!(
+    // 0.1.0
+    WetHairGroomDesc = 56,
+    WetHairSimDesc = 128,
+    WetHairVertexLayout = 28,
+    WetHairStats = 56,
+    WetHairBackendInfo = 392,
+    WetHairUnityStatus = 280,
+    WetHairVulkanDevice = 104,
+    WetHairVulkanInstanceRequirements = 24,
+    WetHairVulkanRequirementsInfo = 40,
+    WetHairVulkanBuffer = 96,
+    WetHairVulkanWater = 48,
+    // 0.2.0
+    WetHairLoadDesc = 28,
+);
+
+impl DefStruct for WetHairSimDesc {
+    fn defaults() -> Self {
+        WetHairSimDesc::default_values()
+    }
+}
+
+impl DefStruct for WetHairGroomDesc {
+    fn defaults() -> Self {
+        WetHairGroomDesc::default_values()
+    }
+}
+
+impl DefStruct for WetHairLoadDesc {
+    fn defaults() -> Self {
+        WetHairLoadDesc::default_values()
+    }
+}
+
+impl DefStruct for WetHairVulkanDevice {
+    fn defaults() -> Self {
+        WetHairVulkanDevice::default_values()
+    }
+}
