@@ -304,7 +304,7 @@ typedef struct WetHairSpring {
 typedef struct WetHairWaterDesc {
   // Particle radius r_min, m, >= 0: hair settles on this shell.
   float r_min;
-  // Influence radius r_max, m, > r_min.
+  // Influence radius r_max, m, > r_min, in [1e-6, 10].
   float r_max;
   // Adhesion strength s, N, >= 0: peak pull between one particle and one hair point.
   float adhesion;

@@ -12,6 +12,11 @@ pub const MAX_SUBSTEPS: u32 = 1024;
 pub const MAX_THREADS: u32 = 256;
 /// Most colliders per simulation.
 pub const MAX_COLLIDERS: usize = 64;
+/// Smallest water influence radius `r_max`, m (a micrometre: below it the grid's cells
+/// would be finer than anything a hair simulation resolves).
+pub const MIN_R_MAX: f32 = 1.0e-6;
+/// Largest water influence radius `r_max`, m.
+pub const MAX_R_MAX: f32 = 10.0;
 /// Most water particles one simulation may hold.
 pub const MAX_WATER_CAPACITY: u32 = 1 << 22;
 
@@ -253,7 +258,12 @@ impl SimParams {
         }
         let w = &self.water;
         check_non_negative("water r_min", w.r_min)?;
-        check_positive("water r_max", w.r_max)?;
+        if !(w.r_max.is_finite() && (MIN_R_MAX..=MAX_R_MAX).contains(&w.r_max)) {
+            return Err(invalid!(
+                "water r_max must be in [{MIN_R_MAX}, {MAX_R_MAX}] m, got {}",
+                w.r_max
+            ));
+        }
         if w.r_max <= w.r_min {
             return Err(invalid!("water r_max ({}) must exceed r_min ({})", w.r_max, w.r_min));
         }

@@ -349,7 +349,11 @@ impl Simulation {
 
     /// Water particle positions and velocities (order changes when particles are removed).
     /// On the GPU backend a read back that fails (a lost device) is an error, not no water.
+    /// After a failed step it returns that failure: no non-finite particle is handed out.
     pub fn water(&self) -> Result<(Vec<Vec3>, Vec<Vec3>)> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
         self.engine.water()
     }
 

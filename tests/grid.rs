@@ -106,3 +106,26 @@ fn queries_of_one_cell_radius_from_cell_boundaries() {
         }
     }
 }
+
+/// Any finite box works (issue 13, item 1): points up to FLT_MAX apart, 2e7 m away, and a
+/// cell of 1e-6 m over a metre wide cloud build a grid within the cell budget whose query
+/// still equals brute force.
+#[test]
+fn grid_handles_any_finite_extent() {
+    let mut rng = Lcg(5);
+    let near = cloud(&mut rng, 300, Vec3::splat(-0.05), Vec3::splat(0.05));
+    let qs = cloud(&mut rng, 50, Vec3::splat(-0.06), Vec3::splat(0.06));
+    for far in [
+        vec![Vec3::new(f32::MAX, 0.0, 0.0), Vec3::new(-f32::MAX, -f32::MAX, f32::MAX)],
+        vec![Vec3::new(2e7, 0.0, 0.0)],
+        vec![Vec3::splat(1e30), Vec3::splat(-1e30)],
+    ] {
+        let pts: Vec<Vec3> = near.iter().copied().chain(far).collect();
+        let mut grid = Grid::new(pts.len(), 0.01);
+        grid.build(&pts);
+        assert!(grid.dims().as_i64vec3().element_product() <= MAX_CELLS as i64);
+        check(&pts, &qs, 0.01, 0.01);
+    }
+    let wide = cloud(&mut rng, 1000, Vec3::splat(-0.5), Vec3::splat(0.5));
+    check(&wide, &qs, 1e-6, 1e-6);
+}

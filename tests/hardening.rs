@@ -250,3 +250,176 @@ fn load_desc_through_c_and_struct_size_ranges() {
         assert!(first <= now && first >= 8, "{name}: first {first}, now {now}");
     }
 }
+
+/// The float values every field and argument is tried with: the extremes, tiny, denormal, 0.
+const HOSTILE: [f32; 6] = [f32::MAX, -f32::MAX, 1e-30, 1e-40, 0.0, -1.0];
+
+/// What a field is set to in one case of the sweep.
+type Patch = Box<dyn Fn(&mut WetHairSimDesc, &mut Case)>;
+
+/// A field's name and how to set it to a value.
+type Field = (&'static str, Box<dyn Fn(f32) -> Patch>);
+
+/// The parts of one sweep case outside the desc: water, head, dt, collider.
+#[derive(Clone, Copy)]
+struct Case {
+    water_pos: [f32; 3],
+    water_vel: [f32; 3],
+    head: [f32; 16],
+    dt: f32,
+    collider: WetHairCollider,
+}
+
+/// Runs one case through C: create, add water, set the head, step 6 frames, read vertices and
+/// water. Asserts that no call panics and that nothing non-finite is handed out with OK.
+unsafe fn run_case(what: &str, mut d: WetHairSimDesc, mut c: Case, patch: &Patch) {
+    patch(&mut d, &mut c);
+    d.colliders = &c.collider;
+    let mut s = null_mut();
+    let r = wethair_sim_create(&d, &mut s);
+    assert_ne!(r, WETHAIR_ERROR_PANIC, "{what}: create: {}", last_error());
+    if r != WETHAIR_OK {
+        assert!(s.is_null() && !last_error().is_empty(), "{what}");
+        return;
+    }
+    let pos: Vec<f32> = (0..64)
+        .flat_map(|i| [c.water_pos[0] + 0.005 * (i % 8) as f32, c.water_pos[1], c.water_pos[2]])
+        .collect();
+    let vel: Vec<f32> = (0..64).flat_map(|_| c.water_vel).collect();
+    let calls = [
+        wethair_sim_add_water(s, pos.as_ptr(), vel.as_ptr(), 64),
+        wethair_sim_set_head_transform(s, c.head.as_ptr()),
+    ];
+    for r in calls {
+        assert_ne!(r, WETHAIR_ERROR_PANIC, "{what}: {}", last_error());
+    }
+    let mut buf = vec![0.0f32; 16 * 6 * 7];
+    let mut water = vec![0.0f32; 3 * 4096];
+    for f in 0..6 {
+        let r = wethair_sim_step(s, c.dt);
+        assert_ne!(r, WETHAIR_ERROR_PANIC, "{what}: step {f}: {}", last_error());
+        let mut n = 0usize;
+        let r = wethair_sim_get_vertex_buffer(s, buf.as_mut_ptr(), buf.len(), &mut n);
+        assert_ne!(r, WETHAIR_ERROR_PANIC, "{what}: vertices {f}: {}", last_error());
+        if r == WETHAIR_OK {
+            assert!(
+                buf.iter().all(|x| x.is_finite()),
+                "{what}: frame {f}: non-finite vertex with OK"
+            );
+        }
+        let mut wn = 0u32;
+        let r = wethair_sim_get_water(s, water.as_mut_ptr(), 4096, &mut wn);
+        assert_ne!(r, WETHAIR_ERROR_PANIC, "{what}: water {f}: {}", last_error());
+        if r == WETHAIR_OK {
+            let w = &water[..3 * wn as usize];
+            assert!(
+                w.iter().all(|x| x.is_finite()),
+                "{what}: frame {f}: non-finite particle with OK"
+            );
+        }
+        let mut st = std::mem::zeroed::<WetHairStats>();
+        st.struct_size = std::mem::size_of::<WetHairStats>() as u32;
+        let r = wethair_sim_get_stats(s, &mut st);
+        assert_ne!(r, WETHAIR_ERROR_PANIC, "{what}: stats: {}", last_error());
+    }
+    wethair_sim_destroy(s);
+}
+
+/// Item 1: every float field of the desc, the water's positions and velocities, the collider,
+/// the head transform and dt, set to each hostile value (and the neighbours of their
+/// documented limits), on both backends: no call returns `WETHAIR_ERROR_PANIC`, and nothing
+/// non-finite is reported with `WETHAIR_OK`.
+#[test]
+fn hostile_floats_never_panic_nor_leak_non_finite_values() {
+    let _s = serial();
+    macro_rules! field {
+        (@set $d:ident $c:ident $v:ident case . $($rest:tt)+) => { $c.$($rest)+ = $v };
+        (@set $d:ident $c:ident $v:ident $($rest:tt)+) => { $d.$($rest)+ = $v };
+        ($($path:tt)+) => {
+            (
+                stringify!($($path)+),
+                Box::new(|v: f32| -> Patch {
+                    Box::new(move |d: &mut WetHairSimDesc, c: &mut Case| {
+                        let _ = (&d, &c);
+                        field!(@set d c v $($path)+)
+                    })
+                }) as Box<dyn Fn(f32) -> Patch>,
+            )
+        };
+    }
+    let fields: Vec<Field> = vec![
+        field!(stretch.stiffness),
+        field!(stretch.damping),
+        field!(bend.stiffness),
+        field!(bend.damping),
+        field!(gravity[0]),
+        field!(gravity[2]),
+        field!(air_drag),
+        field!(friction),
+        field!(water.r_min),
+        field!(water.r_max),
+        field!(water.adhesion),
+        field!(water.particle_mass),
+        field!(water.drag),
+        field!(water.wetting_rate),
+        field!(water.domain_radius),
+        field!(case.water_pos[0]),
+        field!(case.water_pos[2]),
+        field!(case.water_vel[0]),
+        field!(case.water_vel[2]),
+        field!(case.head[12]),
+        field!(case.head[0]),
+        field!(case.dt),
+        field!(case.collider.radius),
+        field!(case.collider.a[0]),
+    ];
+    let up = |x: f32| f32::from_bits(x.to_bits() + 1);
+    let down = |x: f32| f32::from_bits(x.to_bits() - 1);
+    // The neighbours of documented limits: r_max's range, friction's 1, dt's 1 s, and r_max
+    // one ulp above r_min.
+    let limits = [1e-6f32, 10.0, 1.0, 0.002];
+    let mut values: Vec<f32> = HOSTILE.to_vec();
+    for l in limits {
+        values.extend([down(l), l, up(l)]);
+    }
+    let mut groom = null_mut();
+    unsafe { assert_eq!(wethair_groom_create_paper_scene(16, 6, &mut groom), WETHAIR_OK) };
+    let base_case = Case {
+        water_pos: [0.0, 0.0, 0.12],
+        water_vel: [0.0, 0.0, -1.0],
+        head: Mat4::IDENTITY.to_cols_array(),
+        dt: 1.0 / 60.0,
+        collider: WetHairCollider {
+            shape: 0,
+            a: [0.0; 3],
+            b: [0.0; 3],
+            radius: 0.1,
+        },
+    };
+    for backend in backends() {
+        let mut d = unsafe {
+            let mut d = std::mem::MaybeUninit::<WetHairSimDesc>::zeroed();
+            wethair_sim_desc_default(d.as_mut_ptr());
+            d.assume_init()
+        };
+        d.groom = groom;
+        d.backend = backend as u32;
+        d.collider_count = 1;
+        d.water.capacity = 4096;
+        let gpu = backend == Backend::GPU;
+        for (name, make) in &fields {
+            // The GPU runs the extremes only (each case starts a device on lavapipe).
+            let vals: &[f32] = if gpu { &HOSTILE[..3] } else { &values };
+            for &v in vals {
+                unsafe { run_case(&format!("{backend:?} {name} = {v:e}"), d, base_case, &make(v)) };
+            }
+        }
+        // r_max one ulp above r_min, at the paper's radius.
+        let ulp: Patch = Box::new(move |d, _| {
+            d.water.r_min = 0.002;
+            d.water.r_max = up(0.002);
+        });
+        unsafe { run_case(&format!("{backend:?} r_max one ulp above r_min"), d, base_case, &ulp) };
+    }
+    unsafe { wethair_groom_destroy(groom) };
+}

@@ -48,7 +48,7 @@ pub struct WetHairSpring {
 pub struct WetHairWaterDesc {
     /// Particle radius r_min, m, >= 0: hair settles on this shell.
     pub r_min: f32,
-    /// Influence radius r_max, m, > r_min.
+    /// Influence radius r_max, m, > r_min, in [1e-6, 10].
     pub r_max: f32,
     /// Adhesion strength s, N, >= 0: peak pull between one particle and one hair point.
     pub adhesion: f32,

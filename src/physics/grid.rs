@@ -86,16 +86,28 @@ impl Grid {
         if points.is_empty() {
             (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
         }
+        // Cells per side in f32 as the GPU computes them, counted in f64 so the product cannot
+        // overflow; a box too wide for f32 (points up to FLT_MAX apart) is measured in f64.
+        // The cell grows until the count fits, so any finite box works.
         let extent = hi - lo;
+        let extent_f64 = hi.as_dvec3() - lo.as_dvec3();
         let mut cell = self.cell_min;
-        let dims_for = |cell: f32| (extent / cell).as_ivec3().max(IVec3::ZERO) + IVec3::ONE;
+        let dims_for = |cell: f32| {
+            let d = if extent.is_finite() {
+                (extent / cell).as_dvec3()
+            } else {
+                extent_f64 / cell as f64
+            };
+            d.floor().max(glam::DVec3::ZERO) + 1.0
+        };
         let mut dims = dims_for(cell);
         // Few points spread wide need few cells: every build clears and prefix-sums all of them.
-        let max_cells = (64 * points.len()).clamp(4096, MAX_CELLS) as i64;
-        while dims.as_i64vec3().element_product() > max_cells {
+        let max_cells = (64 * points.len()).clamp(4096, MAX_CELLS) as f64;
+        while dims.element_product() > max_cells {
             cell *= 1.26; // about 2x fewer cells per round
             dims = dims_for(cell);
         }
+        let dims = dims.as_ivec3();
         (self.lo, self.hi, self.cell, self.inv_cell, self.dims) = (lo, hi, cell, 1.0 / cell, dims);
         let cells = dims.element_product() as usize;
         self.start.clear();

@@ -88,7 +88,7 @@ fn grid_setup() {
     var cell = P.r_max;
     var dims = max(vec3<i32>(extent / cell), vec3<i32>(0)) + vec3<i32>(1);
     let max_cells = f32(clamp(64u * n, 4096u, P.max_cells));
-    for (var round = 0; round < 256; round++) {
+    for (var round = 0; round < 1024; round++) {
         if (f32(dims.x) * f32(dims.y) * f32(dims.z) <= max_cells) {
             break;
         }
