@@ -460,7 +460,8 @@ typedef void (*WetHairUnityRenderEvent)(int32_t event_id, void *data);
 typedef struct WetHairVulkanDevice {
   // `sizeof(WetHairVulkanDevice)`.
   uint32_t struct_size;
-  // `VkApplicationInfo::apiVersion` the instance was created with (at least Vulkan 1.1).
+  // `VkApplicationInfo::apiVersion` the instance was created with: at least Vulkan 1.1 and
+  // the device's own version (capped at 1.3); the reported `min_api_version` always is.
   uint32_t api_version;
   // The loader's `vkGetInstanceProcAddr` (`PFN_vkGetInstanceProcAddr` cast to `void*`).
   const void *get_instance_proc_addr;
@@ -501,7 +502,9 @@ typedef struct WetHairVulkanDevice {
 typedef struct WetHairVulkanInstanceRequirements {
   // `sizeof(WetHairVulkanInstanceRequirements)`, set by the host before the call.
   uint32_t struct_size;
-  // The lowest `apiVersion` (a `VK_MAKE_API_VERSION` value).
+  // The `apiVersion` to create the instance with (a `VK_MAKE_API_VERSION` value): Vulkan
+  // 1.3, which any 1.1 or later loader accepts whatever the device offers. An instance made
+  // with it and `extensions` is all a device-sharing simulation needs of the instance.
   uint32_t min_api_version;
   // Entries in `extensions`.
   uint32_t extension_count;

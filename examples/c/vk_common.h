@@ -233,15 +233,16 @@ static inline int create_instance(Host *h, int validate, const char *const *extr
     WetHairVulkanInstanceRequirements ir = {0};
     ir.struct_size = sizeof ir;
     wh_check(wethair_vulkan_get_instance_requirements(&ir), "wethair_vulkan_get_instance_requirements");
+    /* The instance is made with exactly the reported apiVersion: a 1.1 or later loader accepts
+     * it whatever the device offers (a 1.0 loader refuses any apiVersion above 1.0). */
     uint32_t loader = VK_API_VERSION_1_0;
     vkEnumerateInstanceVersion(&loader);
-    h->api_version = loader >= VK_API_VERSION_1_3 ? VK_API_VERSION_1_3 : loader;
-    if (h->api_version < ir.min_api_version) {
-        snprintf(why, why_len, "the Vulkan loader offers %u.%u; wethair needs %u.%u", VK_API_VERSION_MAJOR(loader),
-                 VK_API_VERSION_MINOR(loader), VK_API_VERSION_MAJOR(ir.min_api_version),
-                 VK_API_VERSION_MINOR(ir.min_api_version));
+    if (loader < VK_API_VERSION_1_1) {
+        snprintf(why, why_len, "the Vulkan loader offers %u.%u; wethair needs a 1.1 or later loader",
+                 VK_API_VERSION_MAJOR(loader), VK_API_VERSION_MINOR(loader));
         return 0;
     }
+    h->api_version = ir.min_api_version;
     h->instance_ext_count = 0;
     for (uint32_t i = 0; i < ir.extension_count && h->instance_ext_count < VKC_MAX_INSTANCE_EXTS - 1; i++)
         h->instance_exts[h->instance_ext_count++] = ir.extensions[i];

@@ -65,6 +65,13 @@ static int expect(WetHairResult r, WetHairResult want, const char *needle, const
     return 0;
 }
 
+/* A host loader that returns NULL for one entry (engines ship odd loaders). */
+static const char *null_entry = NULL;
+static PFN_vkVoidFunction VKAPI_CALL gipa_missing(VkInstance instance, const char *name) {
+    if (null_entry && !strcmp(name, null_entry)) return NULL;
+    return vkGetInstanceProcAddr(instance, name);
+}
+
 /* The refusals and the create/destroy cycle; returns the number of failed checks. */
 static int check_errors(const Host *h, const WetHairVulkanRequirementsInfo *info, const WetHairVulkanDevice *good,
                         const WetHairGroom *groom, const WetHairCollider *head) {
@@ -75,6 +82,16 @@ static int check_errors(const Host *h, const WetHairVulkanRequirementsInfo *info
     d.instance_extension_count = 0;
     fails += expect(wethair_vulkan_requirements_create(&d, &req), WETHAIR_ERROR_UNSUPPORTED,
                     "VK_KHR_get_physical_device_properties2", "instance without VK_KHR_get_physical_device_properties2");
+    /* A vkGetInstanceProcAddr that gives NULL for an entry wethair needs: refused by name. */
+    const char *entries[] = {"vkGetPhysicalDeviceProperties2", "vkGetDeviceProcAddr"};
+    for (int i = 0; i < 2; i++) {
+        d = describe(h);
+        d.get_instance_proc_addr = (void *)gipa_missing;
+        null_entry = entries[i];
+        fails += expect(wethair_vulkan_requirements_create(&d, &req), WETHAIR_ERROR_UNSUPPORTED, entries[i],
+                        "vkGetInstanceProcAddr without an entry");
+        null_entry = NULL;
+    }
     /* Bad arguments. */
     fails += expect(wethair_vulkan_requirements_create(NULL, &req), WETHAIR_ERROR_NULL_POINTER, "host", "NULL host");
     d = describe(h);

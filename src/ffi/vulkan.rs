@@ -10,6 +10,12 @@ use super::sim::WetHairSim;
 use super::types::WetHairSimDesc;
 use std::ffi::{c_char, c_void};
 
+#[cfg(feature = "vulkan")]
+use crate::gpu::vulkan::REQUIRED_API_VERSION;
+/// Never reported: without the `vulkan` feature the call is refused first.
+#[cfg(not(feature = "vulkan"))]
+const REQUIRED_API_VERSION: u32 = 0;
+
 /// Most extension names accepted in one list.
 #[cfg(feature = "vulkan")]
 const MAX_EXTENSIONS: u32 = 4096;
@@ -21,7 +27,8 @@ const MAX_EXTENSIONS: u32 = 4096;
 pub struct WetHairVulkanDevice {
     /// `sizeof(WetHairVulkanDevice)`.
     pub struct_size: u32,
-    /// `VkApplicationInfo::apiVersion` the instance was created with (at least Vulkan 1.1).
+    /// `VkApplicationInfo::apiVersion` the instance was created with: at least Vulkan 1.1 and
+    /// the device's own version (capped at 1.3); the reported `min_api_version` always is.
     pub api_version: u32,
     /// The loader's `vkGetInstanceProcAddr` (`PFN_vkGetInstanceProcAddr` cast to `void*`).
     pub get_instance_proc_addr: *const c_void,
@@ -64,7 +71,9 @@ pub struct WetHairVulkanDevice {
 pub struct WetHairVulkanInstanceRequirements {
     /// `sizeof(WetHairVulkanInstanceRequirements)`, set by the host before the call.
     pub struct_size: u32,
-    /// The lowest `apiVersion` (a `VK_MAKE_API_VERSION` value).
+    /// The `apiVersion` to create the instance with (a `VK_MAKE_API_VERSION` value): Vulkan
+    /// 1.3, which any 1.1 or later loader accepts whatever the device offers. An instance made
+    /// with it and `extensions` is all a device-sharing simulation needs of the instance.
     pub min_api_version: u32,
     /// Entries in `extensions`.
     pub extension_count: u32,
@@ -246,7 +255,7 @@ pub unsafe extern "C" fn wethair_vulkan_get_instance_requirements(
         }
         out.write(WetHairVulkanInstanceRequirements {
             struct_size: std::mem::size_of::<WetHairVulkanInstanceRequirements>() as u32,
-            min_api_version: (1 << 22) | (1 << 12),
+            min_api_version: REQUIRED_API_VERSION,
             extension_count: INSTANCE_EXTENSION_NAMES.0.len() as u32,
             extensions: INSTANCE_EXTENSION_NAMES.0.as_ptr(),
         });

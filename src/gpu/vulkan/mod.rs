@@ -19,6 +19,36 @@ pub use sync::{raw_buffer, raw_semaphore, SharedFrame, SharedSync, SharedWater};
 /// The oldest Vulkan API version wethair runs on (wgpu-hal needs 1.1's core features).
 pub const MIN_API_VERSION: u32 = vk::API_VERSION_1_1;
 
+/// The `apiVersion` wethair asks a host's instance to be created with: wgpu uses its device's
+/// Vulkan version up to 1.3, which Vulkan allows only up to the instance's apiVersion, so an
+/// instance made with 1.3 suits every device (a 1.1 or later loader accepts it whatever the
+/// device offers). What `wethair_vulkan_get_instance_requirements` reports.
+pub const REQUIRED_API_VERSION: u32 = vk::API_VERSION_1_3;
+
+/// Instance-level entry points wgpu-hal calls on the host's instance; each must resolve
+/// through the host's `vkGetInstanceProcAddr` (checked by name before any is called).
+const INSTANCE_ENTRIES: [&CStr; 11] = [
+    c"vkGetDeviceProcAddr",
+    c"vkEnumeratePhysicalDevices",
+    c"vkGetPhysicalDeviceProperties",
+    c"vkGetPhysicalDeviceProperties2",
+    c"vkGetPhysicalDeviceFeatures",
+    c"vkGetPhysicalDeviceFeatures2",
+    c"vkGetPhysicalDeviceQueueFamilyProperties",
+    c"vkGetPhysicalDeviceMemoryProperties",
+    c"vkGetPhysicalDeviceFormatProperties",
+    c"vkEnumerateDeviceExtensionProperties",
+    c"vkCreateDevice",
+];
+
+/// The first entry wethair needs that the host's `vkGetInstanceProcAddr` does not give.
+fn missing_entry(host: &HostVulkan) -> Option<&'static CStr> {
+    INSTANCE_ENTRIES.iter().copied().find(|name| {
+        // SAFETY: the host's vkGetInstanceProcAddr with its live instance and a static name.
+        unsafe { (host.get_instance_proc_addr)(host.instance, name.as_ptr()) }.is_none()
+    })
+}
+
 /// Instance extensions the host must enable (wgpu-hal reads device features through it).
 pub const INSTANCE_EXTENSIONS: [&CStr; 1] = [ash::khr::get_physical_device_properties2::NAME];
 
@@ -188,6 +218,13 @@ fn hal_adapter(host: &HostVulkan) -> Result<HalAdapter> {
         return Err(Error::Unsupported(format!(
             "the host's VkInstance lacks instance extensions: {}",
             names(&missing)
+        )));
+    }
+    // A NULL entry would make wgpu-hal's loader call a stub that aborts the process.
+    if let Some(name) = missing_entry(host) {
+        return Err(Error::Unsupported(format!(
+            "the host's vkGetInstanceProcAddr returns NULL for {} on its instance; wethair needs it",
+            name.to_string_lossy()
         )));
     }
     // SAFETY: the host passes the loader's vkGetInstanceProcAddr and its live instance.
