@@ -419,6 +419,11 @@ typedef struct WetHairStats {
   uint32_t integrator;
   // The `WetHairBackend` in use (AUTO resolved: CPU or GPU).
   uint32_t backend;
+  // Since 0.2.0: the clumping measure along the strands, m: the mean distance from a point
+  // to the nearest other strand's point at the same place along its strand, averaged over
+  // the quarter points (tips included). Long hair bundles along its length even where the
+  // tips still fan out; this sees it. Computed on request.
+  float clumping_along;
 } WetHairStats;
 
 // Which backend runs a simulation, on what, and why AUTO chose it.

@@ -5,7 +5,7 @@ use crate::engine::Engine;
 use crate::error::{invalid, Error, Result};
 use crate::groom::Groom;
 use crate::params::{Backend, SimParams, VertexAttributes};
-use crate::physics::clumping::mean_nearest_tip_distance;
+use crate::physics::clumping::{mean_nearest_along_strands, mean_nearest_tip_distance};
 use crate::physics::spring::spring_energy;
 use crate::plan::Pass;
 use glam::{Affine3A, DVec3, Mat4, Vec3};
@@ -39,6 +39,10 @@ pub struct Stats {
     pub integrator: crate::Integrator,
     /// The backend in use (`Auto` resolved).
     pub backend: Backend,
+    /// Mean distance from a strand's point to the nearest other strand's point at the same
+    /// place along its strand, averaged over the quarter points (tips included), m: the
+    /// clumping of long hair, which bundles along its length before its tips gather.
+    pub clumping_along: f32,
 }
 
 /// Per-point data in the host's order, for diagnostics that both backends share.
@@ -369,7 +373,11 @@ impl Simulation {
 
     /// Tip positions of every strand, in host order.
     pub fn tips(&self) -> Vec<Vec3> {
-        let x = self.positions();
+        self.tips_of(&self.positions())
+    }
+
+    /// The tips among `x` (every point, strand after strand; empty gives none).
+    fn tips_of(&self, x: &[Vec3]) -> Vec<Vec3> {
         if x.is_empty() {
             return Vec::new();
         }
@@ -381,6 +389,7 @@ impl Simulation {
     pub fn stats(&self) -> Stats {
         let (strands, points) = self.stats_counts();
         let c = self.engine.counters();
+        let x = self.positions(); // one read back for both measures
         Stats {
             strands,
             points,
@@ -389,7 +398,8 @@ impl Simulation {
             steps: self.steps,
             last_step_ms: self.last_step_ms,
             max_speed: self.max_speed,
-            clumping: mean_nearest_tip_distance(&self.tips()),
+            clumping: mean_nearest_tip_distance(&self.tips_of(&x)),
+            clumping_along: mean_nearest_along_strands(&x, &self.host.strand_first),
             threads: c.threads,
             integrator: self.engine.integrator(),
             backend: self.engine.kind(),

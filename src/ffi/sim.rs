@@ -268,6 +268,7 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
             threads: st.threads,
             integrator: st.integrator as u32,
             backend: st.backend as u32,
+            clumping_along: st.clumping_along,
         });
         Ok(())
     })

@@ -43,7 +43,7 @@ sized!(
     WetHairVulkanRequirementsInfo = 40,
     WetHairVulkanBuffer = 96,
     WetHairVulkanWater = 48,
-    // 0.2.0
+    // 0.2.0 (WetHairStats grew to 64 bytes: clumping_along)
     WetHairLoadDesc = 28,
 );
 

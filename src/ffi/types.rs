@@ -263,6 +263,11 @@ pub struct WetHairStats {
     pub integrator: u32,
     /// The `WetHairBackend` in use (AUTO resolved: CPU or GPU).
     pub backend: u32,
+    /// Since 0.2.0: the clumping measure along the strands, m: the mean distance from a point
+    /// to the nearest other strand's point at the same place along its strand, averaged over
+    /// the quarter points (tips included). Long hair bundles along its length even where the
+    /// tips still fan out; this sees it. Computed on request.
+    pub clumping_along: f32,
 }
 
 /// Which backend runs a simulation, on what, and why AUTO chose it.

@@ -1,5 +1,8 @@
-//! The clumping measure: the mean distance (m) from each strand tip to the nearest other tip.
-//! Dry strands spread out; wet strands gather into bundles, so the measure drops.
+//! The clumping measures. Dry strands spread out; wet strands gather into bundles, so both
+//! drop. The tip measure is the mean distance (m) from each strand tip to the nearest other
+//! tip; the along-strand measure averages the same at a strand's quarter points (a quarter,
+//! half, three quarters of the way, and the tip), so bundles that form along long hair count
+//! even where the tips still fan out.
 
 use super::grid::Grid;
 use glam::Vec3;
@@ -38,4 +41,28 @@ pub fn mean_nearest_tip_distance(tips: &[Vec3]) -> f32 {
         sum += (best as f64).sqrt();
     }
     (sum / n as f64) as f32
+}
+
+/// The quarter points where [`mean_nearest_along_strands`] measures, as fractions of a strand's
+/// points (the root is pinned and never moves).
+pub const ALONG_STRAND_LEVELS: [f32; 4] = [0.25, 0.5, 0.75, 1.0];
+
+/// Mean over [`ALONG_STRAND_LEVELS`] of the mean nearest-other-strand distance at that level:
+/// the point `round(level (n - 1))` of each strand of `n` points (strand `s` is
+/// `strand_first[s]..strand_first[s + 1]` of `points`).
+pub fn mean_nearest_along_strands(points: &[Vec3], strand_first: &[u32]) -> f32 {
+    if points.is_empty() || strand_first.len() < 2 {
+        return 0.0;
+    }
+    let mut level_points = Vec::with_capacity(strand_first.len() - 1);
+    let mut sum = 0.0f64;
+    for level in ALONG_STRAND_LEVELS {
+        level_points.clear();
+        level_points.extend(strand_first.windows(2).map(|w| {
+            let n = (w[1] - w[0]) as f32;
+            points[w[0] as usize + (level * (n - 1.0)).round() as usize]
+        }));
+        sum += mean_nearest_tip_distance(&level_points) as f64;
+    }
+    (sum / ALONG_STRAND_LEVELS.len() as f64) as f32
 }

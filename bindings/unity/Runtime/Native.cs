@@ -130,6 +130,8 @@ namespace WetHair
         public uint threads;
         public uint integrator;
         public uint backend;
+        /// <summary>Since 0.2.0: clumping along the strands' quarter points, m.</summary>
+        public float clumping_along;
     }
 
     /// <summary>Which backend runs the simulation, its device, and why AUTO chose it.</summary>
