@@ -3,12 +3,15 @@
 //! Median over the timed frames after a warm-up; prints a markdown table with the passes and
 //! the memory each scene uses (what a scene leaves out shows here too).
 //!
+//! A second table times every integrator per groom (the paper scene, the real grooms in
+//! `tests/data`, a long-strand paper scene) and gives each one's cost against symplectic Euler.
+//!
 //! Run: `cargo bench --bench frame` (full, about a minute), or `-- --quick` (fewer frames).
 
 use std::time::Instant;
 use wethair::groom::{paper_scene, Groom};
 use wethair::scenes::{on_hair, Lcg};
-use wethair::{SimParams, Simulation};
+use wethair::{Integrator, SimParams, Simulation};
 
 struct Row {
     scene: String,
@@ -23,11 +26,22 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn run(groom: &Groom, row: &Row, frames: usize, warmup: usize) -> (f64, f64, String, f64, usize) {
+    run_with(groom, row, Integrator::SYMPLECTIC_EULER, frames, warmup)
+}
+
+fn run_with(
+    groom: &Groom,
+    row: &Row,
+    integrator: Integrator,
+    frames: usize,
+    warmup: usize,
+) -> (f64, f64, String, f64, usize) {
     let params = if row.collider {
         SimParams::paper_scene_with_head()
     } else {
         SimParams::default()
     };
+    let params = SimParams { integrator, ..params };
     let mut sim = Simulation::new(
         groom,
         SimParams {
@@ -119,6 +133,92 @@ fn main() {
         println!(
             "| {} | 0 | no | {} | {med:.3} | {mean:.3} | {passes} | {mib:.1} |",
             row.scene, row.threads
+        );
+    }
+    integrator_costs(cores, quick);
+    copy_path_cost(cores, quick);
+}
+
+/// Reading the vertices (position, tangent, wetness) against the dry step on many short
+/// strands, where the copy weighs most: 48,113 x 4.
+fn copy_path_cost(cores: u32, quick: bool) {
+    let groom = paper_scene(48_113, 4).expect("groom");
+    let mut sim = Simulation::new(&groom, SimParams::default()).expect("sim");
+    let mut v = vec![0.0f32; sim.vertex_count() * sim.attributes().stride()];
+    let frames = if quick { 30 } else { 200 };
+    let (mut step, mut copy) = (Vec::new(), Vec::new());
+    for f in 0..frames + 5 {
+        let t0 = Instant::now();
+        sim.step(1.0 / 60.0).expect("step");
+        let t1 = Instant::now();
+        sim.write_vertices(&mut v).expect("vertices");
+        if f >= 5 {
+            step.push((t1 - t0).as_secs_f64() * 1e3);
+            copy.push(t1.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    let (s, c) = (median(step), median(copy));
+    println!();
+    println!("Copy path, paper scene 48113x4, {cores} threads, median of {frames} frames:");
+    println!();
+    println!("| dry step ms | vertex read (position, tangent, wetness) ms | read / step |");
+    println!("|---|---|---|");
+    println!("| {s:.3} | {c:.3} | {:.2} |", c / s);
+}
+
+/// The cost of each integrator against symplectic Euler, per groom (dry, all cores, 1 g per
+/// point, the default springs): a table of ms/frame and ratios.
+fn integrator_costs(cores: u32, quick: bool) {
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
+    let load = |name: &str, scale: f32, up: wethair::groom::UpAxis| {
+        let opt = wethair::groom::LoadOptions {
+            scale,
+            up_axis: up,
+            ..Default::default()
+        };
+        wethair::groom::load_file_with(std::path::Path::new(&format!("{data}{name}")), &opt).expect("groom")
+    };
+    use wethair::groom::UpAxis;
+    let grooms = [
+        ("paper 10000x6", paper_scene(10_000, 6).expect("paper")),
+        ("paper 2000x21", paper_scene(2_000, 21).expect("paper")),
+        (
+            "mohawk 2228x32 (TressFX 4)",
+            load("Ratboy_mohawk.tfx", 1.0, UpAxis::KEEP),
+        ),
+        (
+            "ponytail front 876x16 (TressFX 3)",
+            load("ponytail_front_top.tfx", 0.01, UpAxis::Y_TO_Z),
+        ),
+        (
+            "ponytail back 517x16 (TressFX 3)",
+            load("ponytail_back.tfx", 0.01, UpAxis::Y_TO_Z),
+        ),
+    ];
+    let frames = if quick { 20 } else { 100 };
+    println!();
+    println!("Integrator cost per groom, {cores} threads, dry, median of {frames} frames (a failed step is marked):");
+    println!();
+    println!("| groom | symplectic Euler ms | implicit Euler ms | ratio | XPBD ms | ratio |");
+    println!("|---|---|---|---|---|---|");
+    for (name, groom) in &grooms {
+        let row = Row {
+            scene: name.to_string(),
+            particles: 0,
+            threads: cores,
+            collider: false,
+        };
+        let time = |i: Integrator| {
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_with(groom, &row, i, frames, 3)));
+            r.map(|t| t.0).unwrap_or(f64::NAN)
+        };
+        let se = time(Integrator::SYMPLECTIC_EULER);
+        let ie = time(Integrator::IMPLICIT_EULER);
+        let xp = time(Integrator::XPBD);
+        println!(
+            "| {name} | {se:.3} | {ie:.3} | {:.1}x | {xp:.3} | {:.1}x |",
+            ie / se,
+            xp / se
         );
     }
 }

@@ -1,5 +1,5 @@
-//! Prints the peers' sanity numbers for the paper scene after N frames, and the tip positions
-//! of the first strands, to check wethair against `shared/peers` (same scene, same physics).
+//! Prints sanity numbers for the paper scene after N frames, and the tip positions
+//! of the first strands, to check wethair against another engine run on the same scene (`docs/METHOD.md` §6).
 //! Usage: cargo run --release --example sanity -- [frames] [threads]
 use wethair::{groom::paper_scene, SimParams, Simulation};
 

@@ -30,6 +30,8 @@ pub struct Layout {
     pub strand_first: Vec<u32>,
     /// Host strand -> slot (slot = block * W + lane).
     pub slot_of_strand: Vec<u32>,
+    /// Slot -> host strand (`strands` or more for a padding lane).
+    pub strand_of_slot: Vec<u32>,
     /// Per row: the constant parameters.
     pub params: Vec<ParamRow>,
     /// Per row: rest positions in head space (pinned points' targets; the reset pose).
@@ -62,6 +64,7 @@ impl Layout {
             strands,
             strand_first: groom.strand_first.clone(),
             slot_of_strand,
+            strand_of_slot: strand_of_slot.clone(),
             params: vec![ParamRow::default(); n_rows],
             rest_local: vec![L3::ZERO; n_rows],
             pinned_row: vec![false; n_rows],
