@@ -7,35 +7,8 @@ use wethair::groom::{paper_scene, Groom};
 use wethair::scenes::Lcg;
 use wethair::{Backend, Error, Integrator, SimParams, Simulation};
 
-/// Tests in this file run one at a time: each starts worker pools and (software) GPU devices
-/// whose threads, run side by side on a 2-core machine, starve one another.
-static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-fn serial() -> std::sync::MutexGuard<'static, ()> {
-    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// The backends to test: the CPU, and the GPU when it starts (it must under
-/// `WETHAIR_REQUIRE_GPU=1`).
-fn backends() -> Vec<Backend> {
-    let probe = Simulation::new(
-        &paper_scene(8, 3).unwrap(),
-        SimParams {
-            backend: Backend::GPU,
-            ..Default::default()
-        },
-    );
-    match probe {
-        Ok(_) => vec![Backend::CPU, Backend::GPU],
-        Err(e) if std::env::var("WETHAIR_REQUIRE_GPU").as_deref() == Ok("1") => {
-            panic!("WETHAIR_REQUIRE_GPU=1 but the GPU backend failed: {e}")
-        }
-        Err(e) => {
-            eprintln!("no GPU adapter, extreme cases run on the CPU only: {e}");
-            vec![Backend::CPU]
-        }
-    }
-}
+mod common;
+use common::{backends, serial};
 
 /// Whether `backend` runs `integrator` (the GPU does not run XPBD).
 fn runs(backend: Backend, integrator: Integrator) -> bool {

@@ -12,33 +12,8 @@ use wethair::scenes::{shower, Lcg};
 use wethair::{Backend, Error, Integrator, SimParams, Simulation};
 use WetHairResult::*;
 
-/// One test at a time: each starts worker pools and (software) GPU devices.
-static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-fn serial() -> std::sync::MutexGuard<'static, ()> {
-    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// The CPU, and the GPU when it starts (it must under `WETHAIR_REQUIRE_GPU=1`).
-fn backends() -> Vec<Backend> {
-    let probe = Simulation::new(
-        &paper_scene(8, 3).unwrap(),
-        SimParams {
-            backend: Backend::GPU,
-            ..Default::default()
-        },
-    );
-    match probe {
-        Ok(_) => vec![Backend::CPU, Backend::GPU],
-        Err(e) if std::env::var("WETHAIR_REQUIRE_GPU").as_deref() == Ok("1") => {
-            panic!("WETHAIR_REQUIRE_GPU=1 but the GPU backend failed: {e}")
-        }
-        Err(e) => {
-            eprintln!("no GPU adapter, these cases run on the CPU only: {e}");
-            vec![Backend::CPU]
-        }
-    }
-}
+mod common;
+use common::{backends, serial};
 
 fn last_error() -> String {
     unsafe { CStr::from_ptr(wethair_last_error_message()) }

@@ -1,0 +1,35 @@
+//! Helpers shared by the test files that run both backends (`mod common;` in each).
+
+use wethair::groom::paper_scene;
+use wethair::{Backend, SimParams, Simulation};
+
+/// Tests in one file run one at a time: each starts worker pools and (software) GPU devices
+/// whose threads, run side by side on a 2-core machine, starve one another.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Holds the file's lock for the test's duration.
+pub fn serial() -> std::sync::MutexGuard<'static, ()> {
+    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The backends to test: the CPU, and the GPU when it starts (it must under
+/// `WETHAIR_REQUIRE_GPU=1`).
+pub fn backends() -> Vec<Backend> {
+    let probe = Simulation::new(
+        &paper_scene(8, 3).unwrap(),
+        SimParams {
+            backend: Backend::GPU,
+            ..Default::default()
+        },
+    );
+    match probe {
+        Ok(_) => vec![Backend::CPU, Backend::GPU],
+        Err(e) if std::env::var("WETHAIR_REQUIRE_GPU").as_deref() == Ok("1") => {
+            panic!("WETHAIR_REQUIRE_GPU=1 but the GPU backend failed: {e}")
+        }
+        Err(e) => {
+            eprintln!("no GPU adapter, these cases run on the CPU only: {e}");
+            vec![Backend::CPU]
+        }
+    }
+}
