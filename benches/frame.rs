@@ -39,7 +39,7 @@ fn run_with(
     let params = if row.collider {
         SimParams::paper_scene_with_head()
     } else {
-        SimParams::default()
+        SimParams::paper()
     };
     let params = SimParams { integrator, ..params };
     let mut sim = Simulation::new(
@@ -143,7 +143,7 @@ fn main() {
 /// strands, where the copy weighs most: 48,113 x 4.
 fn copy_path_cost(cores: u32, quick: bool) {
     let groom = paper_scene(48_113, 4).expect("groom");
-    let mut sim = Simulation::new(&groom, SimParams::default()).expect("sim");
+    let mut sim = Simulation::new(&groom, SimParams::paper()).expect("sim");
     let mut v = vec![0.0f32; sim.vertex_count() * sim.attributes().stride()];
     let frames = if quick { 30 } else { 200 };
     let (mut step, mut copy) = (Vec::new(), Vec::new());

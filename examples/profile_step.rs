@@ -19,7 +19,7 @@ fn main() {
     let mut params = SimParams {
         threads: threads as u32,
         ..if std::env::var_os("NO_COLLIDER").is_some() {
-            SimParams::default()
+            SimParams::paper()
         } else {
             SimParams::paper_scene_with_head()
         }

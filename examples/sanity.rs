@@ -12,7 +12,7 @@ fn main() {
         &groom,
         SimParams {
             threads,
-            ..Default::default()
+            ..SimParams::paper()
         },
     )
     .unwrap();

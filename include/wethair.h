@@ -240,6 +240,36 @@ typedef uint32_t WetHairUpAxis;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// How each spring's stiffness and damping follow from the parameters
+// (`WetHairSimDesc::spring_model`); exported as `WetHairSpringModel`.
+enum WetHairSpringModel
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Every spring of a family has the same k and c ([`SimParams::stretch`],
+  // [`SimParams::bend`]): the paper's model. How stiff a strand is then depends on how finely
+  // it is sampled (more, shorter segments in series stretch more).
+  WETHAIR_SPRING_MODEL_PER_SPRING = 0,
+  // Springs follow from material properties ([`SimParams::material`]) and their rest
+  // length: stretch `k = EA / l`, bend `k = EI / L³` (L the rest span of the i, i+2 spring),
+  // dampers the same way, so a strand sags the same however finely it is sampled
+  // (docs/METHOD.md, "Material parameters").
+  WETHAIR_SPRING_MODEL_MATERIAL = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum WetHairSpringModel WetHairSpringModel;
+#else
+typedef uint32_t WetHairSpringModel;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// Material properties of a strand, from which [`SpringModel::MATERIAL`] derives each spring.
+// The paper scene is `EA = 40 N/m × 0.02 m = 0.8 N` and `EI = 10 N/m × (0.04 m)³ =
+// 6.4e-4 N·m²` (its springs then come out at its 40 and 10 N/m).
+typedef struct MaterialParams MaterialParams;
+
 // Opaque strand set; create with `wethair_groom_*`, free with `wethair_groom_destroy`.
 typedef struct WetHairGroom WetHairGroom;
 
@@ -282,13 +312,18 @@ typedef struct WetHairLoadDesc {
   // Mass of every point, kg, > 0, used when `linear_density` is 0. Default 1e-3.
   float point_mass;
   // Mass per metre of strand, kg/m, >= 0; > 0 gives each point half of its two segments'
-  // mass. Default 0.
+  // mass, so the mass does not depend on how finely the file samples its strands.
+  // Default 1e-3 (a wisp of about 150 hairs).
   float linear_density;
   // Keep every Nth strand, >= 1. Default 1 (all).
   uint32_t strand_stride;
   // Resample each strand to this many points evenly spaced along its length: 0 (keep the
   // file's points) or 2..=256. Default 0.
   uint32_t resample_points;
+  // Segments shorter than this (m, after `scale`) are welded and strands shorter than it
+  // dropped; `wethair_groom_get_load_message` says how many. 0 keeps every point.
+  // Default 1e-4 (0.1 mm).
+  float weld_length;
 } WetHairLoadDesc;
 
 // Stiffness (N/m) and damping (N·s/m) of one spring family; 0 stiffness and damping
@@ -333,8 +368,25 @@ typedef struct WetHairCollider {
   float radius;
 } WetHairCollider;
 
-// Everything a simulation is made from. Fill with `wethair_sim_desc_default()` (the paper
-// scene's parameters), then set `groom` and what differs.
+// Material properties of a strand (`WETHAIR_SPRING_MODEL_MATERIAL`): each spring's k and c
+// follow from these and its rest length, so a strand behaves the same however finely it is
+// sampled. Each >= 0 and <= 1e20.
+typedef struct WetHairMaterial {
+  // Axial stiffness EA, N: a stretch spring of rest length l gets k = EA / l. Default 0.8.
+  float stretch_modulus;
+  // Axial damping, N·s: c = stretch_damping / l. Default 4e-4.
+  float stretch_damping;
+  // Bending stiffness EI, N·m²: a bend spring of rest span L gets k = EI / L³.
+  // Default 1.2e-6 (hair-like; the paper scene is 6.4e-4).
+  float bend_modulus;
+  // Bending damping, N·m²·s: c = bend_damping / L³. Default 6e-10.
+  float bend_damping;
+} WetHairMaterial;
+
+// Everything a simulation is made from. Fill with `wethair_sim_desc_init(&desc, sizeof desc)`
+// (material springs, AUTO integrator: right for any groom), or with the older
+// `wethair_sim_desc_default()` (the paper scene's exact parameters in the 0.1.0 layout), then
+// set `groom` and what differs.
 typedef struct WetHairSimDesc {
   // `sizeof(WetHairSimDesc)`, set by `wethair_sim_desc_default`.
   uint32_t struct_size;
@@ -373,6 +425,15 @@ typedef struct WetHairSimDesc {
   uint32_t backend;
   // A `WetHairReadback` value. Default LATEST.
   uint32_t readback;
+  // Unused; keep 0. The 0.1.0 layout ended in 4 bytes of padding here (its size, 128,
+  // counts them), so fields added since start after it, where an older host has none.
+  uint32_t reserved;
+  // A `WetHairSpringModel` value (since 0.2.0): whether `stretch`/`bend` give every
+  // spring's k and c (PER_SPRING, the paper's model; what 0.1.0 hosts get) or `material`
+  // does (MATERIAL, the `wethair_sim_desc_init` default).
+  uint32_t spring_model;
+  // Material properties for `WETHAIR_SPRING_MODEL_MATERIAL` (since 0.2.0).
+  struct WetHairMaterial material;
 } WetHairSimDesc;
 
 // Where each attribute sits in the interleaved vertex buffer.
@@ -672,6 +733,14 @@ WetHairResult wethair_groom_load(const char *path, float point_mass, struct WetH
 // is writable.
 WetHairResult wethair_groom_load_with_desc(const char *path, const struct WetHairLoadDesc *desc, struct WetHairGroom **out);
 
+// What loading welded or dropped, as one NUL-terminated line ("" when nothing was, or when
+// the groom was not loaded by `wethair_groom_load_with_desc`), or NULL when `groom` is NULL.
+// Valid until the groom is destroyed.
+//
+// # Safety
+// `groom` is NULL or came from `wethair_groom_*`.
+const char *wethair_groom_get_load_message(const struct WetHairGroom *groom);
+
 // Reports a groom's strand and point counts (either output may be NULL).
 //
 // # Safety
@@ -698,12 +767,24 @@ const char *wethair_result_string(uint32_t result);
 // the next failing call on this thread.
 const char *wethair_last_error_message(void);
 
-// Fills `desc` with the defaults (the paper scene's parameters) and its `struct_size`.
-// NULL is ignored.
+// Fills `desc` with the 0.1.0 defaults (the paper scene's exact parameters: per-spring
+// constants, symplectic Euler) in the 0.1.0 layout, `struct_size` 128. NULL is ignored. Kept
+// for hosts built against 0.1.0; new code calls `wethair_sim_desc_init`.
 //
 // # Safety
 // `desc` is NULL or points to writable memory for one `WetHairSimDesc`.
 void wethair_sim_desc_default(struct WetHairSimDesc *desc);
+
+// Fills `desc` with the defaults of the layout `struct_size` names (pass
+// `sizeof(WetHairSimDesc)`) and sets its `struct_size`. The current layout's defaults are
+// right for any groom: springs from hair-like material properties
+// (`WETHAIR_SPRING_MODEL_MATERIAL`) and the AUTO integrator; an older layout's size gets that
+// release's defaults. Returns `WETHAIR_ERROR_NULL_POINTER` or `WETHAIR_ERROR_STRUCT_SIZE`
+// (nothing written) on bad input.
+//
+// # Safety
+// `desc` is NULL or points to `struct_size` writable bytes.
+WetHairResult wethair_sim_desc_init(struct WetHairSimDesc *desc, uint32_t struct_size);
 
 // Fills `desc` with empty arrays, 1 g per point, and its `struct_size`. NULL is ignored.
 //
@@ -711,8 +792,8 @@ void wethair_sim_desc_default(struct WetHairSimDesc *desc);
 // `desc` is NULL or points to writable memory for one `WetHairGroomDesc`.
 void wethair_groom_desc_default(struct WetHairGroomDesc *desc);
 
-// Fills `desc` with the load defaults (the file as it is, 1 g per point) and its
-// `struct_size`. NULL is ignored.
+// Fills `desc` with the load defaults (the file's units and axes, 1 g per metre of strand,
+// segments under 0.1 mm welded) and its `struct_size`. NULL is ignored.
 //
 // # Safety
 // `desc` is NULL or points to writable memory for one `WetHairLoadDesc`.

@@ -36,7 +36,9 @@ pub mod scenes;
 pub mod sim;
 
 pub use error::{Error, Result};
-pub use params::{Backend, Integrator, Readback, SimParams, SpringParams, VertexAttributes, WaterParams};
+pub use params::{
+    Backend, Integrator, MaterialParams, Readback, SimParams, SpringModel, SpringParams, VertexAttributes, WaterParams,
+};
 pub use physics::collide::Shape;
 pub use physics::spring::DampingModel;
 pub use sim::{BackendInfo, Energy, Simulation, Stats};

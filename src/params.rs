@@ -42,16 +42,79 @@ pub enum Integrator {
     AUTO = 3,
 }
 
-/// The stability measure of symplectic Euler for these parameters and substep `h`:
-/// `h² λ + 2 h γ`, stable below 4. `λ ≈ 4 k_s / m` is the largest eigenvalue of K/M for a
-/// chain (bend springs add `16 (k_b - k_s/4) / m` only when `k_b > k_s / 4`), and `γ` the
-/// same for the damping coefficients; `m` is the lightest free point.
-pub fn explicit_limit(p: &SimParams, min_mass: f32, h: f32) -> f32 {
-    let rate = |ks: f32, kb: f32| (4.0 * ks + 16.0 * (kb - 0.25 * ks).max(0.0)) / min_mass;
-    let lambda = rate(p.stretch.stiffness, p.bend.stiffness);
-    let gamma = rate(p.stretch.damping, p.bend.damping);
+/// The stability measure of symplectic Euler at one free point of mass `m` whose stiffest
+/// stretch and bend springs are `stretch` and `bend`, for substep `h`: `h² λ + 2 h γ`, stable
+/// below 4. `λ ≈ 4 k_s / m` is the largest eigenvalue of K/M for a chain (bend springs add
+/// `16 (k_b - k_s/4) / m` only when `k_b > k_s / 4`), and `γ` the same for the dampers.
+pub fn explicit_limit(stretch: SpringParams, bend: SpringParams, m: f32, h: f32) -> f32 {
+    let rate = |ks: f32, kb: f32| (4.0 * ks + 16.0 * (kb - 0.25 * ks).max(0.0)) / m;
+    let lambda = rate(stretch.stiffness, bend.stiffness);
+    let gamma = rate(stretch.damping, bend.damping);
     h * h * lambda + 2.0 * h * gamma
 }
+
+/// How each spring's stiffness and damping follow from the parameters
+/// (`WetHairSimDesc::spring_model`); exported as `WetHairSpringModel`.
+/// cbindgen:rename-all=prefix:WETHAIR_SPRING_MODEL_
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+#[allow(non_camel_case_types)]
+pub enum SpringModel {
+    /// Every spring of a family has the same k and c ([`SimParams::stretch`],
+    /// [`SimParams::bend`]): the paper's model. How stiff a strand is then depends on how finely
+    /// it is sampled (more, shorter segments in series stretch more).
+    PER_SPRING = 0,
+    /// Springs follow from material properties ([`SimParams::material`]) and their rest
+    /// length: stretch `k = EA / l`, bend `k = EI / L³` (L the rest span of the i, i+2 spring),
+    /// dampers the same way, so a strand sags the same however finely it is sampled
+    /// (docs/METHOD.md, "Material parameters").
+    MATERIAL = 1,
+}
+
+/// Material properties of a strand, from which [`SpringModel::MATERIAL`] derives each spring.
+/// The paper scene is `EA = 40 N/m × 0.02 m = 0.8 N` and `EI = 10 N/m × (0.04 m)³ =
+/// 6.4e-4 N·m²` (its springs then come out at its 40 and 10 N/m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialParams {
+    /// Axial stiffness EA, N: a stretch spring of rest length l gets `k = EA / l`.
+    pub stretch_modulus: f32,
+    /// Axial damping, N·s: a stretch spring gets `c = stretch_damping / l`.
+    pub stretch_damping: f32,
+    /// Bending stiffness EI, N·m²: a bend spring of rest span L gets `k = EI / L³`.
+    pub bend_modulus: f32,
+    /// Bending damping, N·m²·s: a bend spring gets `c = bend_damping / L³`.
+    pub bend_damping: f32,
+}
+
+impl MaterialParams {
+    /// The paper scene's springs as material properties (exact at its 0.02 m segments).
+    pub const PAPER: MaterialParams = MaterialParams {
+        stretch_modulus: 0.8,
+        stretch_damping: 4.0e-4,
+        bend_modulus: 6.4e-4,
+        bend_damping: 3.2e-7,
+    };
+
+    /// Hair-like defaults for a simulated strand that stands for a wisp of about 150 fibres
+    /// (docs/METHOD.md): stiff enough that a 0.4 m strand of 1 g/m stretches 0.5% under its
+    /// own weight, and a bending length `(EI / (ρ g))^(1/3)` of 5 cm at 1 g/m, so hair hangs
+    /// and sways instead of standing out like wire.
+    pub const HAIR: MaterialParams = MaterialParams {
+        stretch_modulus: 0.8,
+        stretch_damping: 4.0e-4,
+        bend_modulus: 1.2e-6,
+        bend_damping: 6.0e-10,
+    };
+}
+
+/// Largest material property (any unit): with [`MIN_MATERIAL_LENGTH`] it keeps every derived
+/// spring constant finite in f32 (`1e20 / (1e-4)³ = 1e32`).
+pub const MAX_MATERIAL: f32 = 1.0e20;
+
+/// Shortest spring length the material law divides by, m: shorter segments (a welded file
+/// removes them, a host's own arrays may keep them) get the stiffness of one this long, so a
+/// near-zero segment cannot make a spring infinitely stiff.
+pub const MIN_MATERIAL_LENGTH: f32 = 1.0e-4;
 
 /// Where the step runs (`WetHairSimDesc::backend`); exported as `WetHairBackend`.
 /// cbindgen:rename-all=prefix:WETHAIR_BACKEND_
@@ -85,7 +148,7 @@ pub enum Readback {
 }
 
 /// Stiffness and damping of one spring family.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SpringParams {
     /// Stiffness k, N/m. 0 removes the family (and its pass).
     pub stiffness: f32,
@@ -155,6 +218,10 @@ pub struct SimParams {
     pub stretch: SpringParams,
     /// Bend springs (i, i+2).
     pub bend: SpringParams,
+    /// Whether springs come from `stretch`/`bend` as given or from `material`.
+    pub spring_model: SpringModel,
+    /// Material properties ([`SpringModel::MATERIAL`]).
+    pub material: MaterialParams,
     /// Which velocity the spring dampers act on.
     pub damping_model: DampingModel,
     /// Gravity, m/s².
@@ -185,8 +252,25 @@ pub struct SimParams {
 }
 
 impl Default for SimParams {
-    /// The paper scene's parameters, no collider.
+    /// What a groom from a file or a host should start from: springs from hair-like material
+    /// properties ([`MaterialParams::HAIR`], so any sampling behaves the same) and
+    /// [`Integrator::AUTO`] (real grooms' short, light segments are too stiff for symplectic
+    /// Euler at a 60 Hz frame; the paper scene still gets it). Everything else as
+    /// [`SimParams::paper`].
     fn default() -> Self {
+        SimParams {
+            spring_model: SpringModel::MATERIAL,
+            material: MaterialParams::HAIR,
+            integrator: Integrator::AUTO,
+            ..SimParams::paper()
+        }
+    }
+}
+
+impl SimParams {
+    /// The paper scene's parameters exactly: the same k and c for every spring, symplectic
+    /// Euler, 4 substeps, no collider.
+    pub fn paper() -> Self {
         SimParams {
             stretch: SpringParams {
                 stiffness: 40.0,
@@ -196,6 +280,8 @@ impl Default for SimParams {
                 stiffness: 10.0,
                 damping: 0.005,
             },
+            spring_model: SpringModel::PER_SPRING,
+            material: MaterialParams::PAPER,
             damping_model: DampingModel::AXIAL,
             gravity: Vec3::new(0.0, 0.0, -9.81),
             air_drag: 0.0,
@@ -222,9 +308,7 @@ impl Default for SimParams {
             readback: Readback::LATEST,
         }
     }
-}
 
-impl SimParams {
     /// The paper scene with its head as a sphere collider (radius 0.1 m at the origin).
     pub fn paper_scene_with_head() -> Self {
         SimParams {
@@ -232,7 +316,7 @@ impl SimParams {
                 center: Vec3::ZERO,
                 radius: 0.1,
             }],
-            ..Default::default()
+            ..SimParams::paper()
         }
     }
 
@@ -242,6 +326,17 @@ impl SimParams {
         check_non_negative("stretch damping", self.stretch.damping)?;
         check_non_negative("bend stiffness", self.bend.stiffness)?;
         check_non_negative("bend damping", self.bend.damping)?;
+        let m = &self.material;
+        for (name, v) in [
+            ("material stretch_modulus", m.stretch_modulus),
+            ("material stretch_damping", m.stretch_damping),
+            ("material bend_modulus", m.bend_modulus),
+            ("material bend_damping", m.bend_damping),
+        ] {
+            if !(v.is_finite() && (0.0..=MAX_MATERIAL).contains(&v)) {
+                return Err(invalid!("{name} must be in [0, {MAX_MATERIAL:e}], got {v}"));
+            }
+        }
         check_finite3("gravity", self.gravity.to_array())?;
         check_non_negative("air drag", self.air_drag)?;
         if self.substeps == 0 || self.substeps > MAX_SUBSTEPS {

@@ -67,29 +67,28 @@ impl Reference {
         inv_mass.extend(std::iter::repeat_n(1.0 / m_w, water.len()));
         mass.extend(std::iter::repeat_n(m_w, water.len()));
         let mut springs = Vec::new();
-        // Rest lengths from the f32 rest pose, as both backends take them.
-        let rest_len = crate::plan::rest_lengths(groom);
+        // Rest lengths and constants from the f32 rest pose, as both backends take them.
+        let sp = crate::plan::point_springs(groom, params);
+        let bend = crate::plan::has_bend(params, groom.max_strand_points());
         for s in 0..groom.strand_count() {
             let r = groom.strand_range(s);
             for i in r.clone() {
                 if i + 1 < r.end {
-                    let rest = rest_len[i][0] as f64;
                     springs.push(Spring {
                         a: i,
                         b: i + 1,
-                        rest,
-                        k: params.stretch.stiffness as f64,
-                        c: params.stretch.damping as f64,
+                        rest: sp[i].rest[0] as f64,
+                        k: sp[i].stretch.stiffness as f64,
+                        c: sp[i].stretch.damping as f64,
                     });
                 }
-                if i + 2 < r.end && (params.bend.stiffness > 0.0 || params.bend.damping > 0.0) {
-                    let rest = rest_len[i][1] as f64;
+                if i + 2 < r.end && bend {
                     springs.push(Spring {
                         a: i,
                         b: i + 2,
-                        rest,
-                        k: params.bend.stiffness as f64,
-                        c: params.bend.damping as f64,
+                        rest: sp[i].rest[1] as f64,
+                        k: sp[i].bend.stiffness as f64,
+                        c: sp[i].bend.damping as f64,
                     });
                 }
             }

@@ -58,7 +58,7 @@ pub fn swinging_chain() -> ReportScene {
     ReportScene {
         name: "swinging_chain",
         groom,
-        params: crate::SimParams::default(),
+        params: crate::SimParams::paper(),
         water: vec![],
     }
 }
@@ -83,7 +83,7 @@ pub fn paper_slice(strands: usize, particles: usize, stiffness: f32) -> ReportSc
     // it chaotic, and no reference can be trusted at 1 s (see the report).
     let mut params = crate::SimParams {
         air_drag: 0.05,
-        ..Default::default()
+        ..crate::SimParams::paper()
     };
     params.stretch.stiffness *= stiffness;
     params.bend.stiffness *= stiffness;

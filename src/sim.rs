@@ -51,17 +51,17 @@ struct HostPoints {
     strand_first: Vec<u32>,
     mass: Vec<f32>,
     pinned: Vec<bool>,
-    /// Rest length to the next and the next-but-one point (0 where there is none).
-    rest: Vec<[f32; 2]>,
+    /// Springs to the next and the next-but-one point (zero where there is none).
+    springs: Vec<crate::plan::PointSprings>,
 }
 
 impl HostPoints {
-    fn new(g: &Groom) -> Self {
+    fn new(g: &Groom, p: &SimParams) -> Self {
         HostPoints {
             strand_first: g.strand_first.clone(),
             mass: g.masses().to_vec(),
             pinned: g.pinned().to_vec(),
-            rest: crate::plan::rest_lengths(g),
+            springs: crate::plan::point_springs(g, p),
         }
     }
 }
@@ -113,11 +113,12 @@ impl Simulation {
     /// A simulation at rest under the identity head transform, on `engine`.
     fn with_engine(groom: &Groom, params: SimParams, engine: Box<dyn Engine>, info: BackendInfo) -> Self {
         let head = Affine3A::IDENTITY;
+        let host = HostPoints::new(groom, &params);
         Simulation {
             params,
             engine,
             info,
-            host: HostPoints::new(groom),
+            host,
             head,
             head_prev: head,
             last_step_ms: 0.0,
@@ -428,7 +429,6 @@ impl Simulation {
     /// Kinetic, spring and gravitational energy (f64 sums).
     pub fn energy(&self) -> Energy {
         let g = self.params.gravity.as_dvec3();
-        let (ks, kb) = (self.params.stretch.stiffness, self.params.bend.stiffness);
         let mut e = Energy::default();
         let st = self.point_states().unwrap_or_default();
         let h = &self.host;
@@ -441,11 +441,12 @@ impl Simulation {
                     e.kinetic += 0.5 * m * v.as_dvec3().length_squared();
                     e.gravity -= m * g.dot(x.as_dvec3());
                 }
+                let sp = &h.springs[i];
                 if i + 1 < b {
-                    e.spring += spring_energy(ks, h.rest[i][0], (st[i + 1].0 - x).length());
+                    e.spring += spring_energy(sp.stretch.stiffness, sp.rest[0], (st[i + 1].0 - x).length());
                 }
                 if i + 2 < b {
-                    e.spring += spring_energy(kb, h.rest[i][1], (st[i + 2].0 - x).length());
+                    e.spring += spring_energy(sp.bend.stiffness, sp.rest[1], (st[i + 2].0 - x).length());
                 }
             }
         }

@@ -114,7 +114,7 @@ fn hundred_thousand_particles(backend: Backend) {
                 ..params_water()
             },
             backend,
-            ..Default::default()
+            ..SimParams::paper()
         },
     )
     .unwrap();
@@ -122,7 +122,7 @@ fn hundred_thousand_particles(backend: Backend) {
 }
 
 fn params_water() -> wethair::WaterParams {
-    SimParams::default().water
+    SimParams::paper().water
 }
 
 #[test]
@@ -235,7 +235,7 @@ fn zero_length_segments_are_accepted_and_stay_finite() {
             SimParams {
                 integrator,
                 backend,
-                ..Default::default()
+                ..SimParams::paper()
             },
         )
         .unwrap();
@@ -257,7 +257,7 @@ fn time_steps(backend: Backend) {
         &groom,
         SimParams {
             backend,
-            ..Default::default()
+            ..SimParams::paper()
         },
     )
     .unwrap();
@@ -280,7 +280,7 @@ fn time_steps(backend: Backend) {
         SimParams {
             integrator: Integrator::IMPLICIT_EULER,
             backend,
-            ..Default::default()
+            ..SimParams::paper()
         },
     )
     .unwrap();

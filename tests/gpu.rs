@@ -57,7 +57,7 @@ fn max_diff(a: &[Vec3], b: &[Vec3]) -> f32 {
 fn gpu_backend_reports_its_adapter() {
     let _serial = serial();
     let groom = paper_scene(64, 6).unwrap();
-    let Some(sim) = gpu(&groom, SimParams::default()) else {
+    let Some(sim) = gpu(&groom, SimParams::paper()) else {
         return;
     };
     let info = sim.backend_info();
@@ -70,7 +70,7 @@ fn gpu_backend_reports_its_adapter() {
 fn gpu_timestamps_time_a_step_where_the_adapter_has_them() {
     let _serial = serial();
     let groom = paper_scene(2000, 6).unwrap();
-    let Some(mut sim) = gpu(&groom, SimParams::default()) else {
+    let Some(mut sim) = gpu(&groom, SimParams::paper()) else {
         return;
     };
     assert!(sim.last_step_gpu_ms().is_none(), "no timing until asked for");
@@ -87,7 +87,7 @@ fn gpu_timestamps_time_a_step_where_the_adapter_has_them() {
 fn auto_falls_back_with_a_reason() {
     let _serial = serial();
     let groom = paper_scene(64, 6).unwrap();
-    let sim = Simulation::new(&groom, SimParams::default()).unwrap();
+    let sim = Simulation::new(&groom, SimParams::paper()).unwrap();
     let info = sim.backend_info();
     match info.backend {
         Backend::CPU => assert!(!info.fallback_reason.is_empty(), "{info:?}"),
@@ -97,7 +97,7 @@ fn auto_falls_back_with_a_reason() {
     // An integrator the GPU does not run (XPBD) keeps AUTO on the CPU and says why.
     let xpbd = SimParams {
         integrator: wethair::Integrator::XPBD,
-        ..SimParams::default()
+        ..SimParams::paper()
     };
     let sim = Simulation::new(&groom, xpbd.clone()).unwrap();
     assert_eq!(sim.backend_info().backend, Backend::CPU);
@@ -224,7 +224,7 @@ fn wet_paper_scene_matches_the_cpu() {
 fn grid_cell_counts_equal_the_cpu_grid() {
     let _serial = serial();
     let groom = paper_scene(500, 6).unwrap();
-    let mut params = SimParams::default();
+    let mut params = SimParams::paper();
     params.water.capacity = 20_000;
     let Some(mut g) = gpu(&groom, params.clone()) else {
         return;
@@ -250,10 +250,10 @@ fn grid_cell_counts_equal_the_cpu_grid() {
 fn pipelines_hold_only_the_scene_passes() {
     let _serial = serial();
     let groom = paper_scene(100, 6).unwrap();
-    let Some(mut g) = gpu(&groom, SimParams::default()) else {
+    let Some(mut g) = gpu(&groom, SimParams::paper()) else {
         return;
     };
-    let c = cpu(&groom, SimParams::default());
+    let c = cpu(&groom, SimParams::paper());
     assert_eq!(g.passes(), c.passes());
     assert_eq!(
         g.passes(),
@@ -287,7 +287,7 @@ fn pipelines_hold_only_the_scene_passes() {
 fn vertices_before_the_first_step_are_the_rest_pose() {
     let _serial = serial();
     let groom = paper_scene(300, 6).unwrap();
-    let mut c = cpu(&groom, SimParams::default());
+    let mut c = cpu(&groom, SimParams::paper());
     let n = c.vertex_count() * 7;
     let mut want = vec![0.0f32; n];
     c.write_vertices(&mut want).unwrap();
@@ -297,7 +297,7 @@ fn vertices_before_the_first_step_are_the_rest_pose() {
             &groom,
             SimParams {
                 readback,
-                ..SimParams::default()
+                ..SimParams::paper()
             },
         ) else {
             return;
@@ -325,14 +325,14 @@ fn vertices_before_the_first_step_are_the_rest_pose() {
 fn previous_frame_readback_lags_exactly_one_step() {
     let _serial = serial();
     let groom = paper_scene(200, 6).unwrap();
-    let Some(mut now) = gpu(&groom, SimParams::default()) else {
+    let Some(mut now) = gpu(&groom, SimParams::paper()) else {
         return;
     };
     let mut lag = gpu(
         &groom,
         SimParams {
             readback: Readback::PREVIOUS_FRAME,
-            ..SimParams::default()
+            ..SimParams::paper()
         },
     )
     .unwrap();
@@ -358,7 +358,7 @@ fn previous_frame_readback_lags_exactly_one_step() {
 fn a_lost_device_is_an_error_code_not_a_panic() {
     let _serial = serial();
     let groom = paper_scene(100, 6).unwrap();
-    let Some(mut g) = gpu(&groom, SimParams::default()) else {
+    let Some(mut g) = gpu(&groom, SimParams::paper()) else {
         return;
     };
     g.step(1.0 / 60.0).unwrap();
@@ -385,7 +385,7 @@ fn a_lost_device_is_an_error_code_not_a_panic() {
 fn gpu_unstable_step_is_reported_and_never_reaches_the_vertices() {
     let _serial = serial();
     let groom = paper_scene(100, 6).unwrap();
-    let mut params = SimParams::default();
+    let mut params = SimParams::paper();
     params.stretch.stiffness = 1e9; // far past the explicit limit at 4 substeps
     let Some(mut g) = gpu(&groom, params) else { return };
     let mut v = vec![-7.0f32; g.vertex_count() * 7];
@@ -507,7 +507,7 @@ fn gpu_implicit_survives_stiff_springs_at_frame_rate() {
         substeps: 1,
         stretch: spring,
         bend: spring,
-        ..SimParams::default()
+        ..SimParams::paper()
     };
     let Some(mut g) = gpu(&groom, params) else { return };
     let rest = groom.max_strand_length();

@@ -31,7 +31,7 @@ fn an_instability_names_a_strand_of_the_groom() {
         let params = SimParams {
             substeps: 1,
             backend,
-            ..Default::default()
+            ..SimParams::paper()
         };
         let mut sim = Simulation::new(&groom, params).unwrap();
         let mut v = vec![0.0f32; sim.vertex_count() * sim.attributes().stride()];
@@ -216,7 +216,7 @@ fn load_desc_through_c_and_struct_size_ranges() {
             WETHAIR_ERROR_STRUCT_SIZE
         );
         assert!(
-            last_error().contains("accepts sizeof(WetHairLoadDesc) of 28"),
+            last_error().contains("accepts sizeof(WetHairLoadDesc) of 32"),
             "{}",
             last_error()
         );
@@ -400,12 +400,14 @@ fn hostile_floats_never_panic_nor_leak_non_finite_values() {
 }
 
 /// The TressFX 3 ponytail (517 strands of 16 points, centimetres and y up in the file) in
-/// metres and z up.
+/// metres and z up, 1 g per point as the paper scene's parameters (used below) expect.
 fn ponytail() -> wethair::groom::Groom {
     let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ponytail_back.tfx"));
     let opt = wethair::groom::LoadOptions {
         scale: 0.01,
         up_axis: wethair::groom::UpAxis::Y_TO_Z,
+        linear_density: 0.0,
+        point_mass: 1e-3,
         ..Default::default()
     };
     wethair::groom::load_file_with(path, &opt).unwrap()
@@ -416,7 +418,7 @@ fn ponytail_clumping(particles: usize, particle_mass: f32, frames: usize) -> (f3
     let groom = ponytail();
     let mut params = SimParams {
         backend: Backend::CPU,
-        ..Default::default()
+        ..SimParams::paper()
     };
     params.water.particle_mass = particle_mass;
     let mut sim = Simulation::new(&groom, params).unwrap();

@@ -59,7 +59,7 @@ fn stiff_springs_survive_one_frame_rate_substep() {
     let h = 1.0 / 30.0;
     let k = 1e6 * 1e-3 / (h * h);
     let groom = paper_scene(200, 6).unwrap();
-    let rest = strand_lengths(&Simulation::new(&groom, SimParams::default()).unwrap(), 6);
+    let rest = strand_lengths(&Simulation::new(&groom, SimParams::paper()).unwrap(), 6);
     let stiff = |integrator| SimParams {
         integrator,
         // The recommended setting for stiff scenes: two Newton iterations per substep.
@@ -73,7 +73,7 @@ fn stiff_springs_survive_one_frame_rate_substep() {
             stiffness: k,
             damping: 0.0,
         },
-        ..Default::default()
+        ..SimParams::paper()
     };
     let mut sim = Simulation::new(&groom, stiff(Integrator::IMPLICIT_EULER)).unwrap();
     let e0 = sim.energy().total();
@@ -120,7 +120,7 @@ fn auto_picks_the_cheapest_stable_integrator() {
         &groom,
         SimParams {
             integrator: Integrator::AUTO,
-            ..Default::default()
+            ..SimParams::paper()
         },
     )
     .unwrap();
@@ -135,7 +135,7 @@ fn auto_picks_the_cheapest_stable_integrator() {
             stiffness: 4000.0,
             damping: 0.0,
         },
-        ..Default::default()
+        ..SimParams::paper()
     };
     let sim = Simulation::new(&groom, stiff).unwrap();
     assert_eq!(sim.stats().integrator, Integrator::IMPLICIT_EULER);
@@ -144,7 +144,7 @@ fn auto_picks_the_cheapest_stable_integrator() {
         &groom,
         SimParams {
             integrator: Integrator::XPBD,
-            ..Default::default()
+            ..SimParams::paper()
         },
     )
     .unwrap();
@@ -168,7 +168,7 @@ fn implicit_hanging_chain_settles_at_static_stretch() {
             damping: 0.0,
         },
         substeps: 1,
-        ..Default::default()
+        ..SimParams::paper()
     };
     let mut sim = Simulation::new(&groom, params).unwrap();
     for _ in 0..600 {

@@ -308,6 +308,7 @@ fn load_options_subsample_resample_and_weigh() {
     let raw = load_tfx(&mohawk(), 1e-3).unwrap();
     let every3 = LoadOptions {
         strand_stride: 3,
+        weld_length: 0.0,
         ..Default::default()
     }
     .apply(&raw)
@@ -321,6 +322,7 @@ fn load_options_subsample_resample_and_weigh() {
     let opt = LoadOptions {
         resample_points: 12,
         linear_density: 6e-5,
+        weld_length: 0.0,
         ..Default::default()
     };
     let g = opt.apply(&raw).unwrap();

@@ -8,7 +8,7 @@ use wethair::{Shape, SimParams, Simulation, SpringParams};
 #[test]
 fn dry_scene_has_no_water_passes_or_buffers() {
     let groom = paper_scene(100, 6).unwrap();
-    let sim = Simulation::new(&groom, SimParams::default()).unwrap();
+    let sim = Simulation::new(&groom, SimParams::paper()).unwrap();
     assert_eq!(
         sim.passes(),
         vec![Pass::StretchSprings, Pass::BendSprings, Pass::Integrate]
@@ -34,7 +34,7 @@ fn passes_appear_only_with_their_feature() {
             b: Vec3::Z * 0.1,
             radius: 0.05,
         }],
-        ..Default::default()
+        ..SimParams::paper()
     };
     let mut sim = Simulation::new(&groom, params).unwrap();
     assert_eq!(
@@ -65,7 +65,7 @@ fn passes_appear_only_with_their_feature() {
 #[test]
 fn particles_leaving_the_domain_are_removed() {
     let groom = paper_scene(100, 6).unwrap();
-    let mut sim = Simulation::new(&groom, SimParams::default()).unwrap();
+    let mut sim = Simulation::new(&groom, SimParams::paper()).unwrap();
     // Domain radius defaults to half the groom's diagonal plus its longest strand (~0.4 m).
     sim.add_water(
         &[Vec3::new(0.0, 0.0, 0.25), Vec3::new(0.0, 0.0, -0.45)],
@@ -84,7 +84,7 @@ fn single_and_multi_threaded_steps_agree_exactly_when_dry() {
         &groom,
         SimParams {
             threads: 1,
-            ..Default::default()
+            ..SimParams::paper()
         },
     )
     .unwrap();
@@ -92,7 +92,7 @@ fn single_and_multi_threaded_steps_agree_exactly_when_dry() {
         &groom,
         SimParams {
             threads: 2,
-            ..Default::default()
+            ..SimParams::paper()
         },
     )
     .unwrap();

@@ -29,7 +29,7 @@ fn hanging_chain_settles_at_static_stretch() {
         },
         air_drag: 0.01,
         threads: 1,
-        ..Default::default()
+        ..SimParams::paper()
     };
     let mut sim = Simulation::new(&chain(n, seg, true), params).unwrap();
     for _ in 0..600 {
@@ -63,7 +63,7 @@ fn one_spring_period_matches_analytic() {
         },
         substeps: 1,
         threads: 1,
-        ..Default::default()
+        ..SimParams::paper()
     };
     let mut sim = Simulation::new(&chain(2, seg, true), params).unwrap();
     let h = 1.0 / 480.0;
@@ -93,7 +93,7 @@ fn strand_at_rest_stays_at_rest() {
     let groom = paper_scene(500, 6).unwrap();
     let params = SimParams {
         gravity: Vec3::ZERO,
-        ..Default::default()
+        ..SimParams::paper()
     };
     let mut sim = Simulation::new(&groom, params).unwrap();
     let x0 = sim.positions();
@@ -119,7 +119,7 @@ fn damped_energy_never_increases() {
         let params = SimParams {
             damping_model: model,
             threads: 1,
-            ..Default::default()
+            ..SimParams::paper()
         };
         let mut sim = Simulation::new(&groom, params).unwrap();
         let e0 = sim.energy().total();
@@ -167,7 +167,7 @@ fn adhesion_conserves_momentum() {
     .unwrap();
     let mut params = SimParams {
         gravity: Vec3::ZERO,
-        ..Default::default()
+        ..SimParams::paper()
     };
     params.water.drag = 0.0;
     let mut sim = Simulation::new(&groom, params.clone()).unwrap();
@@ -269,7 +269,7 @@ fn head_collider_keeps_hair_outside() {
     }
     let inner = sim.positions().iter().map(|p| p.length()).fold(f32::INFINITY, f32::min);
     assert!(inner >= 0.1 - 1e-5, "a point is {inner} m from the head centre");
-    let mut free = Simulation::new(&groom, SimParams::default()).unwrap();
+    let mut free = Simulation::new(&groom, SimParams::paper()).unwrap();
     for _ in 0..120 {
         free.step(1.0 / 60.0).unwrap();
     }
@@ -288,7 +288,7 @@ fn head_collider_keeps_hair_outside() {
 #[test]
 fn roots_follow_the_head() {
     let groom = paper_scene(100, 6).unwrap();
-    let mut sim = Simulation::new(&groom, SimParams::default()).unwrap();
+    let mut sim = Simulation::new(&groom, SimParams::paper()).unwrap();
     let m = glam::Mat4::from_rotation_translation(glam::Quat::from_rotation_z(0.5), Vec3::new(0.1, -0.2, 0.05));
     sim.set_head_transform(m).unwrap();
     sim.step(1.0 / 60.0).unwrap();
@@ -306,7 +306,7 @@ fn capsule_collider_keeps_hair_outside() {
     let (a, b, r) = (Vec3::new(-0.2, 0.0, -0.05), Vec3::new(0.2, 0.0, -0.05), 0.12);
     let params = SimParams {
         colliders: vec![wethair::Shape::Capsule { a, b, radius: r }],
-        ..Default::default()
+        ..SimParams::paper()
     };
     let mut sim = Simulation::new(&groom, params).unwrap();
     let head = glam::Mat4::from_translation(Vec3::new(0.0, 0.0, 0.03));

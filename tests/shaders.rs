@@ -78,7 +78,7 @@ fn all_modules() -> Vec<(String, String)> {
         let c = consts(bend, colliders);
         let mut p = SimParams {
             air_drag: 0.1,
-            ..SimParams::default()
+            ..SimParams::paper()
         };
         for _ in 0..colliders {
             p.colliders.push(Shape::Sphere {

@@ -174,9 +174,14 @@ int main(int argc, char **argv) {
         }
     }
     WetHairGroom *groom = NULL;
-    if (groom_path) wh_check(wethair_groom_load(groom_path, 1e-3f, &groom), "wethair_groom_load");
-    else wh_check(wethair_groom_create_paper_scene(10000, 6, &groom), "wethair_groom_create_paper_scene");
-    WetHairSim *sims[2] = {wh_create_paper_sim(groom, 0, backend), wh_create_paper_sim(groom, 0, backend)};
+    WetHairSim *sims[2];
+    if (groom_path) {
+        groom = wh_load_groom(groom_path);
+        for (int k = 0; k < 2; k++) sims[k] = wh_create_groom_sim(groom, backend);
+    } else {
+        wh_check(wethair_groom_create_paper_scene(10000, 6, &groom), "wethair_groom_create_paper_scene");
+        for (int k = 0; k < 2; k++) sims[k] = wh_create_paper_sim(groom, 0, backend);
+    }
     wethair_groom_destroy(groom);
     wh_print_backend(sims[0]);
 

@@ -83,6 +83,30 @@ static inline WetHairSim *wh_create_paper_sim(const WetHairGroom *groom, uint32_
     return sim;
 }
 
+/* Loads a groom file in metres with the load defaults (1 g per metre of strand, segments
+ * under 0.1 mm welded) and says what was welded. */
+static inline WetHairGroom *wh_load_groom(const char *path) {
+    WetHairLoadDesc load;
+    wethair_load_desc_default(&load);
+    WetHairGroom *groom = NULL;
+    wh_check(wethair_groom_load_with_desc(path, &load, &groom), "wethair_groom_load_with_desc");
+    const char *note = wethair_groom_get_load_message(groom);
+    if (note && note[0]) printf("%s: %s\n", path, note);
+    return groom;
+}
+
+/* A simulation of a loaded groom with the current defaults (springs from material
+ * properties, the AUTO integrator: right for any sampling), on `backend`. */
+static inline WetHairSim *wh_create_groom_sim(const WetHairGroom *groom, uint32_t backend) {
+    WetHairSimDesc desc;
+    wh_check(wethair_sim_desc_init(&desc, sizeof desc), "wethair_sim_desc_init");
+    desc.groom = groom;
+    desc.backend = backend;
+    WetHairSim *sim = NULL;
+    wh_check(wethair_sim_create(&desc, &sim), "wethair_sim_create");
+    return sim;
+}
+
 /* Reads a simulation's stats (sets struct_size first, as the API asks). */
 static inline WetHairStats wh_stats(const WetHairSim *sim) {
     WetHairStats st = {0};

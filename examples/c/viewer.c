@@ -127,8 +127,11 @@ static const char *integrator_name(uint32_t i) {
 /* (Re)creates the simulation with the current backend and integrator; reuses the groom. */
 static void make_sim(Viewer *v) {
     if (v->sim) wethair_sim_destroy(v->sim);
+    /* The paper scene runs the paper's exact parameters; a groom file the current defaults
+     * (springs from material properties, right for any sampling). */
     WetHairSimDesc desc;
-    wethair_sim_desc_default(&desc);
+    if (v->is_paper) wethair_sim_desc_default(&desc);
+    else wh_check(wethair_sim_desc_init(&desc, sizeof desc), "wethair_sim_desc_init");
     WetHairCollider head = {WETHAIR_COLLIDER_SPHERE, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.1f};
     desc.groom = v->groom;
     if (v->is_paper) {
@@ -458,7 +461,11 @@ int main(int argc, char **argv) {
     glfwSetKeyCallback(v.window, on_key);
     glfwSetScrollCallback(v.window, on_scroll);
 
-    if (groom_path) wh_check(wethair_groom_load(groom_path, 1e-3f, &v.groom), "wethair_groom_load");
+    if (groom_path) {
+        v.groom = wh_load_groom(groom_path);
+        /* Real grooms' short, light segments are too stiff for symplectic Euler at 60 Hz. */
+        v.integrator = WETHAIR_INTEGRATOR_IMPLICIT_EULER;
+    }
     else wh_check(wethair_groom_create_paper_scene(10000, 6, &v.groom), "wethair_groom_create_paper_scene");
     v.is_paper = groom_path == NULL;
     make_sim(&v);

@@ -153,7 +153,7 @@ fn classify(m: Method, mult: f64, dt: f32) -> u8 {
             stiffness: k as f32 / 4.0,
             damping: 0.0,
         },
-        ..SimParams::default()
+        ..SimParams::paper()
     };
     let mut sim = Simulation::new(&sc.groom, params).expect("valid");
     // Energy tolerance: 0.1% of the chain's weight times its length.

@@ -71,9 +71,7 @@ impl Layout {
             real_lanes: vec![0; n_rows],
             mass: groom.mass.clone(),
         };
-        let rest = crate::plan::rest_lengths(groom);
-        let (ks, cs) = (params.stretch.stiffness, params.stretch.damping);
-        let (kb, cb) = (params.bend.stiffness, params.bend.damping);
+        let springs = crate::plan::point_springs(groom, params);
         for b in 0..blocks {
             for l in 0..W {
                 let slot = b * W + l;
@@ -99,14 +97,16 @@ impl Layout {
                         lay.pinned_row[r] = true;
                     }
                     if i + 1 < pts.len() {
-                        row.stretch.rest[l] = rest[first + i][0];
-                        row.stretch.k[l] = ks;
-                        row.stretch.c[l] = cs;
+                        let sp = &springs[first + i];
+                        row.stretch.rest[l] = sp.rest[0];
+                        row.stretch.k[l] = sp.stretch.stiffness;
+                        row.stretch.c[l] = sp.stretch.damping;
                     }
                     if i + 2 < pts.len() {
-                        row.bend.rest[l] = rest[first + i][1];
-                        row.bend.k[l] = kb;
-                        row.bend.c[l] = cb;
+                        let sp = &springs[first + i];
+                        row.bend.rest[l] = sp.rest[1];
+                        row.bend.k[l] = sp.bend.stiffness;
+                        row.bend.c[l] = sp.bend.damping;
                     }
                 }
             }

@@ -182,6 +182,22 @@ pub(crate) fn write_default<T: DefStruct>(p: *mut T) {
     }
 }
 
+/// What every `..._init(p, size)` does: checks `size` as [`check_struct`] checks a
+/// `struct_size`, then writes `v`'s first `size` bytes with `struct_size` set to `size`.
+pub(crate) fn write_sized<T: SizedStruct>(p: *mut T, size: u32, v: T, name: &str) -> Result<(), Fail> {
+    if p.is_null() {
+        return Err(null(name));
+    }
+    let probe = size;
+    check_struct(&probe as *const u32 as *const T, name)?;
+    Out {
+        ptr: p,
+        size: size as usize,
+    }
+    .write(v);
+    Ok(())
+}
+
 /// An output struct checked by [`check_struct`]: written only on success, only up to the
 /// host's size, with `struct_size` left at the host's size.
 pub(crate) struct Out<T> {

@@ -7,7 +7,7 @@
 use super::boundary::{Fail, WetHairResult};
 use super::types::{WetHairColliderType, WetHairVertexAttribute};
 use crate::groom::UpAxis;
-use crate::params::{Backend, Integrator, Readback};
+use crate::params::{Backend, Integrator, Readback, SpringModel};
 use crate::physics::spring::DampingModel;
 
 /// An enum that crosses the C ABI as a `uint32_t`.
@@ -66,6 +66,12 @@ c_enum!(
     [LATEST, PREVIOUS_FRAME]
 );
 c_enum!(UpAxis, "WetHairUpAxis", "WETHAIR_UP_AXIS_", [KEEP, Y_TO_Z]);
+c_enum!(
+    SpringModel,
+    "WetHairSpringModel",
+    "WETHAIR_SPRING_MODEL_",
+    [PER_SPRING, MATERIAL]
+);
 c_enum!(
     WetHairColliderType,
     "WetHairColliderType",
@@ -127,6 +133,7 @@ pub fn c_enum_constants() -> Vec<(&'static str, &'static str, u32)> {
     all::<Backend>(&mut out);
     all::<Readback>(&mut out);
     all::<UpAxis>(&mut out);
+    all::<SpringModel>(&mut out);
     all::<WetHairColliderType>(&mut out);
     all::<WetHairVertexAttribute>(&mut out);
     all::<WetHairResult>(&mut out);

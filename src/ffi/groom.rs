@@ -7,10 +7,12 @@ use glam::Vec3;
 use std::ffi::{c_char, CStr};
 
 /// Opaque strand set; create with `wethair_groom_*`, free with `wethair_groom_destroy`.
-pub struct WetHairGroom(pub(crate) Groom);
+pub struct WetHairGroom(pub(crate) Groom, std::ffi::CString);
 
 fn publish(g: Groom, out: *mut *mut WetHairGroom) {
-    unsafe { out.write(Box::into_raw(Box::new(WetHairGroom(g)))) };
+    // The report's message has no NUL bytes (it is made of numbers and ASCII words).
+    let msg = std::ffi::CString::new(g.load_report().message()).unwrap_or_default();
+    unsafe { out.write(Box::into_raw(Box::new(WetHairGroom(g, msg)))) };
 }
 
 /// Creates a groom from the host's strands (see `WetHairGroomDesc`).
@@ -125,6 +127,20 @@ pub unsafe extern "C" fn wethair_groom_load_with_desc(
         publish(groom::load_file_with(std::path::Path::new(p), &options)?, out);
         Ok(())
     })
+}
+
+/// What loading welded or dropped, as one NUL-terminated line ("" when nothing was, or when
+/// the groom was not loaded by `wethair_groom_load_with_desc`), or NULL when `groom` is NULL.
+/// Valid until the groom is destroyed.
+///
+/// # Safety
+/// `groom` is NULL or came from `wethair_groom_*`.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_groom_get_load_message(groom: *const WetHairGroom) -> *const c_char {
+    match groom.as_ref() {
+        Some(g) => g.1.as_ptr(),
+        None => std::ptr::null(),
+    }
 }
 
 /// A C path as UTF-8, or `WETHAIR_ERROR_INVALID_ARGUMENT`.

@@ -36,14 +36,36 @@ pub extern "C" fn wethair_last_error_message() -> *const c_char {
     last_error_ptr()
 }
 
-/// Fills `desc` with the defaults (the paper scene's parameters) and its `struct_size`.
-/// NULL is ignored.
+/// Fills `desc` with the 0.1.0 defaults (the paper scene's exact parameters: per-spring
+/// constants, symplectic Euler) in the 0.1.0 layout, `struct_size` 128. NULL is ignored. Kept
+/// for hosts built against 0.1.0; new code calls `wethair_sim_desc_init`.
 ///
 /// # Safety
 /// `desc` is NULL or points to writable memory for one `WetHairSimDesc`.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_desc_default(desc: *mut WetHairSimDesc) {
     super::boundary::write_default(desc);
+}
+
+/// Fills `desc` with the defaults of the layout `struct_size` names (pass
+/// `sizeof(WetHairSimDesc)`) and sets its `struct_size`. The current layout's defaults are
+/// right for any groom: springs from hair-like material properties
+/// (`WETHAIR_SPRING_MODEL_MATERIAL`) and the AUTO integrator; an older layout's size gets that
+/// release's defaults. Returns `WETHAIR_ERROR_NULL_POINTER` or `WETHAIR_ERROR_STRUCT_SIZE`
+/// (nothing written) on bad input.
+///
+/// # Safety
+/// `desc` is NULL or points to `struct_size` writable bytes.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_desc_init(desc: *mut WetHairSimDesc, struct_size: u32) -> WetHairResult {
+    boundary!({
+        let v = if struct_size as usize == std::mem::size_of::<WetHairSimDesc>() {
+            WetHairSimDesc::current_values()
+        } else {
+            WetHairSimDesc::default_values()
+        };
+        super::boundary::write_sized(desc, struct_size, v, "desc")
+    })
 }
 
 /// Fills `desc` with empty arrays, 1 g per point, and its `struct_size`. NULL is ignored.
@@ -55,8 +77,8 @@ pub unsafe extern "C" fn wethair_groom_desc_default(desc: *mut WetHairGroomDesc)
     super::boundary::write_default(desc);
 }
 
-/// Fills `desc` with the load defaults (the file as it is, 1 g per point) and its
-/// `struct_size`. NULL is ignored.
+/// Fills `desc` with the load defaults (the file's units and axes, 1 g per metre of strand,
+/// segments under 0.1 mm welded) and its `struct_size`. NULL is ignored.
 ///
 /// # Safety
 /// `desc` is NULL or points to writable memory for one `WetHairLoadDesc`.

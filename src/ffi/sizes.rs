@@ -43,8 +43,9 @@ sized!(
     WetHairVulkanRequirementsInfo = 40,
     WetHairVulkanBuffer = 96,
     WetHairVulkanWater = 48,
-    // 0.2.0 (WetHairStats grew to 64 bytes: clumping_along)
-    WetHairLoadDesc = 28,
+    // 0.2.0 (WetHairStats grew to 64 bytes: clumping_along; WetHairSimDesc to 152:
+    // spring_model and material)
+    WetHairLoadDesc = 32,
 );
 
 impl DefStruct for WetHairSimDesc {

@@ -2,7 +2,7 @@
 
 use super::boundary::Fail;
 use super::enums::read_enum;
-use crate::params::{SimParams, SpringParams, VertexAttributes, WaterParams};
+use crate::params::{MaterialParams, SimParams, SpringModel, SpringParams, VertexAttributes, WaterParams};
 use crate::physics::collide::Shape;
 use glam::Vec3;
 
@@ -42,6 +42,34 @@ pub struct WetHairSpring {
     pub damping: f32,
 }
 
+/// Material properties of a strand (`WETHAIR_SPRING_MODEL_MATERIAL`): each spring's k and c
+/// follow from these and its rest length, so a strand behaves the same however finely it is
+/// sampled. Each >= 0 and <= 1e20.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairMaterial {
+    /// Axial stiffness EA, N: a stretch spring of rest length l gets k = EA / l. Default 0.8.
+    pub stretch_modulus: f32,
+    /// Axial damping, N·s: c = stretch_damping / l. Default 4e-4.
+    pub stretch_damping: f32,
+    /// Bending stiffness EI, N·m²: a bend spring of rest span L gets k = EI / L³.
+    /// Default 1.2e-6 (hair-like; the paper scene is 6.4e-4).
+    pub bend_modulus: f32,
+    /// Bending damping, N·m²·s: c = bend_damping / L³. Default 6e-10.
+    pub bend_damping: f32,
+}
+
+impl From<MaterialParams> for WetHairMaterial {
+    fn from(m: MaterialParams) -> Self {
+        WetHairMaterial {
+            stretch_modulus: m.stretch_modulus,
+            stretch_damping: m.stretch_damping,
+            bend_modulus: m.bend_modulus,
+            bend_damping: m.bend_damping,
+        }
+    }
+}
+
 /// Water particles and their pull on hair (METHOD.md eq. 2).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
@@ -79,8 +107,10 @@ pub struct WetHairCollider {
     pub radius: f32,
 }
 
-/// Everything a simulation is made from. Fill with `wethair_sim_desc_default()` (the paper
-/// scene's parameters), then set `groom` and what differs.
+/// Everything a simulation is made from. Fill with `wethair_sim_desc_init(&desc, sizeof desc)`
+/// (material springs, AUTO integrator: right for any groom), or with the older
+/// `wethair_sim_desc_default()` (the paper scene's exact parameters in the 0.1.0 layout), then
+/// set `groom` and what differs.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct WetHairSimDesc {
@@ -121,6 +151,15 @@ pub struct WetHairSimDesc {
     pub backend: u32,
     /// A `WetHairReadback` value. Default LATEST.
     pub readback: u32,
+    /// Unused; keep 0. The 0.1.0 layout ended in 4 bytes of padding here (its size, 128,
+    /// counts them), so fields added since start after it, where an older host has none.
+    pub reserved: u32,
+    /// A `WetHairSpringModel` value (since 0.2.0): whether `stretch`/`bend` give every
+    /// spring's k and c (PER_SPRING, the paper's model; what 0.1.0 hosts get) or `material`
+    /// does (MATERIAL, the `wethair_sim_desc_init` default).
+    pub spring_model: u32,
+    /// Material properties for `WETHAIR_SPRING_MODEL_MATERIAL` (since 0.2.0).
+    pub material: WetHairMaterial,
 }
 
 /// The host's own strands. Fill with `wethair_groom_desc_default()`.
@@ -176,13 +215,18 @@ pub struct WetHairLoadDesc {
     /// Mass of every point, kg, > 0, used when `linear_density` is 0. Default 1e-3.
     pub point_mass: f32,
     /// Mass per metre of strand, kg/m, >= 0; > 0 gives each point half of its two segments'
-    /// mass. Default 0.
+    /// mass, so the mass does not depend on how finely the file samples its strands.
+    /// Default 1e-3 (a wisp of about 150 hairs).
     pub linear_density: f32,
     /// Keep every Nth strand, >= 1. Default 1 (all).
     pub strand_stride: u32,
     /// Resample each strand to this many points evenly spaced along its length: 0 (keep the
     /// file's points) or 2..=256. Default 0.
     pub resample_points: u32,
+    /// Segments shorter than this (m, after `scale`) are welded and strands shorter than it
+    /// dropped; `wethair_groom_get_load_message` says how many. 0 keeps every point.
+    /// Default 1e-4 (0.1 mm).
+    pub weld_length: f32,
 }
 
 impl WetHairLoadDesc {
@@ -197,6 +241,7 @@ impl WetHairLoadDesc {
             linear_density: o.linear_density,
             strand_stride: o.strand_stride,
             resample_points: o.resample_points,
+            weld_length: o.weld_length,
         }
     }
 
@@ -209,6 +254,7 @@ impl WetHairLoadDesc {
             linear_density: self.linear_density,
             strand_stride: self.strand_stride,
             resample_points: self.resample_points,
+            weld_length: self.weld_length,
         };
         o.validate()?;
         Ok(o)
@@ -285,9 +331,21 @@ pub struct WetHairBackendInfo {
 }
 
 impl WetHairSimDesc {
-    /// The defaults: the paper scene's parameters, no groom, no collider.
+    /// The defaults of the 0.1.0 layout (what `wethair_sim_desc_default` writes and what the
+    /// fields past an older host's size take): the paper scene's parameters with per-spring
+    /// constants, no groom, no collider.
     pub fn default_values() -> Self {
-        let p = SimParams::default();
+        Self::from_params(&SimParams::paper())
+    }
+
+    /// The defaults of the current layout (`wethair_sim_desc_init` with the full size):
+    /// [`SimParams::default`], no groom, no collider.
+    pub fn current_values() -> Self {
+        Self::from_params(&SimParams::default())
+    }
+
+    /// `p` as a desc (no groom; colliders are not carried).
+    fn from_params(p: &SimParams) -> Self {
         let w = p.water;
         WetHairSimDesc {
             struct_size: std::mem::size_of::<Self>() as u32,
@@ -323,6 +381,9 @@ impl WetHairSimDesc {
             vertex_attributes: p.attributes.0,
             backend: p.backend as u32,
             readback: p.readback as u32,
+            reserved: 0,
+            spring_model: p.spring_model as u32,
+            material: p.material.into(),
         }
     }
 
@@ -333,6 +394,7 @@ impl WetHairSimDesc {
         let integrator = read_enum(self.integrator, "integrator")?;
         let backend = read_enum(self.backend, "backend")?;
         let readback = read_enum(self.readback, "readback")?;
+        let spring_model: SpringModel = read_enum(self.spring_model, "spring_model")?;
         let n = self.collider_count as usize;
         if n > crate::params::MAX_COLLIDERS {
             return Err(Fail(
@@ -370,6 +432,13 @@ impl WetHairSimDesc {
             bend: SpringParams {
                 stiffness: self.bend.stiffness,
                 damping: self.bend.damping,
+            },
+            spring_model,
+            material: MaterialParams {
+                stretch_modulus: self.material.stretch_modulus,
+                stretch_damping: self.material.stretch_damping,
+                bend_modulus: self.material.bend_modulus,
+                bend_damping: self.material.bend_damping,
             },
             damping_model,
             gravity: Vec3::from(self.gravity),

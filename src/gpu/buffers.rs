@@ -21,14 +21,6 @@ gpu_record! {
         pub points: u32,
         /// Strands.
         pub strands: u32,
-        /// Stretch stiffness and damping.
-        pub stretch_k: f32,
-        /// Stretch damping.
-        pub stretch_c: f32,
-        /// Bend stiffness.
-        pub bend_k: f32,
-        /// Bend damping.
-        pub bend_c: f32,
         /// Eq. 2's r_min.
         pub r_min: f32,
         /// Eq. 2's r_max.
@@ -77,6 +69,14 @@ gpu_record! {
         pub first: u32,
         /// The strand's last point.
         pub last: u32,
+        /// Stiffness of the spring to the next point, N/m (`plan::point_springs`).
+        pub stretch_k: f32,
+        /// Damping of the spring to the next point, N·s/m.
+        pub stretch_c: f32,
+        /// Stiffness of the spring to the point after next, N/m.
+        pub bend_k: f32,
+        /// Damping of the spring to the point after next, N·s/m.
+        pub bend_c: f32,
     }
 }
 

@@ -11,7 +11,7 @@ mod tfx;
 mod usc;
 
 pub use cyhair::load_cyhair;
-pub use options::{LoadOptions, UpAxis};
+pub use options::{LoadOptions, LoadReport, UpAxis};
 pub use paper::{paper_scene, PaperScene};
 pub use tfx::load_tfx;
 pub use usc::load_usc;
@@ -37,6 +37,8 @@ pub struct Groom {
     pub(crate) pinned: Vec<bool>,
     /// Per point mass in kg (ignored for pinned points).
     pub(crate) mass: Vec<f32>,
+    /// What the loader welded or dropped (empty for grooms not read from a file).
+    pub(crate) load_report: LoadReport,
 }
 
 impl Groom {
@@ -111,7 +113,14 @@ impl Groom {
             strand_first,
             pinned,
             mass,
+            load_report: LoadReport::default(),
         })
+    }
+
+    /// What loading welded or dropped ([`LoadOptions::weld_length`]); its
+    /// [`LoadReport::message`] is "" when nothing was.
+    pub fn load_report(&self) -> &LoadReport {
+        &self.load_report
     }
 
     /// Number of strands.

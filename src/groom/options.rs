@@ -22,8 +22,8 @@ pub enum UpAxis {
     Y_TO_Z = 1,
 }
 
-/// How a groom file is read into simulation units. [`LoadOptions::default`] keeps the file
-/// as it is with 1 g per point.
+/// How a groom file is read into simulation units. [`LoadOptions::default`] keeps the file's
+/// units and axes, gives the strands 1 g per metre and welds segments shorter than 0.1 mm.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LoadOptions {
     /// Metres per file unit (0.01 for a file in centimetres), > 0.
@@ -40,6 +40,35 @@ pub struct LoadOptions {
     /// Resample each strand to this many points evenly spaced along its length (0 = keep the
     /// file's points; otherwise 2..=256).
     pub resample_points: u32,
+    /// Segments shorter than this (m, after `scale`) are welded: the later point is dropped
+    /// (the tip moves onto the point before it), and a strand shorter than this is dropped.
+    /// 0 keeps every point. Files carry such segments by accident (sub-micrometre ones are
+    /// common); kept, each becomes a spring stiffer than the rest of the groom together.
+    pub weld_length: f32,
+}
+
+/// What loading did to a file's strands: [`Groom::load_report`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LoadReport {
+    /// Points removed by welding (those of dropped strands included).
+    pub welded_points: u32,
+    /// Strands dropped because they were shorter than the weld length.
+    pub dropped_strands: u32,
+    /// The weld length used, m.
+    pub weld_length: f32,
+}
+
+impl LoadReport {
+    /// A one-line account, or "" when nothing was welded.
+    pub fn message(&self) -> String {
+        if self.welded_points == 0 && self.dropped_strands == 0 {
+            return String::new();
+        }
+        format!(
+            "welded {} points of segments shorter than {} m; dropped {} strands shorter than that              (later strands move up)",
+            self.welded_points, self.weld_length, self.dropped_strands
+        )
+    }
 }
 
 impl Default for LoadOptions {
@@ -48,18 +77,22 @@ impl Default for LoadOptions {
             scale: 1.0,
             up_axis: UpAxis::KEEP,
             point_mass: 1.0e-3,
-            linear_density: 0.0,
+            linear_density: 1.0e-3,
             strand_stride: 1,
             resample_points: 0,
+            weld_length: 1.0e-4,
         }
     }
 }
 
 impl LoadOptions {
-    /// Options that only set every point's mass (the loaders' old behaviour).
+    /// Options that only set every point's mass and keep every point of the file (the
+    /// loaders' old behaviour, for files whose units are unknown).
     pub fn with_point_mass(point_mass: f32) -> Self {
         LoadOptions {
             point_mass,
+            linear_density: 0.0,
+            weld_length: 0.0,
             ..Default::default()
         }
     }
@@ -69,6 +102,7 @@ impl LoadOptions {
         check_positive("load scale", self.scale)?;
         check_positive("load point_mass", self.point_mass)?;
         check_non_negative("load linear_density", self.linear_density)?;
+        check_non_negative("load weld_length", self.weld_length)?;
         if self.strand_stride == 0 {
             return Err(invalid!("load strand_stride must be >= 1, got 0"));
         }
@@ -92,6 +126,10 @@ impl LoadOptions {
             UpAxis::Y_TO_Z => Vec3::new(p.x, -p.z, p.y),
         };
         let (mut pos, mut pin, mut out_counts) = (Vec::new(), Vec::new(), Vec::new());
+        let mut report = LoadReport {
+            weld_length: self.weld_length,
+            ..Default::default()
+        };
         let mut first = 0usize;
         for (s, &n) in counts.iter().enumerate() {
             let r = first..first + n as usize;
@@ -100,21 +138,63 @@ impl LoadOptions {
                 continue;
             }
             let pts: Vec<Vec3> = positions[r.clone()].iter().map(|&p| turn(p) * self.scale).collect();
-            let fixed = &pinned[r];
+            let (pts, fixed) = weld(&pts, &pinned[r], self.weld_length);
+            report.welded_points += n - pts.len() as u32;
+            if pts.len() < 2 {
+                // The strand's last point goes with it: every file point is kept or counted.
+                report.welded_points += pts.len() as u32;
+                report.dropped_strands += 1;
+                continue;
+            }
             if self.resample_points == 0 {
-                pos.extend_from_slice(&pts);
-                pin.extend_from_slice(fixed);
-                out_counts.push(n);
+                out_counts.push(pts.len() as u32);
+                pos.extend(pts);
+                pin.extend(fixed);
             } else {
-                let (p, f) = resample(&pts, fixed, self.resample_points as usize);
+                let (p, f) = resample(&pts, &fixed, self.resample_points as usize);
                 pos.extend(p);
                 pin.extend(f);
                 out_counts.push(self.resample_points);
             }
         }
+        if out_counts.is_empty() {
+            return Err(invalid!(
+                "every strand is shorter than load weld_length ({} m); check the scale",
+                self.weld_length
+            ));
+        }
         let masses = (self.linear_density > 0.0).then(|| point_masses(&pos, &out_counts, self.linear_density));
-        Groom::new(pos, &out_counts, Some(pin), masses, self.point_mass)
+        let mut g = Groom::new(pos, &out_counts, Some(pin), masses, self.point_mass)?;
+        g.load_report = report;
+        Ok(g)
     }
+}
+
+/// Drops every point closer than `min` to the last point kept (the root is always kept); a
+/// tip that would be dropped replaces the free point before it, so the strand keeps its
+/// length. Fewer than two points left means the strand is shorter than `min`.
+fn weld(pts: &[Vec3], fixed: &[bool], min: f32) -> (Vec<Vec3>, Vec<bool>) {
+    if min <= 0.0 {
+        return (pts.to_vec(), fixed.to_vec());
+    }
+    let (mut p, mut f) = (vec![pts[0]], vec![fixed[0]]);
+    for i in 1..pts.len() {
+        let last = *p.last().unwrap_or(&pts[0]);
+        if (pts[i] - last).length() >= min {
+            p.push(pts[i]);
+            f.push(fixed[i]);
+        } else if i + 1 == pts.len() && p.len() >= 2 && !f[p.len() - 1] {
+            // The tip is within `min` of a free point: the tip takes its place.
+            let n = p.len();
+            p[n - 1] = pts[i];
+            f[n - 1] = fixed[i];
+            if (p[n - 1] - p[n - 2]).length() < min {
+                p.pop();
+                f.pop();
+            }
+        }
+    }
+    (p, f)
 }
 
 /// `n` points evenly spaced along the polyline `pts` by arc length (ends kept). A new point is

@@ -5,10 +5,10 @@
 
 pub mod integrator;
 pub mod passes;
-pub mod rest;
+pub mod springs;
 pub mod water;
 
 pub use integrator::resolve_integrator;
 pub use passes::{has_bend, pass_list, Pass};
-pub use rest::rest_lengths;
+pub use springs::{point_springs, rest_lengths, PointSprings};
 pub use water::{check_new_particles, WaterDomain};

@@ -2,7 +2,7 @@
 //! step from this one list (the CPU calls one function per pass, the GPU emits one WGSL call
 //! per pass), and a pass the scene does not need is not in it.
 
-use crate::params::{Integrator, SimParams};
+use crate::params::{Integrator, SimParams, SpringModel};
 
 /// One pass of the step, as reported by [`crate::Simulation::passes`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,9 +51,22 @@ impl Pass {
 }
 
 /// Whether a scene has bend springs: strands of more than two points (`max_points` is the
-/// longest strand's) and a bend family that is not switched off.
+/// longest strand's) and a bend family that is not switched off (zero k and c, given per
+/// spring or as material properties).
 pub fn has_bend(p: &SimParams, max_points: usize) -> bool {
-    max_points > 2 && (p.bend.stiffness > 0.0 || p.bend.damping > 0.0)
+    let on = match p.spring_model {
+        SpringModel::PER_SPRING => p.bend.stiffness > 0.0 || p.bend.damping > 0.0,
+        SpringModel::MATERIAL => p.material.bend_modulus > 0.0 || p.material.bend_damping > 0.0,
+    };
+    max_points > 2 && on
+}
+
+/// Whether a scene has stretch springs (a family that is not switched off).
+pub fn has_stretch(p: &SimParams) -> bool {
+    match p.spring_model {
+        SpringModel::PER_SPRING => p.stretch.stiffness > 0.0 || p.stretch.damping > 0.0,
+        SpringModel::MATERIAL => p.material.stretch_modulus > 0.0 || p.material.stretch_damping > 0.0,
+    }
 }
 
 /// The passes a step runs for these parameters, in order: both backends build their step
@@ -68,7 +81,7 @@ pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -
         v.push(Pass::Drag);
     }
     let explicit = integrator == Integrator::SYMPLECTIC_EULER;
-    if explicit && (p.stretch.stiffness > 0.0 || p.stretch.damping > 0.0) {
+    if explicit && has_stretch(p) {
         v.push(Pass::StretchSprings);
     }
     if explicit && bend {

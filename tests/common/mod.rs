@@ -19,7 +19,7 @@ pub fn backends() -> Vec<Backend> {
         &paper_scene(8, 3).unwrap(),
         SimParams {
             backend: Backend::GPU,
-            ..Default::default()
+            ..SimParams::paper()
         },
     );
     match probe {

@@ -39,6 +39,17 @@ namespace WetHair
         public float damping;
     }
 
+    /// <summary>Material properties (WETHAIR_SPRING_MODEL_MATERIAL): EA (N), its damping (N s),
+    /// EI (N m^2), its damping (N m^2 s); each spring's k and c follow from its rest length.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairMaterial
+    {
+        public float stretch_modulus;
+        public float stretch_damping;
+        public float bend_modulus;
+        public float bend_damping;
+    }
+
     /// <summary>Water parameters (see the C header for units).</summary>
     [StructLayout(LayoutKind.Sequential)]
     public struct WetHairWaterDesc
@@ -99,6 +110,9 @@ namespace WetHair
         public uint vertex_attributes;
         public uint backend;
         public uint readback;
+        public uint reserved;
+        public uint spring_model;
+        public WetHairMaterial material;
     }
 
     /// <summary>The vertex buffer's layout (byte offsets, -1 when absent).</summary>
@@ -216,6 +230,7 @@ namespace WetHair
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern IntPtr wethair_result_string(uint result);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern IntPtr wethair_last_error_message();
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern void wethair_sim_desc_default(WetHairSimDesc* desc);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern WetHairResult wethair_sim_desc_init(WetHairSimDesc* desc, uint struct_size);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern void wethair_groom_desc_default(WetHairGroomDesc* desc);
 
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_groom_create(WetHairGroomDesc* desc, out GroomHandle groom);

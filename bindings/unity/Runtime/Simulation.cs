@@ -69,11 +69,20 @@ namespace WetHair
     {
         readonly SimulationHandle handle;
 
-        /// <summary>The paper scene's defaults (wethair_sim_desc_default).</summary>
+        /// <summary>The paper scene's exact defaults (wethair_sim_desc_default).</summary>
         public static WetHairSimDesc DefaultDesc()
         {
             var d = new WetHairSimDesc();
             Native.wethair_sim_desc_default(&d);
+            return d;
+        }
+
+        /// <summary>The current defaults, right for any groom: springs from material
+        /// properties, the AUTO integrator (wethair_sim_desc_init).</summary>
+        public static WetHairSimDesc GroomDesc()
+        {
+            var d = new WetHairSimDesc();
+            Native.wethair_sim_desc_init(&d, (uint)sizeof(WetHairSimDesc));
             return d;
         }
 

@@ -137,20 +137,25 @@ impl GpuBackend {
             )));
         }
         let pos = groom.positions();
-        let rest = crate::plan::rest_lengths(groom);
+        let springs = crate::plan::point_springs(groom, params);
         let mut pts = Vec::with_capacity(points as usize);
         for s in 0..groom.strand_count() {
             let r = groom.strand_range(s);
             let (first, last) = (r.start as u32, r.end as u32 - 1);
             for i in r {
                 let free = !groom.pinned()[i];
+                let sp = &springs[i];
                 pts.push(PointGpu {
                     rest: pos[i].to_array(),
                     inv_mass: if free { 1.0 / groom.masses()[i] } else { 0.0 },
-                    rest_stretch: rest[i][0],
-                    rest_bend: rest[i][1],
+                    rest_stretch: sp.rest[0],
+                    rest_bend: sp.rest[1],
                     first,
                     last,
+                    stretch_k: sp.stretch.stiffness,
+                    stretch_c: sp.stretch.damping,
+                    bend_k: sp.bend.stiffness,
+                    bend_c: sp.bend.damping,
                 });
             }
         }
@@ -171,7 +176,7 @@ impl GpuBackend {
         let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
         let params_buf = b::buffer(d, "params", std::mem::size_of::<Params>() as u64, uniform);
         let sub_buf = b::buffer(d, "substeps", sub_stride * n_sub as u64, uniform);
-        let points_buf = b::buffer(d, "points", points as u64 * 32, STORAGE);
+        let points_buf = b::buffer(d, "points", std::mem::size_of_val(pts.as_slice()) as u64, STORAGE);
         dev.queue.write_buffer(&points_buf, 0, bytemuck::cast_slice(&pts));
         let state = [
             b::buffer(d, "state_a", state_bytes, STORAGE),

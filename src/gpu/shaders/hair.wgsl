@@ -40,11 +40,11 @@ fn drag(v: vec3<f32>, f: ptr<function, vec3<f32>>) {
 fn stretch_springs(i: u32, pt: Point, x: vec3<f32>, v: vec3<f32>, f: ptr<function, vec3<f32>>) {
     if (i > pt.first) {
         let a = state_in[i - 1u];
-        *f -= spring(a.x.xyz, x, a.v.xyz, v, points[i - 1u].rest_stretch, P.stretch_k, P.stretch_c);
+        *f -= spring(a.x.xyz, x, a.v.xyz, v, points[i - 1u].rest_stretch, points[i - 1u].stretch_k, points[i - 1u].stretch_c);
     }
     if (i < pt.last) {
         let b = state_in[i + 1u];
-        *f += spring(x, b.x.xyz, v, b.v.xyz, pt.rest_stretch, P.stretch_k, P.stretch_c);
+        *f += spring(x, b.x.xyz, v, b.v.xyz, pt.rest_stretch, pt.stretch_k, pt.stretch_c);
     }
 }
 
@@ -52,11 +52,11 @@ fn stretch_springs(i: u32, pt: Point, x: vec3<f32>, v: vec3<f32>, f: ptr<functio
 fn bend_springs(i: u32, pt: Point, x: vec3<f32>, v: vec3<f32>, f: ptr<function, vec3<f32>>) {
     if (i >= pt.first + 2u) {
         let a = state_in[i - 2u];
-        *f -= spring(a.x.xyz, x, a.v.xyz, v, points[i - 2u].rest_bend, P.bend_k, P.bend_c);
+        *f -= spring(a.x.xyz, x, a.v.xyz, v, points[i - 2u].rest_bend, points[i - 2u].bend_k, points[i - 2u].bend_c);
     }
     if (i + 2u <= pt.last) {
         let b = state_in[i + 2u];
-        *f += spring(x, b.x.xyz, v, b.v.xyz, pt.rest_bend, P.bend_k, P.bend_c);
+        *f += spring(x, b.x.xyz, v, b.v.xyz, pt.rest_bend, pt.bend_k, pt.bend_c);
     }
 }
 

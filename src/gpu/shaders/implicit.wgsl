@@ -86,11 +86,13 @@ fn strand_terms(x: ptr<private, array<f32, N_MAX>>, base: u32, p: u32, hess: boo
         }
     }
     for (var i = 0u; i + 1u < p; i++) {
-        e += spring_terms(x, base, i, i + 1u, P.stretch_k, P.stretch_c, points[base + i].rest_stretch, hess);
+        let ps = points[base + i];
+        e += spring_terms(x, base, i, i + 1u, ps.stretch_k, ps.stretch_c, ps.rest_stretch, hess);
     }
     if (BEND) {
         for (var i = 0u; i + 2u < p; i++) {
-            e += spring_terms(x, base, i, i + 2u, P.bend_k, P.bend_c, points[base + i].rest_bend, hess);
+            let pb = points[base + i];
+            e += spring_terms(x, base, i, i + 2u, pb.bend_k, pb.bend_c, pb.rest_bend, hess);
         }
     }
     return e;
