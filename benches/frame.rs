@@ -174,6 +174,10 @@ fn integrator_costs(cores: u32, quick: bool) {
         let opt = wethair::groom::LoadOptions {
             scale,
             up_axis: up,
+            // 1 g per point and every point kept, as the table has always been measured.
+            point_mass: 1e-3,
+            linear_density: 0.0,
+            weld_length: 0.0,
             ..Default::default()
         };
         wethair::groom::load_file_with(std::path::Path::new(&format!("{data}{name}")), &opt).expect("groom")

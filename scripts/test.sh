@@ -168,11 +168,15 @@ step "C smoke under Valgrind (memcheck; definite leaks and errors fail)"
 valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite --errors-for-leak-kinds=definite \
     ./examples/c/build/smoke 60 1000 --backend cpu
 
+step "Peer bench harness: NumPy and wethair (through its C ABI, ctypes) agree on the tiny scene"
+/usr/bin/python3 benches/peers/bench.py --scenes tiny --engines numpy,wethair --threads 2 --reps 1 \
+    --max-disagreement 1e-6 --out target/peers-smoke
+
 step "The main job prints only its own lines (no Mesa warning without XDG_RUNTIME_DIR); last, as it rebuilds the library without the unity feature"
 env -u XDG_RUNTIME_DIR bash scripts/main.sh --frames 10 --out out/test-main.png 2>&1 | tee target/main.log
 ! grep -qi "error\|warning" target/main.log
 grep -q "^timing: dry" target/main.log
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
-c_checks=35  # build-tree links shared and static, 0.1.0 host, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
+c_checks=36  # peer bench harness, build-tree links shared and static, 0.1.0 host, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
 printf '\nwethair tests: %d passed, 0 failed\n' "$((rust + c_checks))"

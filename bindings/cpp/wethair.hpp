@@ -88,6 +88,14 @@ inline WetHairSimDesc sim_desc() {
     return d;
 }
 
+/// A simulation description with the current defaults, right for any groom: springs from
+/// material properties and the AUTO integrator (wethair_sim_desc_init).
+inline WetHairSimDesc groom_sim_desc() {
+    WetHairSimDesc d;
+    detail::check(wethair_sim_desc_init(&d, sizeof d));
+    return d;
+}
+
 /// Strands: rest positions, pinned roots, masses. Copied into each simulation made from it.
 class Groom {
 public:
