@@ -86,6 +86,8 @@ def main():
     ap.add_argument("--max-disagreement", type=float, help="exit 1 when an engine ends further than this (m) from NumPy")
     ap.add_argument("--one", help=argparse.SUPPRESS)
     a = ap.parse_args()
+    # Absolute: each run is a child process started in this script's folder.
+    a.out = os.path.abspath(a.out)
     os.makedirs(a.out, exist_ok=True)
     if a.one:
         engine, threads, scene_name = a.one.split(":")

@@ -201,7 +201,8 @@ impl WetHairGroomDesc {
 }
 
 /// How `wethair_groom_load_with_desc` reads a groom file into simulation units. Fill with
-/// `wethair_load_desc_default()` (the file as it is, 1 g per point), then set what differs.
+/// `wethair_load_desc_default()` (the file's units and axes, 1 g per metre, segments under 0.1 mm
+/// welded), then set what differs.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct WetHairLoadDesc {

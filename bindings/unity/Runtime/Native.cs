@@ -230,7 +230,7 @@ namespace WetHair
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern IntPtr wethair_result_string(uint result);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern IntPtr wethair_last_error_message();
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern void wethair_sim_desc_default(WetHairSimDesc* desc);
-        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern WetHairResult wethair_sim_desc_init(WetHairSimDesc* desc, uint struct_size);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_desc_init(WetHairSimDesc* desc, uint struct_size);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern void wethair_groom_desc_default(WetHairGroomDesc* desc);
 
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_groom_create(WetHairGroomDesc* desc, out GroomHandle groom);
