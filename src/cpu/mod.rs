@@ -8,4 +8,6 @@ pub mod layout;
 pub mod output;
 pub mod pool;
 pub mod step;
+#[cfg(target_arch = "x86_64")]
+mod transpose;
 pub mod water;

@@ -324,6 +324,14 @@ impl CpuBackend {
     /// (exactly `points * stride` floats).
     pub fn write_vertices(&self, dst: &mut [f32]) {
         let attrs = self.params.attributes;
-        super::output::write_vertices(&self.lay, &self.state, &self.wet, attrs, self.pool.as_ref(), dst);
+        super::output::write_vertices(
+            &self.lay,
+            &self.state,
+            &self.wet,
+            attrs,
+            self.pool.as_ref(),
+            self.avx2,
+            dst,
+        );
     }
 }
