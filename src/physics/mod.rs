@@ -11,4 +11,5 @@ pub mod implicit;
 pub mod integrate;
 pub mod lanes;
 pub mod spring;
+pub mod wet;
 pub mod xpbd;

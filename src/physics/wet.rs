@@ -1,0 +1,206 @@
+//! The wet model's laws (docs/WET_MODEL.md), each written once: capacity, saturation,
+//! absorption with the particle's grant, limpness, liquid-bridge cohesion, flow along a strand,
+//! drip, drying and gusts. Pure functions of their inputs, so both backends and the tests read
+//! the same definition. The passes that call them are not built yet (issue 14).
+//!
+//! Water is counted in whole [`WATER_QUANTUM`]s (`u32`): every transfer (absorb, flow, drip,
+//! dry) moves an integer from one count to another, so the ledger balances exactly, in any
+//! order, on any thread count, and with integer atomics on the GPU. Rates are floats; only the
+//! amounts they move are rounded, once, to whole quanta.
+
+use glam::Vec3;
+
+/// The unit water is counted in, kg (a nanogram): a `u32` count holds up to 4.29 g, far above
+/// what one hair point or one drop holds, and resolves a point's capacity to parts per million.
+pub const WATER_QUANTUM: f64 = 1.0e-12;
+/// The most water one count may describe, kg (`u32::MAX` quanta, less headroom for a step's
+/// inflow): capacities and particle masses above it are refused.
+pub const MAX_WATER_MASS: f64 = (1u64 << 31) as f64 * WATER_QUANTUM;
+
+/// `kg` as whole quanta, to nearest (negative and NaN give 0; above `u32::MAX` saturates).
+#[inline]
+pub fn to_quanta(kg: f64) -> u32 {
+    (kg / WATER_QUANTUM).round().clamp(0.0, u32::MAX as f64) as u32
+}
+
+/// Quanta as kg.
+#[inline]
+pub fn to_kg(q: u32) -> f64 {
+    q as f64 * WATER_QUANTUM
+}
+
+/// Water a kilogram of dry hair holds when saturated, kg/kg (Robbins 2012, ch. 9: ~30 %).
+pub const CAPACITY_RATIO: f32 = 0.3;
+/// Rate at which hair draws in a droplet it touches, 1/s.
+pub const ABSORB_RATE: f32 = 20.0;
+/// Bending stiffness of saturated hair over dry (Robbins 2012, ch. 9: the modulus in water is
+/// about half of its value at ambient humidity).
+pub const WET_BEND_RATIO: f32 = 0.5;
+/// Surface tension of water at 20 °C, N/m.
+pub const SURFACE_TENSION: f32 = 0.072;
+/// Mobility of held water along a strand, 1/s.
+pub const FLOW_MOBILITY: f32 = 5.0;
+/// The smallest drop that leaves a point: the mass of a 2 mm water drop, kg.
+pub const MIN_DROP_MASS: f32 = 4.2e-6;
+/// Drying time constant in still air, s.
+pub const DRY_TIME: f32 = 1200.0;
+/// Air speed at which drying runs twice as fast as in still air, m/s.
+pub const DRY_AIR_SPEED: f32 = 1.0;
+
+/// Most water a point of dry mass `dry_mass` (kg) holds, in quanta: capacity follows the
+/// hair's mass, so it is per metre of hair whatever the sampling.
+#[inline]
+pub fn capacity(dry_mass: f32, ratio: f32) -> u32 {
+    to_quanta(dry_mass as f64 * ratio as f64)
+}
+
+/// Saturation `held / capacity` (0 where a point can hold nothing); may exceed 1 before a drip.
+#[inline]
+pub fn saturation(held: u32, capacity: u32) -> f32 {
+    if capacity > 0 {
+        held as f32 / capacity as f32
+    } else {
+        0.0
+    }
+}
+
+/// The factor on bending stiffness at saturation `s`: 1 dry, `wet_ratio` saturated, linear
+/// between (a point over capacity is as limp as a saturated one).
+#[inline]
+pub fn bend_scale(s: f32, wet_ratio: f32) -> f32 {
+    1.0 - (1.0 - wet_ratio) * s.clamp(0.0, 1.0)
+}
+
+/// What one hair point asks of one particle holding `particle` quanta in a substep `h`, in
+/// quanta (rounded down): the fraction `1 - e^(-rate h)` of the particle's water, times the
+/// distance weight `weight` (1 at `r_min`, 0 at `r_max`) and the point's free share `1 - s`.
+#[inline]
+pub fn absorb_demand(particle: u32, weight: f32, s: f32, rate: f32, h: f32) -> u32 {
+    let take = -(-rate * h).exp_m1();
+    let d = take as f64 * particle as f64 * weight.clamp(0.0, 1.0) as f64 * (1.0 - s).max(0.0) as f64;
+    d.floor() as u32
+}
+
+/// What a particle holding `particle` quanta grants one demand `demand` when all its demands
+/// sum to `total`: the demand itself while the particle has enough, else its share of the
+/// particle, rounded down, so the grants never sum to more than the particle holds (the
+/// particle keeps what rounding leaves, and gives it in a later substep).
+#[inline]
+pub fn grant(particle: u32, demand: u32, total: u64) -> u32 {
+    if total <= particle as u64 {
+        demand
+    } else {
+        (demand as u64 * particle as u64 / total) as u32
+    }
+}
+
+/// The magnitude of the liquid-bridge pull between two wet points of different strands, N:
+/// `kappa` (N/m, about `2 γ`) times their mean length of hair `len` (m), the drier point's
+/// saturation, and a linear fall to zero at the bridge length `d_b`.
+#[inline]
+pub fn bridge_force(kappa: f32, len: f32, s_i: f32, s_j: f32, r: f32, d_b: f32) -> f32 {
+    if r >= d_b || d_b <= 0.0 {
+        return 0.0;
+    }
+    kappa * len * s_i.min(s_j).clamp(0.0, 1.0) * (1.0 - r / d_b)
+}
+
+/// The drying rate at air speed `u` past the point (m/s), 1/s: `(1 / tau) (1 + sqrt(u / u_ref))`
+/// (forced convection over a cylinder: mass transfer grows as the square root of speed).
+#[inline]
+pub fn evaporation_rate(u: f32, tau: f32, u_ref: f32) -> f32 {
+    (1.0 + (u.abs() / u_ref).sqrt()) / tau
+}
+
+/// The quanta that evaporate from `held` in `h` seconds at rate `k`: `held (1 - e^(-k h))`
+/// to nearest (the exact decay, so the law does not depend on the step size), and at least
+/// one while any water and any rate are left, so hair dries completely.
+#[inline]
+pub fn evaporate(held: u32, k: f32, h: f32) -> u32 {
+    let frac = -(-(k as f64) * h as f64).exp_m1();
+    let e = (held as f64 * frac).round() as u32;
+    if e == 0 && held > 0 && frac > 0.0 {
+        1
+    } else {
+        e.min(held)
+    }
+}
+
+/// The drop (quanta) that leaves a point holding `held` of `capacity`: the excess over
+/// capacity once it reaches `min_drop`, else 0 (the excess waits for more).
+#[inline]
+pub fn drip(held: u32, capacity: u32, min_drop: u32) -> u32 {
+    let excess = held.saturating_sub(capacity);
+    if excess >= min_drop && excess > 0 {
+        excess
+    } else {
+        0
+    }
+}
+
+/// Moves one strand's held water (quanta per point, updated in place) one step `h` along its
+/// segments toward where the effective gravity `g - a` points (`x` positions, `a`
+/// accelerations). Each end of a segment sends `h mobility held (g - a).t / |g|` away from
+/// itself when that is positive, computed from the water at the start of the step (the order
+/// points are visited does not matter), rounded down to whole quanta, and scaled so no point
+/// sends more than it holds. Every transfer is one integer taken from one point and given to
+/// its neighbour: the strand's total never changes.
+pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: f32, h: f32) {
+    let n = held.len();
+    debug_assert!(x.len() == n && a.len() == n);
+    let g_len = g.length();
+    if n < 2 || g_len <= 0.0 || mobility <= 0.0 {
+        return;
+    }
+    // Per segment, what each end sends across it (down: i to i+1; up: i+1 to i).
+    let mut down = vec![0u64; n - 1];
+    let mut up = vec![0u64; n - 1];
+    let mut out = vec![0u64; n];
+    let rate = h as f64 * mobility as f64;
+    for i in 0..n - 1 {
+        let t = (x[i + 1] - x[i]).normalize_or_zero();
+        let along_i = ((g - a[i]).dot(t) / g_len).max(0.0) as f64;
+        let along_j = ((g - a[i + 1]).dot(-t) / g_len).max(0.0) as f64;
+        down[i] = (rate * along_i * held[i] as f64).floor() as u64;
+        up[i] = (rate * along_j * held[i + 1] as f64).floor() as u64;
+        out[i] += down[i];
+        out[i + 1] += up[i];
+    }
+    // A point asked to send more than it holds sends all of it, shared in proportion (rounded
+    // down, so never more).
+    let share = |q: u64, from: usize, start: &[u32]| -> u32 {
+        if out[from] > start[from] as u64 {
+            (q * start[from] as u64 / out[from]) as u32
+        } else {
+            q as u32
+        }
+    };
+    let start = held.to_vec();
+    for i in 0..n - 1 {
+        let d = share(down[i], i, &start);
+        let u = share(up[i], i + 1, &start);
+        held[i] = held[i] - d + u;
+        held[i + 1] = held[i + 1] + d - u;
+    }
+}
+
+/// The wind at time `t` (s): `w0` times `1 + amplitude` times the mean of three sines whose
+/// frequencies (0.1-1 Hz) and phases come from `seed`. Deterministic: the same seed and time
+/// give the same wind on every backend and run.
+pub fn gust(w0: Vec3, amplitude: f32, seed: u32, t: f64) -> Vec3 {
+    let mut state = seed ^ 0x9e37_79b9;
+    let mut next = || {
+        // xorshift32: the same sequence everywhere.
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        state as f64 / u32::MAX as f64
+    };
+    let mut sum = 0.0f64;
+    for _ in 0..3 {
+        let f = 0.1 + 0.9 * next();
+        let phase = std::f64::consts::TAU * next();
+        sum += (std::f64::consts::TAU * f * t + phase).sin();
+    }
+    w0 * (1.0 + amplitude * (sum / 3.0) as f32)
+}

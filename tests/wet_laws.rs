@@ -1,0 +1,203 @@
+//! The wet model's laws (docs/WET_MODEL.md, `physics::wet`), each against its analytic outcome:
+//! exact drying independent of the step, a particle never gives more than it has, flow that
+//! conserves water and drains a hanging strand to its tip, drips only above capacity, capacity
+//! independent of sampling, the limpness curve, bridge forces and deterministic gusts.
+
+use glam::Vec3;
+use wethair::physics::wet::*;
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1e-30)
+}
+
+#[test]
+fn drying_follows_the_exponential_law_whatever_the_step() {
+    let k = evaporation_rate(0.0, 10.0, DRY_AIR_SPEED);
+    assert_eq!(k, 0.1, "still air dries at 1/tau");
+    assert!(
+        evaporation_rate(4.0, 10.0, 1.0) > 2.9 * k,
+        "moving air dries faster: 1 + sqrt(4)"
+    );
+    let m0 = to_quanta(1.0e-5);
+    // 600 steps of 1/60 s, and 10 steps of 1 s, against m0 e^(-k t) after 10 s.
+    let (mut fine, mut coarse, mut gone) = (m0, m0, 0u64);
+    for _ in 0..600 {
+        let e = evaporate(fine, k, 1.0 / 60.0);
+        fine -= e;
+        gone += e as u64;
+    }
+    for _ in 0..10 {
+        coarse -= evaporate(coarse, k, 1.0);
+    }
+    let exact = m0 as f64 * (-1.0f64).exp();
+    // Each step rounds to a whole quantum: at most 0.5 per step from the exact law.
+    assert!((fine as f64 - exact).abs() <= 300.0, "{fine} vs {exact}");
+    assert!((coarse as f64 - exact).abs() <= 5.0, "{coarse} vs {exact}");
+    assert!(rel(fine as f64, exact) < 1e-4);
+    assert_eq!(fine as u64 + gone, m0 as u64, "what dried is booked, exactly");
+    // With any rate left, the last quanta go too.
+    let mut w = 3u32;
+    for _ in 0..10 {
+        w -= evaporate(w, 1e-3, 1.0 / 60.0);
+    }
+    assert_eq!(w, 0, "hair dries completely");
+}
+
+#[test]
+fn a_particle_never_gives_more_than_it_has() {
+    let m = to_quanta(1.0e-5);
+    // 50 hair points each asking for a good part of it.
+    let demands: Vec<u32> = (0..50)
+        .map(|i| absorb_demand(m, 0.2 + 0.01 * i as f32, 0.1, 1e3, 0.01))
+        .collect();
+    let total: u64 = demands.iter().map(|&d| d as u64).sum();
+    assert!(total > m as u64, "the test asks for more than the particle holds");
+    let given: u64 = demands.iter().map(|&d| grant(m, d, total) as u64).sum();
+    assert!(given <= m as u64, "never more than it has");
+    assert!(
+        given + 50 > m as u64,
+        "all but the rounding of 50 shares: {given} of {m}"
+    );
+    // A modest demand is granted in full.
+    assert_eq!(grant(m, 7, 100), 7);
+    // Saturated hair, or a particle at r_max, asks for nothing.
+    assert_eq!(absorb_demand(m, 1.0, 1.0, ABSORB_RATE, 0.01), 0);
+    assert_eq!(absorb_demand(m, 0.0, 0.0, ABSORB_RATE, 0.01), 0);
+    // The default takes most of a touching drop in a quarter second (1 - e^-5).
+    let mut left = m;
+    for _ in 0..15 {
+        left -= absorb_demand(left, 1.0, 0.0, ABSORB_RATE, 1.0 / 60.0);
+    }
+    assert!(left < m / 100, "{left}");
+}
+
+#[test]
+fn flow_conserves_water_and_drains_a_hanging_strand_to_its_tip() {
+    let n = 16;
+    let g = Vec3::new(0.0, 0.0, -9.81);
+    let x: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.0, 0.0, -0.01 * i as f32)).collect();
+    let a = vec![Vec3::ZERO; n];
+    let mut held = vec![to_quanta(1.0e-6); n];
+    let total: u64 = held.iter().map(|&w| w as u64).sum();
+    for _ in 0..2000 {
+        flow_strand(&mut held, &x, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
+        assert_eq!(held.iter().map(|&w| w as u64).sum::<u64>(), total, "conserved exactly");
+    }
+    assert!(
+        held[n - 1] as f64 > 0.99 * total as f64,
+        "the tip holds it all: {:?}",
+        &held[n - 3..]
+    );
+    // A horizontal strand under vertical gravity does not move its water.
+    let flat: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.01 * i as f32, 0.0, 0.0)).collect();
+    let before: Vec<u32> = (0..n as u32).map(|i| 1000 * (i + 1)).collect();
+    let mut w = before.clone();
+    flow_strand(&mut w, &flat, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
+    assert_eq!(w, before);
+    // A strand accelerated downward at g (free fall) feels no gravity along it: no flow either.
+    let fall = vec![g; n];
+    let mut w2 = before.clone();
+    flow_strand(&mut w2, &x, &fall, g, FLOW_MOBILITY, 1.0 / 60.0);
+    assert_eq!(w2, before);
+    // A step long enough to send more than a point holds sends what it holds, no more.
+    let mut w3 = before.clone();
+    flow_strand(&mut w3, &x, &a, g, FLOW_MOBILITY, 10.0);
+    assert_eq!(
+        w3.iter().map(|&v| v as u64).sum::<u64>(),
+        before.iter().map(|&v| v as u64).sum::<u64>()
+    );
+    assert_eq!(w3[0], 0, "the root sent everything");
+}
+
+#[test]
+fn drops_leave_only_above_capacity_and_take_the_excess() {
+    let cap = to_quanta(1.0e-5);
+    let min = to_quanta(MIN_DROP_MASS as f64);
+    assert_eq!(drip(cap, cap, min), 0);
+    assert_eq!(drip(cap + min / 2, cap, min), 0, "too small yet");
+    assert_eq!(drip(cap + 2 * min, cap, min), 2 * min);
+    assert_eq!(drip(cap / 2, cap, min), 0);
+}
+
+#[test]
+fn capacity_is_per_metre_of_hair_whatever_the_sampling() {
+    // A 0.4 m strand of 1 g/m sampled at 6, 16 and 64 points: each point's dry mass is its
+    // share of the length; the strand's capacity is the same (to the rounding of each point).
+    for n in [6usize, 16, 64] {
+        let seg = 0.4 / (n - 1) as f32;
+        let total: u64 = (0..n)
+            .map(|i| {
+                let share = if i == 0 || i == n - 1 { 0.5 * seg } else { seg };
+                capacity(1.0e-3 * share, CAPACITY_RATIO) as u64
+            })
+            .sum();
+        assert!(
+            rel(to_kg(total as u32), 0.4 * 1.0e-3 * 0.3) < 1e-5,
+            "{n} points: {total}"
+        );
+    }
+    assert_eq!(saturation(5, 0), 0.0, "nothing to hold, nothing held");
+    assert_eq!(saturation(3, 6), 0.5);
+    assert_eq!(to_quanta(-1.0), 0);
+    assert_eq!(to_quanta(f64::NAN), 0);
+    assert_eq!(to_quanta(1.0), u32::MAX, "a kilogram saturates the count");
+    assert!(
+        to_quanta(MAX_WATER_MASS) <= u32::MAX / 2 + 1,
+        "half the count is headroom"
+    );
+    assert!(
+        to_kg(to_quanta(2.0e-3)) <= MAX_WATER_MASS,
+        "a point of 2 g capacity fits"
+    );
+}
+
+#[test]
+fn limpness_follows_its_curve() {
+    assert_eq!(bend_scale(0.0, WET_BEND_RATIO), 1.0);
+    assert_eq!(bend_scale(1.0, WET_BEND_RATIO), 0.5);
+    assert_eq!(bend_scale(0.5, WET_BEND_RATIO), 0.75);
+    assert_eq!(
+        bend_scale(3.0, WET_BEND_RATIO),
+        0.5,
+        "over capacity is as limp as saturated"
+    );
+}
+
+#[test]
+fn bridges_pull_hardest_when_close_and_let_go_when_dry() {
+    let kappa = 2.0 * SURFACE_TENSION;
+    let f0 = bridge_force(kappa, 0.02, 1.0, 1.0, 0.0, 1e-3);
+    assert!((f0 - kappa * 0.02).abs() < 1e-9);
+    assert_eq!(
+        bridge_force(kappa, 0.02, 1.0, 1.0, 1e-3, 1e-3),
+        0.0,
+        "none at the bridge length"
+    );
+    assert_eq!(
+        bridge_force(kappa, 0.02, 0.0, 1.0, 1e-4, 1e-3),
+        0.0,
+        "a dry point holds no bridge"
+    );
+    assert_eq!(
+        bridge_force(kappa, 0.02, 0.3, 0.8, 5e-4, 1e-3),
+        bridge_force(kappa, 0.02, 0.8, 0.3, 5e-4, 1e-3),
+        "the same both ways"
+    );
+}
+
+#[test]
+fn gusts_are_deterministic_and_average_to_the_wind() {
+    let w0 = Vec3::new(2.0, 0.0, 0.0);
+    assert_eq!(gust(w0, 0.5, 7, 3.25), gust(w0, 0.5, 7, 3.25));
+    assert_ne!(gust(w0, 0.5, 7, 3.25), gust(w0, 0.5, 8, 3.25), "the seed matters");
+    assert_eq!(gust(w0, 0.0, 7, 3.25), w0, "no gusts, steady wind");
+    let mean: f64 = (0..60_000)
+        .map(|k| gust(w0, 0.5, 7, k as f64 / 60.0).x as f64)
+        .sum::<f64>()
+        / 60_000.0;
+    assert!((mean - 2.0).abs() < 0.05, "mean over 1,000 s {mean}");
+    let max = (0..6000)
+        .map(|k| gust(w0, 0.5, 7, k as f64 / 60.0).x)
+        .fold(0.0f32, f32::max);
+    assert!(max <= 3.0 + 1e-5, "never above w0 (1 + amplitude): {max}");
+}
