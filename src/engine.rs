@@ -34,6 +34,18 @@ pub struct Counters {
 /// Position, velocity and wetness of one hair point.
 pub type PointState = (Vec3, Vec3, f32);
 
+/// Where the water the hair was given went, in whole quanta
+/// ([`crate::physics::wet::WATER_QUANTUM`] kg each): `added == held + evaporated` exactly.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WaterLedger {
+    /// Water given to the hair since the last reset.
+    pub added: u64,
+    /// Held by the hair now.
+    pub held: u64,
+    /// Evaporated since the last reset.
+    pub evaporated: u64,
+}
+
 /// What a backend does for a simulation. Every method answers in the host's order (strand
 /// after strand); the backend keeps its own layout behind it.
 pub trait Engine: std::fmt::Debug + Send {
@@ -65,6 +77,16 @@ pub trait Engine: std::fmt::Debug + Send {
     fn counters(&self) -> Counters;
     /// Every buffer the backend holds and its size in bytes.
     fn buffers(&self) -> Vec<(&'static str, usize)>;
+    /// Wets every free hair point up to saturation `s` (held water; never removes water).
+    fn soak(&mut self, _s: f32) -> Result<()> {
+        Err(crate::error::Error::Unsupported(
+            "held water is not simulated on this backend".into(),
+        ))
+    }
+    /// Where the held water is, in quanta (`None` without held water).
+    fn ledger(&self) -> Option<WaterLedger> {
+        None
+    }
     /// The GPU compute entry points one step dispatches (none on the CPU).
     fn gpu_dispatches(&self) -> Vec<&'static str> {
         Vec::new()
@@ -108,6 +130,10 @@ pub fn not_shared(what: &str) -> crate::error::Error {
     ))
 }
 
+/// Why a scene with held water runs on the CPU.
+#[cfg(feature = "gpu")]
+const HELD_WATER_CPU_ONLY: &str = "held water (SimParams::held_water) runs on the CPU backend only for now";
+
 /// A backend for `groom` under `p`, as `p.backend` asks (see [`Backend`]), at rest under
 /// `head`.
 pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn Engine>, BackendInfo)> {
@@ -135,12 +161,18 @@ pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn 
         match p.backend {
             Backend::CPU => cpu(String::new()),
             Backend::GPU => {
+                if p.held_water.enabled {
+                    return Err(crate::error::Error::Unsupported(HELD_WATER_CPU_ONLY.into()));
+                }
                 let dev = crate::gpu::GpuDevice::open(true)?;
                 create_gpu(dev, groom, p, integrator, head)
             }
             Backend::AUTO => {
                 if integrator == Integrator::XPBD {
                     return cpu(format!("{integrator:?} runs on the CPU backend only"));
+                }
+                if p.held_water.enabled {
+                    return cpu(HELD_WATER_CPU_ONLY.into());
                 }
                 match crate::gpu::GpuDevice::open(false) {
                     Err(e) => cpu(e.to_string()),
@@ -163,6 +195,9 @@ pub fn create_gpu(
     integrator: Integrator,
     head: &Affine3A,
 ) -> Result<(Box<dyn Engine>, BackendInfo)> {
+    if p.held_water.enabled {
+        return Err(crate::error::Error::Unsupported(HELD_WATER_CPU_ONLY.into()));
+    }
     let device = dev.adapter_name();
     let g = crate::gpu::GpuBackend::new(dev, groom, p, integrator, head)?;
     let info = BackendInfo {

@@ -35,9 +35,11 @@ pub mod reference;
 pub mod scenes;
 pub mod sim;
 
+pub use engine::WaterLedger;
 pub use error::{Error, Result};
 pub use params::{
-    Backend, Integrator, MaterialParams, Readback, SimParams, SpringModel, SpringParams, VertexAttributes, WaterParams,
+    Backend, HeldWater, Integrator, MaterialParams, Readback, SimParams, SpringModel, SpringParams, VertexAttributes,
+    WaterParams,
 };
 pub use physics::collide::Shape;
 pub use physics::spring::DampingModel;

@@ -316,6 +316,28 @@ impl Simulation {
         self.settle(r)
     }
 
+    /// Wets every hair point up to saturation `s` (0..=1) of its capacity, as when a character
+    /// steps out of water; never removes water. Needs [`SimParams::held_water`] on (else
+    /// `Unsupported`); `s` outside [0, 1] or NaN is refused.
+    pub fn soak(&mut self, s: f32) -> Result<()> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
+        if !(0.0..=1.0).contains(&s) {
+            return Err(crate::error::Error::InvalidArgument(format!(
+                "saturation must be in [0, 1], got {s}"
+            )));
+        }
+        let r = self.engine.soak(s);
+        self.settle(r)
+    }
+
+    /// Where the water given to the hair went, in whole quanta (`None` without held water):
+    /// `added == held + evaporated`, exactly.
+    pub fn water_ledger(&self) -> Option<crate::engine::WaterLedger> {
+        self.engine.ledger()
+    }
+
     /// The passes the next step will run (only those the scene needs), the same list on
     /// both backends.
     pub fn passes(&self) -> Vec<Pass> {

@@ -2,7 +2,7 @@
 //! strand-major blocks.
 
 use super::step::CpuBackend;
-use crate::engine::{Counters, Engine, PointState};
+use crate::engine::{Counters, Engine, PointState, WaterLedger};
 use crate::error::Result;
 use crate::params::{Backend, Integrator};
 use crate::plan::Pass;
@@ -73,5 +73,13 @@ impl Engine for CpuBackend {
 
     fn buffers(&self) -> Vec<(&'static str, usize)> {
         CpuBackend::buffers(self)
+    }
+
+    fn soak(&mut self, s: f32) -> Result<()> {
+        CpuBackend::soak(self, s)
+    }
+
+    fn ledger(&self) -> Option<WaterLedger> {
+        self.held.as_ref().map(|h| h.ledger())
     }
 }

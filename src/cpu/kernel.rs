@@ -39,6 +39,8 @@ pub(super) struct Ctx<'a> {
     pub(super) integrator: Integrator,
     pub(super) solver_iterations: u32,
     pub(super) lay: &'a Layout,
+    /// Per-row parameters: the layout's, or with held water's masses.
+    pub(super) params: &'a [super::layout::ParamRow],
     pub(super) avx2: bool,
     pub(super) h: f32,
     pub(super) g: [f32; 3],
@@ -120,7 +122,7 @@ fn block_substep_impl<const AXIAL: bool>(
     let lay = ctx.lay;
     let p = lay.rows;
     let base = b * p;
-    let params = &lay.params[base..base + p];
+    let params = &ctx.params[base..base + p];
     let f = &mut worker.f[..p];
 
     // Pass: drag (or clear the force accumulators).

@@ -3,6 +3,7 @@
 
 pub mod denormals;
 mod engine;
+pub mod held;
 pub mod kernel;
 pub mod layout;
 pub mod output;

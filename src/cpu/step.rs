@@ -39,6 +39,8 @@ pub struct CpuBackend {
     pub wet: Vec<Lane>,
     /// Water particles (None until first added).
     pub water: Option<Water>,
+    /// Water held by the hair (None unless the scene has it).
+    pub held: Option<super::held::Held>,
     params: SimParams,
     workers: Vec<Worker>,
     pool: Option<super::pool::Pool>,
@@ -83,11 +85,22 @@ impl CpuBackend {
             })
             .collect();
         let n_sub = params.substeps as usize;
+        let held = params
+            .held_water
+            .enabled
+            .then(|| super::held::Held::new(&lay, params.held_water));
+        // With held water, the wetness attribute is the saturation from the start.
+        let wet = if held.is_some() {
+            vec![[0.0; W]; state.len()]
+        } else {
+            Vec::new()
+        };
         Ok(CpuBackend {
             lay,
             state,
-            wet: Vec::new(),
+            wet,
             water: None,
+            held,
             params: params.clone(),
             workers,
             pool,
@@ -131,6 +144,9 @@ impl CpuBackend {
         if !self.wet.is_empty() {
             out.push(("wetness", bytes(&self.wet)));
         }
+        if let Some(h) = &self.held {
+            out.push(("held_water", h.bytes()));
+        }
         if let Some(w) = &self.water {
             out.push(("water_particles", bytes(&w.pos) + bytes(&w.vel)));
             out.push(("water_grid", w.grid.bytes() + w.sorted.iter().map(bytes).sum::<usize>()));
@@ -153,7 +169,9 @@ impl CpuBackend {
                 )));
             }
             self.water = Some(Water::new(&self.params.water, self.domain));
-            self.wet = vec![[0.0; W]; self.state.len()];
+            if self.wet.is_empty() {
+                self.wet = vec![[0.0; W]; self.state.len()];
+            }
             for w in &mut self.workers {
                 w.reactions = Vec::with_capacity(cap);
             }
@@ -172,6 +190,9 @@ impl CpuBackend {
     pub fn reset(&mut self, head: &Affine3A) {
         self.state = self.lay.rest_state(head);
         self.wet.iter_mut().for_each(|w| *w = [0.0; W]);
+        if let Some(h) = &mut self.held {
+            h.reset(&self.lay);
+        }
         if let Some(w) = &mut self.water {
             w.clear();
             w.removed = 0;
@@ -196,6 +217,9 @@ impl CpuBackend {
         }
         let wet = self.water.as_ref().is_some_and(|w| !w.is_empty());
         let axial = self.params.damping_model == DampingModel::AXIAL;
+        if let Some(held) = &mut self.held {
+            held.refresh_masses(&self.lay);
+        }
         let mut report = StepReport::default();
         if wet {
             for s in 0..n_sub {
@@ -226,6 +250,10 @@ impl CpuBackend {
         } else {
             self.run_blocks(0..n_sub, h, false, axial);
         }
+        if let Some(held) = &mut self.held {
+            held.dry(&self.state, dt); // pass dry
+            held.saturation_into(&mut self.wet);
+        }
         if self.workers.iter().any(|w| w.nonfinite) {
             let strand = self.first_nonfinite_strand();
             return Err(Error::Unstable {
@@ -245,6 +273,7 @@ impl CpuBackend {
             integrator: self.integrator,
             solver_iterations: p.solver_iterations,
             lay: &self.lay,
+            params: self.held.as_ref().map_or(&self.lay.params[..], |h| &h.params[..]),
             avx2: self.avx2,
             h,
             g: p.gravity.to_array(),
@@ -318,6 +347,16 @@ impl CpuBackend {
                 .any(|r| blown_up(r.x.get(l), r.v.get(l)))
                 .then_some(s as u32)
         })
+    }
+
+    /// Wets every point up to saturation `s` of its capacity (held water only).
+    pub fn soak(&mut self, s: f32) -> Result<()> {
+        let held = self.held.as_mut().ok_or_else(|| {
+            Error::Unsupported("this simulation holds no water (SimParams::held_water is off)".into())
+        })?;
+        held.soak(s);
+        held.saturation_into(&mut self.wet);
+        Ok(())
     }
 
     /// Writes the host's attributes for every real point, strand after strand, into `dst`

@@ -463,6 +463,8 @@ impl WetHairSimDesc {
             attributes: VertexAttributes(self.vertex_attributes),
             backend,
             readback,
+            // Not in the C ABI yet (it comes with the rest of the wet model).
+            held_water: crate::params::HeldWater::OFF,
         })
     }
 }

@@ -71,6 +71,7 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
             Pass::WaterGrid
             | Pass::WaterIntegrate
             | Pass::WaterCull
+            | Pass::Dry
             | Pass::ImplicitSolve
             | Pass::ProjectConstraints => "",
         });

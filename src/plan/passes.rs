@@ -29,6 +29,8 @@ pub enum Pass {
     WaterIntegrate,
     /// Remove particles that left the domain (once per step).
     WaterCull,
+    /// Held water evaporates (once per step; docs/WET_MODEL.md §7).
+    Dry,
 }
 
 impl Pass {
@@ -46,6 +48,7 @@ impl Pass {
             Pass::Collide => "collide",
             Pass::WaterIntegrate => "water_integrate",
             Pass::WaterCull => "water_cull",
+            Pass::Dry => "dry",
         }
     }
 }
@@ -103,6 +106,9 @@ pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -
     if wet {
         v.push(Pass::WaterIntegrate);
         v.push(Pass::WaterCull);
+    }
+    if p.held_water.enabled && p.held_water.dry_time > 0.0 {
+        v.push(Pass::Dry);
     }
     v
 }
