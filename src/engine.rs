@@ -34,16 +34,28 @@ pub struct Counters {
 /// Position, velocity and wetness of one hair point.
 pub type PointState = (Vec3, Vec3, f32);
 
-/// Where the water the hair was given went, in whole quanta
-/// ([`crate::physics::wet::WATER_QUANTUM`] kg each): `added == held + evaporated` exactly.
+/// Where the water went, in whole quanta ([`crate::physics::wet::WATER_QUANTUM`] kg each):
+/// `added == in_particles + held + left + evaporated`, exactly ([`WaterLedger::balanced`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct WaterLedger {
-    /// Water given to the hair since the last reset.
+    /// Water given since the last reset: particles the host added, and soaking.
     pub added: u64,
+    /// In free particles now (drops the hair shed included).
+    pub in_particles: u64,
     /// Held by the hair now.
     pub held: u64,
-    /// Evaporated since the last reset.
+    /// Left the simulation since the last reset: particles that fell out of the domain, and
+    /// particles the host cleared.
+    pub left: u64,
+    /// Evaporated from the hair since the last reset.
     pub evaporated: u64,
+}
+
+impl WaterLedger {
+    /// Whether every quantum added is accounted for.
+    pub fn balanced(&self) -> bool {
+        self.added == self.in_particles + self.held + self.left + self.evaporated
+    }
 }
 
 /// What a backend does for a simulation. Every method answers in the host's order (strand
@@ -60,6 +72,8 @@ pub trait Engine: std::fmt::Debug + Send {
     fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()>;
     /// Removes every particle (wetness stays).
     fn clear_water(&mut self);
+    /// Sets the wind the next step blows with, m/s (the simulation samples its gusts).
+    fn set_wind(&mut self, wind: Vec3);
     /// Advances by `dt` in the configured substeps while the head moves `from` → `to`; returns
     /// the largest point speed known after it (the GPU's is the previous step's, as its last
     /// status read found it).

@@ -39,7 +39,7 @@ pub use engine::WaterLedger;
 pub use error::{Error, Result};
 pub use params::{
     Backend, HeldWater, Integrator, MaterialParams, Readback, SimParams, SpringModel, SpringParams, VertexAttributes,
-    WaterParams,
+    WaterParams, Wind,
 };
 pub use physics::collide::Shape;
 pub use physics::spring::DampingModel;

@@ -6,6 +6,9 @@ use crate::physics::collide::Shape;
 use crate::physics::spring::DampingModel;
 use glam::Vec3;
 
+mod wet;
+pub use wet::{HeldWater, Wind};
+
 /// Most substeps per step.
 pub const MAX_SUBSTEPS: u32 = 1024;
 /// Most worker threads per simulation.
@@ -249,42 +252,12 @@ pub struct SimParams {
     pub backend: Backend,
     /// How vertices reach host memory on the GPU backend.
     pub readback: Readback,
-    /// Water held by the hair: its weight and its drying (off: the paper's model).
+    /// Water held by the hair and what it does: weight, limpness, absorption, bridges, flow,
+    /// drip and drying (off: the paper's model).
     pub held_water: HeldWater,
-}
-
-/// The held-water part of the wet model (docs/WET_MODEL.md §1, §3, §7): every free hair point
-/// holds water up to `capacity_ratio` times its dry mass, weighs its dry mass plus its water,
-/// and dries at a first-order rate that grows with the air speed past it. Water is counted in
-/// whole quanta (`physics::wet::WATER_QUANTUM`), so the ledger balances exactly. CPU backend
-/// only for now; absorption from particles, limpness, bridges, flow and drip are to come.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HeldWater {
-    /// Whether points hold water (off: no buffer, no pass).
-    pub enabled: bool,
-    /// Water a kilogram of dry hair holds when saturated, kg/kg (0.3: Robbins 2012).
-    pub capacity_ratio: f32,
-    /// Drying time constant in still air, s; 0 never dries.
-    pub dry_time: f32,
-    /// Air speed at which drying runs twice as fast as in still air, m/s.
-    pub dry_air_speed: f32,
-}
-
-impl HeldWater {
-    /// Off, with the documented defaults for when it is switched on.
-    pub const OFF: HeldWater = HeldWater {
-        enabled: false,
-        capacity_ratio: crate::physics::wet::CAPACITY_RATIO,
-        dry_time: crate::physics::wet::DRY_TIME,
-        dry_air_speed: crate::physics::wet::DRY_AIR_SPEED,
-    };
-    /// On, with the documented defaults.
-    pub const ON: HeldWater = HeldWater {
-        enabled: true,
-        ..HeldWater::OFF
-    };
-    /// The largest `capacity_ratio` accepted, kg/kg.
-    pub const MAX_CAPACITY_RATIO: f32 = 100.0;
+    /// The wind blowing past hair and particles (calm by default); changeable every frame
+    /// through [`crate::Simulation::set_wind`].
+    pub wind: Wind,
 }
 
 impl Default for SimParams {
@@ -343,6 +316,7 @@ impl SimParams {
             backend: Backend::AUTO,
             readback: Readback::LATEST,
             held_water: HeldWater::OFF,
+            wind: Wind::CALM,
         }
     }
 
@@ -359,21 +333,8 @@ impl SimParams {
 
     /// Checks every field; the error names the first bad one.
     pub fn validate(&self) -> Result<()> {
-        let hw = &self.held_water;
-        if !(hw.capacity_ratio.is_finite() && (0.0..=HeldWater::MAX_CAPACITY_RATIO).contains(&hw.capacity_ratio)) {
-            return Err(invalid!(
-                "held_water.capacity_ratio must be in [0, {}] kg/kg, got {}",
-                HeldWater::MAX_CAPACITY_RATIO,
-                hw.capacity_ratio
-            ));
-        }
-        check_non_negative("held_water.dry_time", hw.dry_time)?;
-        if !(hw.dry_air_speed.is_finite() && hw.dry_air_speed > 0.0) {
-            return Err(invalid!(
-                "held_water.dry_air_speed must be finite and > 0 m/s, got {}",
-                hw.dry_air_speed
-            ));
-        }
+        self.held_water.validate(&self.water)?;
+        self.wind.validate()?;
         check_non_negative("stretch stiffness", self.stretch.stiffness)?;
         check_non_negative("stretch damping", self.stretch.damping)?;
         check_non_negative("bend stiffness", self.bend.stiffness)?;

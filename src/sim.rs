@@ -99,6 +99,8 @@ pub struct Simulation {
     last_step_ms: f32,
     max_speed: f32,
     steps: u64,
+    /// Simulated time since creation or reset, s (the wind's gusts follow it).
+    time: f64,
     failed: Option<Error>,
 }
 
@@ -124,6 +126,7 @@ impl Simulation {
             last_step_ms: 0.0,
             max_speed: 0.0,
             steps: 0,
+            time: 0.0,
             failed: None,
         }
     }
@@ -242,7 +245,11 @@ impl Simulation {
             return Err(invalid!("dt must be finite, > 0 and <= {MAX_DT} s, got {dt}"));
         }
         let t0 = Instant::now();
+        if self.params.wind.blows() {
+            self.engine.set_wind(self.params.wind.at(self.time));
+        }
         let r = self.engine.step(dt, &self.head_prev, &self.head);
+        self.time += dt as f64;
         self.last_step_ms = t0.elapsed().as_secs_f32() * 1e3;
         self.head_prev = self.head;
         self.steps += 1;
@@ -268,7 +275,17 @@ impl Simulation {
         self.head_prev = self.head;
         self.failed = None;
         self.steps = 0;
+        self.time = 0.0;
         self.max_speed = 0.0;
+        Ok(())
+    }
+
+    /// Sets the wind from the next step on (see [`crate::Wind`]): its mean velocity, gusts and
+    /// seed. The gusts follow the simulation's own clock, so a replay blows the same.
+    pub fn set_wind(&mut self, wind: crate::Wind) -> Result<()> {
+        wind.validate()?;
+        self.params.wind = wind;
+        self.engine.set_wind(wind.at(self.time));
         Ok(())
     }
 
@@ -332,8 +349,8 @@ impl Simulation {
         self.settle(r)
     }
 
-    /// Where the water given to the hair went, in whole quanta (`None` without held water):
-    /// `added == held + evaporated`, exactly.
+    /// Where the water went, in whole quanta (`None` without held water): added equals in
+    /// particles plus held plus left plus evaporated, exactly.
     pub fn water_ledger(&self) -> Option<crate::engine::WaterLedger> {
         self.engine.ledger()
     }

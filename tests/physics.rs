@@ -349,7 +349,19 @@ fn adhesion_row_and_point_forms_agree() {
     };
     let (mut fx, mut fy, mut fz) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let (mut acc, mut near, mut reactions) = (L3::ZERO, [0.0; W], Vec::new());
-    adhesion::gather_run_lanes(&x, &[1.0; W], run, 0, &mut reactions, &mut acc, &mut near, r0, r1, s);
+    adhesion::gather_run_lanes(
+        &x,
+        &[1.0; W],
+        run,
+        0,
+        &mut reactions,
+        &mut acc,
+        &mut near,
+        r0,
+        r1,
+        s,
+        None,
+    );
     for r in &reactions {
         let j = r.slot as usize;
         fx[j] += r.f[0];

@@ -78,9 +78,10 @@ fn flow_conserves_water_and_drains_a_hanging_strand_to_its_tip() {
     let x: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.0, 0.0, -0.01 * i as f32)).collect();
     let a = vec![Vec3::ZERO; n];
     let mut held = vec![to_quanta(1.0e-6); n];
+    let mut sc = FlowScratch::default();
     let total: u64 = held.iter().map(|&w| w as u64).sum();
     for _ in 0..2000 {
-        flow_strand(&mut held, &x, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
+        flow_strand(&mut held, &x, &a, g, FLOW_MOBILITY, 1.0 / 60.0, &mut sc);
         assert_eq!(held.iter().map(|&w| w as u64).sum::<u64>(), total, "conserved exactly");
     }
     assert!(
@@ -92,16 +93,16 @@ fn flow_conserves_water_and_drains_a_hanging_strand_to_its_tip() {
     let flat: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.01 * i as f32, 0.0, 0.0)).collect();
     let before: Vec<u32> = (0..n as u32).map(|i| 1000 * (i + 1)).collect();
     let mut w = before.clone();
-    flow_strand(&mut w, &flat, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
+    flow_strand(&mut w, &flat, &a, g, FLOW_MOBILITY, 1.0 / 60.0, &mut sc);
     assert_eq!(w, before);
     // A strand accelerated downward at g (free fall) feels no gravity along it: no flow either.
     let fall = vec![g; n];
     let mut w2 = before.clone();
-    flow_strand(&mut w2, &x, &fall, g, FLOW_MOBILITY, 1.0 / 60.0);
+    flow_strand(&mut w2, &x, &fall, g, FLOW_MOBILITY, 1.0 / 60.0, &mut sc);
     assert_eq!(w2, before);
     // A step long enough to send more than a point holds sends what it holds, no more.
     let mut w3 = before.clone();
-    flow_strand(&mut w3, &x, &a, g, FLOW_MOBILITY, 10.0);
+    flow_strand(&mut w3, &x, &a, g, FLOW_MOBILITY, 10.0, &mut sc);
     assert_eq!(
         w3.iter().map(|&v| v as u64).sum::<u64>(),
         before.iter().map(|&v| v as u64).sum::<u64>()
@@ -164,25 +165,30 @@ fn limpness_follows_its_curve() {
 }
 
 #[test]
-fn bridges_pull_hardest_when_close_and_let_go_when_dry() {
+fn bridges_pull_hardest_halfway_and_let_go_at_contact_length_and_when_dry() {
     let kappa = 2.0 * SURFACE_TENSION;
-    let f0 = bridge_force(kappa, 0.02, 1.0, 1.0, 0.0, 1e-3);
-    assert!((f0 - kappa * 0.02).abs() < 1e-9);
-    assert_eq!(
-        bridge_force(kappa, 0.02, 1.0, 1.0, 1e-3, 1e-3),
-        0.0,
-        "none at the bridge length"
+    let d_b = 1e-3;
+    let c = bridge_stiffness(kappa, 0.02, 1.0, 1.0, d_b);
+    let pull = |r: f32| bridge_scale(c, r, d_b) * r;
+    assert!(
+        (pull(0.5 * d_b) - kappa * 0.02).abs() < 1e-7,
+        "peak kappa l s at d_b / 2"
     );
+    assert!(pull(0.3 * d_b) < pull(0.5 * d_b) && pull(0.7 * d_b) < pull(0.5 * d_b));
+    assert_eq!(pull(0.0), 0.0, "no pull once the points meet");
+    assert_eq!(bridge_scale(c, d_b, d_b), 0.0, "none at the bridge length");
     assert_eq!(
-        bridge_force(kappa, 0.02, 0.0, 1.0, 1e-4, 1e-3),
+        bridge_stiffness(kappa, 0.02, 0.0, 1.0, d_b),
         0.0,
         "a dry point holds no bridge"
     );
     assert_eq!(
-        bridge_force(kappa, 0.02, 0.3, 0.8, 5e-4, 1e-3),
-        bridge_force(kappa, 0.02, 0.8, 0.3, 5e-4, 1e-3),
+        bridge_stiffness(kappa, 0.02, 0.3, 0.8, d_b),
+        bridge_stiffness(kappa, 0.02, 0.8, 0.3, d_b),
         "the same both ways"
     );
+    let half = bridge_stiffness(kappa, 0.02, 0.5, 1.0, d_b);
+    assert!((half / c - 0.5).abs() < 1e-6, "pull grows with the drier point's water");
 }
 
 #[test]

@@ -29,6 +29,10 @@ impl Engine for CpuBackend {
         CpuBackend::clear_water(self)
     }
 
+    fn set_wind(&mut self, wind: Vec3) {
+        CpuBackend::set_wind(self, wind)
+    }
+
     fn step(&mut self, dt: f32, from: &Affine3A, to: &Affine3A) -> Result<f32> {
         CpuBackend::step(self, dt, from, to).map(|rep| rep.max_speed)
     }
@@ -80,6 +84,6 @@ impl Engine for CpuBackend {
     }
 
     fn ledger(&self) -> Option<WaterLedger> {
-        self.held.as_ref().map(|h| h.ledger())
+        CpuBackend::ledger(self)
     }
 }

@@ -4,10 +4,12 @@
 //! held water switched on.
 
 use super::layout::{Layout, ParamRow, StateRow};
+use super::water::Water;
 use crate::engine::WaterLedger;
 use crate::params::HeldWater;
-use crate::physics::lanes::{Lane, W};
+use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::wet;
+use glam::Vec3;
 
 /// The held water of every point, per row of 8 lanes.
 #[derive(Debug)]
@@ -15,7 +17,7 @@ pub struct Held {
     /// Water per point, quanta (0 on padding lanes).
     pub water: Vec<[u32; W]>,
     /// Capacity per point, quanta (0 on padding lanes).
-    capacity: Vec<[u32; W]>,
+    pub capacity: Vec<[u32; W]>,
     /// Dry mass per point, kg (0 on padding lanes).
     dry_mass: Vec<Lane>,
     /// The layout's row parameters with each free point's inverse mass from its dry mass plus
@@ -25,6 +27,14 @@ pub struct Held {
     added: u64,
     evaporated: u64,
     cfg: HeldWater,
+    /// Velocities at the step's start (flow reads each point's acceleration over the step;
+    /// empty unless water flows).
+    v0: Vec<L3>,
+    /// Scratch of the flow pass: one strand's water, positions and accelerations.
+    strand_water: Vec<u32>,
+    strand_x: Vec<Vec3>,
+    strand_a: Vec<Vec3>,
+    flow_scratch: wet::FlowScratch,
 }
 
 impl Held {
@@ -42,6 +52,8 @@ impl Held {
                 capacity[b * lay.rows + i][l] = wet::capacity(m, cfg.capacity_ratio);
             }
         }
+        let flows = cfg.flows();
+        let longest = if flows { lay.rows } else { 0 };
         Held {
             water: vec![[0; W]; n_rows],
             capacity,
@@ -50,21 +62,45 @@ impl Held {
             added: 0,
             evaporated: 0,
             cfg,
+            v0: if flows { vec![L3::ZERO; n_rows] } else { Vec::new() },
+            strand_water: Vec::with_capacity(longest),
+            strand_x: Vec::with_capacity(longest),
+            strand_a: Vec::with_capacity(longest),
+            flow_scratch: wet::FlowScratch::default(),
         }
     }
 
-    /// Sets each free point's inverse mass to `1 / (dry + water)`: soaked hair is heavier.
-    /// A dry point keeps the layout's value bit for bit.
-    pub fn refresh_masses(&mut self, lay: &Layout) {
-        for (r, row) in self.params.iter_mut().enumerate() {
-            for l in 0..W {
-                let dry_inv = lay.params[r].inv_mass[l];
-                let q = self.water[r][l];
-                row.inv_mass[l] = if dry_inv == 0.0 || q == 0 {
-                    dry_inv
-                } else {
-                    (1.0 / (self.dry_mass[r][l] as f64 + wet::to_kg(q))) as f32
-                };
+    /// Pass `wet_params` (once per step, before the substeps): sets each free point's inverse
+    /// mass to `1 / (dry + water)` (soaked hair is heavier, §3) and, when limp, scales each
+    /// bend spring's stiffness by `wet::bend_scale` of the mean saturation of its two ends
+    /// (§4). A dry point and a dry spring keep the layout's values bit for bit.
+    pub fn refresh_params(&mut self, lay: &Layout) {
+        let limp = self.cfg.limp();
+        for b in 0..lay.blocks {
+            for i in 0..lay.rows {
+                let r = b * lay.rows + i;
+                let row = &mut self.params[r];
+                for l in 0..W {
+                    let dry_inv = lay.params[r].inv_mass[l];
+                    let q = self.water[r][l];
+                    row.inv_mass[l] = if dry_inv == 0.0 || q == 0 {
+                        dry_inv
+                    } else {
+                        (1.0 / (self.dry_mass[r][l] as f64 + wet::to_kg(q))) as f32
+                    };
+                }
+                if limp && i + 2 < lay.rows {
+                    for l in 0..W {
+                        let s_a = wet::saturation(self.water[r][l], self.capacity[r][l]);
+                        let s_b = wet::saturation(self.water[r + 2][l], self.capacity[r + 2][l]);
+                        let k = lay.params[r].bend.k[l];
+                        row.bend.k[l] = if s_a + s_b == 0.0 {
+                            k
+                        } else {
+                            k * wet::bend_scale(0.5 * (s_a + s_b), self.cfg.wet_bend_ratio)
+                        };
+                    }
+                }
             }
         }
     }
@@ -83,10 +119,95 @@ impl Held {
         }
     }
 
+    /// Keeps the velocities at the step's start, for the flow pass's accelerations.
+    pub fn keep_velocities(&mut self, state: &[StateRow]) {
+        for (v0, r) in self.v0.iter_mut().zip(state) {
+            *v0 = r.v;
+        }
+    }
+
+    /// Pass `flow` (§6): held water runs along each strand toward where gravity minus the
+    /// point's acceleration over the step points (`wet::flow_strand`, strand by strand).
+    pub fn flow(&mut self, lay: &Layout, state: &[StateRow], g: Vec3, dt: f32) {
+        if self.v0.is_empty() {
+            return;
+        }
+        for s in 0..lay.strands {
+            let (b, l) = lay.lane_of(s);
+            let rows = b * lay.rows..b * lay.rows + lay.strand_points(s);
+            self.strand_water.clear();
+            self.strand_x.clear();
+            self.strand_a.clear();
+            for r in rows.clone() {
+                self.strand_water.push(self.water[r][l]);
+                self.strand_x.push(state[r].x.get(l));
+                self.strand_a.push((state[r].v.get(l) - self.v0[r].get(l)) / dt);
+            }
+            if self.strand_water.iter().all(|&q| q == 0) {
+                continue;
+            }
+            let (x, a) = (&self.strand_x, &self.strand_a);
+            let mob = self.cfg.flow_mobility;
+            wet::flow_strand(&mut self.strand_water, x, a, g, mob, dt, &mut self.flow_scratch);
+            for (r, &q) in rows.zip(&self.strand_water) {
+                self.water[r][l] = q;
+            }
+        }
+    }
+
+    /// Pass `drip` (§6): a point holding more than its capacity by at least the drip mass,
+    /// and from which the water cannot run on along the strand (no neighbour lies along its
+    /// effective gravity: a hanging strand's tip, the bottom of a loop, any point when water
+    /// does not flow), sheds the excess as a new particle with the point's velocity, `reach`
+    /// below it along its effective gravity (where the drop hung as it let go: just out of the
+    /// pull of the point it left), strand by strand in the host's order (so the drops are
+    /// numbered alike on every run). When the water is full the excess waits.
+    #[allow(clippy::too_many_arguments)]
+    pub fn drip(
+        &mut self,
+        lay: &Layout,
+        state: &[StateRow],
+        g: Vec3,
+        dt: f32,
+        reach: f32,
+        water: &mut Water,
+        capacity: usize,
+    ) {
+        let min_drop = wet::to_quanta(self.cfg.drip_mass as f64).max(1);
+        for s in 0..lay.strands {
+            let (b, l) = lay.lane_of(s);
+            let rows = b * lay.rows..b * lay.rows + lay.strand_points(s);
+            for r in rows.clone() {
+                let q = wet::drip(self.water[r][l], self.capacity[r][l], min_drop);
+                if q == 0 || (!self.v0.is_empty() && self.runs_on(state, &rows, r, l, g, dt)) {
+                    continue;
+                }
+                let v = state[r].v.get(l);
+                let g_eff = if self.v0.is_empty() {
+                    g
+                } else {
+                    g - (v - self.v0[r].get(l)) / dt
+                };
+                let x = state[r].x.get(l) + reach * g_eff.normalize_or_zero();
+                if water.add_drop(x, v, q, capacity) {
+                    self.water[r][l] -= q;
+                }
+            }
+        }
+    }
+
+    /// Whether water at row `r` (lane `l`) of a strand on `rows` runs on to a neighbour.
+    fn runs_on(&self, state: &[StateRow], rows: &std::ops::Range<usize>, r: usize, l: usize, g: Vec3, dt: f32) -> bool {
+        let x = state[r].x.get(l);
+        let g_eff = g - (state[r].v.get(l) - self.v0[r].get(l)) / dt;
+        let toward = |n: usize| wet::runs_toward(g_eff, (state[n].x.get(l) - x).normalize_or_zero());
+        (r > rows.start && toward(r - 1)) || (r + 1 < rows.end && toward(r + 1))
+    }
+
     /// Pass `dry`: each point loses `held (1 - e^(-k dt))` to the nearest quantum, with
-    /// `k = (1 / dry_time) (1 + sqrt(|v| / dry_air_speed))` (the air is still, so the air
-    /// speed past a point is its own speed). Order-free: integers per point.
-    pub fn dry(&mut self, state: &[StateRow], dt: f32) {
+    /// `k = (1 / dry_time) (1 + sqrt(|u| / dry_air_speed))` and `u = wind - v` the air
+    /// speed past the point. Order-free: integers per point.
+    pub fn dry(&mut self, state: &[StateRow], wind: Vec3, dt: f32) {
         if self.cfg.dry_time <= 0.0 {
             return;
         }
@@ -95,7 +216,7 @@ impl Held {
                 if w[l] == 0 {
                     continue;
                 }
-                let u = r.v.get(l).length();
+                let u = (wind - r.v.get(l)).length();
                 let k = wet::evaporation_rate(u, self.cfg.dry_time, self.cfg.dry_air_speed);
                 let e = wet::evaporate(w[l], k, dt);
                 w[l] -= e;
@@ -113,20 +234,32 @@ impl Held {
         }
     }
 
+    /// The row parameters the kernel reads: the layout's with each point's water.
+    pub fn row_params(&self) -> &[ParamRow] {
+        &self.params
+    }
+
+    /// Inverse mass of lane `l` of row `r` (with its water, as this step's kernel reads it).
+    pub fn inv_mass(&self, r: usize, l: usize) -> f32 {
+        self.params[r].inv_mass[l]
+    }
+
     /// Dry again, with an empty ledger.
     pub fn reset(&mut self, lay: &Layout) {
         self.water.iter_mut().for_each(|w| *w = [0; W]);
         self.added = 0;
         self.evaporated = 0;
-        self.refresh_masses(lay);
+        self.refresh_params(lay);
     }
 
-    /// Added, held and evaporated, in quanta.
+    /// The ledger's hair side, in quanta: added by soaking, held, evaporated (the particles'
+    /// side is added by the caller).
     pub fn ledger(&self) -> WaterLedger {
         WaterLedger {
             added: self.added,
             held: self.water.iter().flatten().map(|&q| q as u64).sum(),
             evaporated: self.evaporated,
+            ..WaterLedger::default()
         }
     }
 
@@ -136,5 +269,6 @@ impl Held {
             + self.capacity.capacity() * 4 * W
             + self.dry_mass.capacity() * 4 * W
             + self.params.capacity() * std::mem::size_of::<ParamRow>()
+            + self.v0.capacity() * std::mem::size_of::<L3>()
     }
 }

@@ -4,13 +4,13 @@
 
 use super::layout::{Layout, StateRow};
 use crate::params::Integrator;
-use crate::physics::adhesion;
 use crate::physics::collide::{collide_row, Placed};
 use crate::physics::implicit::{implicit_euler_block, BandScratch};
 use crate::physics::integrate::symplectic_euler_row;
 use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::spring::spring;
 use crate::physics::xpbd;
+use crate::physics::{absorb, adhesion};
 use glam::{Affine3A, Vec3};
 
 /// Most grid columns one row query walks (a row spanning ~6 cells a side); wider rows query
@@ -32,6 +32,8 @@ pub struct Worker {
     pub(super) prev: Vec<L3>,
     /// Constraint multipliers, stretch then bend (XPBD only).
     pub(super) lambda: Vec<Lane>,
+    /// Absorption demands from this worker's blocks, in block order (held water only).
+    pub(super) demands: Vec<absorb::Demand>,
 }
 
 /// Constant inputs of one substep.
@@ -45,6 +47,10 @@ pub(super) struct Ctx<'a> {
     pub(super) h: f32,
     pub(super) g: [f32; 3],
     pub(super) drag: f32,
+    /// The wind this step, m/s (drag pulls hair toward it).
+    pub(super) wind: [f32; 3],
+    /// Liquid-bridge force per row (held water with bridges, some point wet).
+    pub(super) cohesion: Option<&'a [L3]>,
     pub(super) bend: bool,
     pub(super) heads: &'a [Affine3A],
     pub(super) placed: &'a [Placed],
@@ -61,6 +67,19 @@ pub(super) struct WaterCtx<'a> {
     pub(super) r_max: f32,
     pub(super) s: f32,
     pub(super) wet_gain: f32,
+    /// Absorption (held water on).
+    pub(super) absorb: Option<AbsorbCtx<'a>>,
+}
+
+/// Absorption inputs of one substep (docs/WET_MODEL.md §2).
+pub(super) struct AbsorbCtx<'a> {
+    /// Particles' water in grid order, quanta.
+    pub(super) mass: &'a [u32],
+    pub(super) strength_per_quantum: f64,
+    pub(super) rate: f32,
+    /// Held water and capacity per row, quanta (saturation at the substep's start).
+    pub(super) held: &'a [[u32; W]],
+    pub(super) capacity: &'a [[u32; W]],
 }
 
 /// One substep of one block, compiled for the best instruction set this CPU has (AVX2 where
@@ -125,12 +144,13 @@ fn block_substep_impl<const AXIAL: bool>(
     let params = &ctx.params[base..base + p];
     let f = &mut worker.f[..p];
 
-    // Pass: drag (or clear the force accumulators).
+    // Pass: drag toward the wind (or clear the force accumulators).
+    let [wx, wy, wz] = ctx.wind;
     for (fi, r) in f.iter_mut().zip(rows.iter()) {
         for l in 0..W {
-            fi.x[l] = -ctx.drag * r.v.x[l];
-            fi.y[l] = -ctx.drag * r.v.y[l];
-            fi.z[l] = -ctx.drag * r.v.z[l];
+            fi.x[l] = ctx.drag * (wx - r.v.x[l]);
+            fi.y[l] = ctx.drag * (wy - r.v.y[l]);
+            fi.z[l] = ctx.drag * (wz - r.v.z[l]);
         }
     }
     // Pass: stretch springs (i, i+1) (XPBD projects them as constraints instead).
@@ -173,8 +193,33 @@ fn block_substep_impl<const AXIAL: bool>(
             let mut runs = [(0u32, 0u32); MAX_RUNS];
             let mut acc = L3::ZERO;
             let mut near = [0.0f32; W];
+            let mut wet_row = w.absorb.as_ref().map(|a| {
+                let mut sat = [0.0f32; W];
+                for l in 0..W {
+                    sat[l] = crate::physics::wet::saturation(a.held[base + i][l], a.capacity[base + i][l]);
+                }
+                absorb::WetRow {
+                    mass: a.mass,
+                    strength_per_quantum: a.strength_per_quantum,
+                    sat,
+                    first_point: ((base + i) * W) as u32,
+                    rate: a.rate,
+                    h: ctx.h,
+                    out: &mut worker.demands,
+                }
+            });
+            let reactions = &mut worker.reactions;
             if let Some(n) = w.grid.runs_in_box(lo - w.r_max, hi + w.r_max, &mut runs) {
-                gather_runs(w, &r.x, &mask, &runs[..n], &mut worker.reactions, &mut acc, &mut near);
+                gather_runs(
+                    w,
+                    &r.x,
+                    &mask,
+                    &runs[..n],
+                    reactions,
+                    &mut acc,
+                    &mut near,
+                    wet_row.as_mut(),
+                );
             } else {
                 while lanes != 0 {
                     let l = lanes.trailing_zeros() as usize;
@@ -186,7 +231,16 @@ fn block_substep_impl<const AXIAL: bool>(
                         .grid
                         .runs_in_box(x - w.r_max, x + w.r_max, &mut runs)
                         .expect("a point's query spans 3x3 columns");
-                    gather_runs(w, &r.x, &one, &runs[..n], &mut worker.reactions, &mut acc, &mut near);
+                    gather_runs(
+                        w,
+                        &r.x,
+                        &one,
+                        &runs[..n],
+                        reactions,
+                        &mut acc,
+                        &mut near,
+                        wet_row.as_mut(),
+                    );
                 }
             }
             let fi = &mut f[i];
@@ -195,6 +249,16 @@ fn block_substep_impl<const AXIAL: bool>(
                 fi.y[l] += acc.y[l];
                 fi.z[l] += acc.z[l];
                 wet[i][l] += (1.0 - wet[i][l]) * w.wet_gain * near[l];
+            }
+        }
+    }
+    // Pass: cohesion (liquid bridges, gathered per point before the blocks ran).
+    if let Some(c) = ctx.cohesion {
+        for (fi, ci) in f.iter_mut().zip(&c[base..base + p]) {
+            for l in 0..W {
+                fi.x[l] += ci.x[l];
+                fi.y[l] += ci.y[l];
+                fi.z[l] += ci.z[l];
             }
         }
     }
@@ -302,6 +366,7 @@ fn block_substep_impl<const AXIAL: bool>(
 /// grid-ordered particles): adds the hair's forces to `acc`, marks `near` lanes, and appends
 /// the particles' reactions to `reactions` (this worker's).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn gather_runs(
     w: &WaterCtx,
     x: &L3,
@@ -310,6 +375,7 @@ fn gather_runs(
     reactions: &mut Vec<adhesion::Reaction>,
     acc: &mut L3,
     near: &mut [f32; W],
+    mut wet_row: Option<&mut absorb::WetRow>,
 ) {
     for &(s, e) in runs {
         let (s0, e) = (s as usize, e as usize);
@@ -318,7 +384,8 @@ fn gather_runs(
             y: &w.sorted[1][s0..e],
             z: &w.sorted[2][s0..e],
         };
-        adhesion::gather_run_lanes(x, mask, run, s, reactions, acc, near, w.r_min, w.r_max, w.s);
+        let wet = wet_row.as_deref_mut();
+        adhesion::gather_run_lanes(x, mask, run, s, reactions, acc, near, w.r_min, w.r_max, w.s, wet);
     }
 }
 

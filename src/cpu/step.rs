@@ -5,7 +5,7 @@
 //! block while it sits in cache ("fused" order). With water, particles couple blocks, so every
 //! substep visits all blocks before the particles move. Both orders run the same block kernel.
 
-use super::kernel::{block_substep, cpu_has_avx2, Ctx, WaterCtx, Worker};
+use super::kernel::{block_substep, cpu_has_avx2, AbsorbCtx, Ctx, WaterCtx, Worker};
 use super::layout::{Layout, StateRow};
 use super::water::Water;
 use crate::error::{Error, Result};
@@ -41,6 +41,10 @@ pub struct CpuBackend {
     pub water: Option<Water>,
     /// Water held by the hair (None unless the scene has it).
     pub held: Option<super::held::Held>,
+    /// Liquid bridges between wet strands (None unless the scene has them).
+    bridges: Option<super::bridges::Bridges>,
+    /// The wind this step, m/s.
+    wind: Vec3,
     params: SimParams,
     workers: Vec<Worker>,
     pool: Option<super::pool::Pool>,
@@ -85,22 +89,35 @@ impl CpuBackend {
             })
             .collect();
         let n_sub = params.substeps as usize;
-        let held = params
-            .held_water
-            .enabled
-            .then(|| super::held::Held::new(&lay, params.held_water));
+        let hw = params.held_water;
+        if hw.enabled {
+            let heaviest = lay.mass.iter().fold(0.0f32, |a, &m| a.max(m));
+            let most = heaviest as f64 * hw.capacity_ratio as f64;
+            if most > crate::physics::wet::MAX_WATER_MASS {
+                return Err(crate::error::invalid!(
+                    "held water: a point of {heaviest} kg would hold {most:e} kg, more than one water count ({:e} kg); lower held_water.capacity_ratio",
+                    crate::physics::wet::MAX_WATER_MASS
+                ));
+            }
+        }
+        let held = hw.enabled.then(|| super::held::Held::new(&lay, hw));
+        let bridges = hw
+            .bridges()
+            .then(|| super::bridges::Bridges::new(&lay, hw.bridge_tension, hw.bridge_length_for(&params.water)));
         // With held water, the wetness attribute is the saturation from the start.
         let wet = if held.is_some() {
             vec![[0.0; W]; state.len()]
         } else {
             Vec::new()
         };
-        Ok(CpuBackend {
+        let mut cpu = CpuBackend {
             lay,
             state,
             wet,
             water: None,
             held,
+            bridges,
+            wind: params.wind.velocity,
             params: params.clone(),
             workers,
             pool,
@@ -109,7 +126,12 @@ impl CpuBackend {
             domain: WaterDomain::new(groom, params),
             avx2: cpu_has_avx2(),
             integrator,
-        })
+        };
+        if hw.drips() {
+            // Drops are made in the step, which never allocates: their storage comes now.
+            cpu.allocate_water();
+        }
+        Ok(cpu)
     }
 
     /// The integrator in use (`Auto` resolved).
@@ -122,7 +144,8 @@ impl CpuBackend {
         self.workers.len()
     }
 
-    /// The passes the next step will run, in order (per substep, then once per step).
+    /// The passes the next step will run, in order (once per step before the substeps, per
+    /// substep, then once per step).
     pub fn passes(&self) -> Vec<Pass> {
         let wet = self.water.as_ref().is_some_and(|w| !w.is_empty());
         let p = &self.params;
@@ -147,8 +170,11 @@ impl CpuBackend {
         if let Some(h) = &self.held {
             out.push(("held_water", h.bytes()));
         }
+        if let Some(b) = &self.bridges {
+            out.push(("bridges", b.bytes()));
+        }
         if let Some(w) = &self.water {
-            out.push(("water_particles", bytes(&w.pos) + bytes(&w.vel)));
+            out.push(("water_particles", bytes(&w.pos) + bytes(&w.vel) + bytes(&w.mass)));
             out.push(("water_grid", w.grid.bytes() + w.sorted.iter().map(bytes).sum::<usize>()));
             out.push((
                 "water_reactions",
@@ -158,25 +184,39 @@ impl CpuBackend {
         out
     }
 
-    /// Adds particles, allocating water storage at the first call.
+    /// Adds particles, allocating water storage at the first call. With held water each
+    /// carries `particle_mass` of water, booked as added.
     pub fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
         let cap = self.params.water.capacity as usize;
-        if self.water.is_none() {
-            if pos.len() > cap {
-                return Err(Error::Capacity(format!(
-                    "{} particles exceed the water capacity {cap}",
-                    pos.len()
-                )));
-            }
-            self.water = Some(Water::new(&self.params.water, self.domain));
-            if self.wet.is_empty() {
-                self.wet = vec![[0.0; W]; self.state.len()];
-            }
-            for w in &mut self.workers {
-                w.reactions = Vec::with_capacity(cap);
+        if self.water.is_none() && pos.len() > cap {
+            return Err(Error::Capacity(format!(
+                "{} particles exceed the water capacity {cap}",
+                pos.len()
+            )));
+        }
+        self.allocate_water();
+        let quanta = crate::physics::wet::to_quanta(self.params.water.particle_mass as f64);
+        self.water.as_mut().expect("allocated above").add(pos, vel, cap, quanta)
+    }
+
+    /// Particle storage and the per-worker lists that go with it, made once: at the first
+    /// add, or at create when held water can drip.
+    fn allocate_water(&mut self) {
+        if self.water.is_some() {
+            return;
+        }
+        let cap = self.params.water.capacity as usize;
+        let hw = &self.params.held_water;
+        self.water = Some(Water::new(&self.params.water, self.domain, hw.enabled));
+        if self.wet.is_empty() {
+            self.wet = vec![[0.0; W]; self.state.len()];
+        }
+        for w in &mut self.workers {
+            w.reactions = Vec::with_capacity(cap);
+            if hw.absorbs() {
+                w.demands = Vec::with_capacity(cap);
             }
         }
-        self.water.as_mut().expect("allocated above").add(pos, vel, cap)
     }
 
     /// Removes all water (wetness stays).
@@ -194,9 +234,24 @@ impl CpuBackend {
             h.reset(&self.lay);
         }
         if let Some(w) = &mut self.water {
-            w.clear();
-            w.removed = 0;
+            w.reset();
         }
+    }
+
+    /// Sets the wind of the next step.
+    pub fn set_wind(&mut self, wind: Vec3) {
+        self.wind = wind;
+    }
+
+    /// Where the water went (held water only).
+    pub fn ledger(&self) -> Option<crate::engine::WaterLedger> {
+        let mut l = self.held.as_ref()?.ledger();
+        if let Some(w) = &self.water {
+            l.added += w.added;
+            l.in_particles = w.water_quanta();
+            l.left = w.left;
+        }
+        Some(l)
     }
 
     /// Advances by `dt` seconds in `substeps` substeps while the head moves from `from` to `to`.
@@ -218,15 +273,36 @@ impl CpuBackend {
         let wet = self.water.as_ref().is_some_and(|w| !w.is_empty());
         let axial = self.params.damping_model == DampingModel::AXIAL;
         if let Some(held) = &mut self.held {
-            held.refresh_masses(&self.lay);
+            held.refresh_params(&self.lay); // wet_params: masses and limpness from the water
+            held.keep_velocities(&self.state);
+            if let Some(br) = &mut self.bridges {
+                let inv_mass = |r: usize, l: usize| held.inv_mass(r, l);
+                br.find_pairs(&self.lay, &self.state, &held.water, &held.capacity, inv_mass, h);
+                // pass hair_grid
+            }
         }
+        let bridging = self.bridges.as_ref().is_some_and(|b| b.active());
         let mut report = StepReport::default();
-        if wet {
+        if wet || bridging {
             for s in 0..n_sub {
-                self.water.as_mut().expect("wet").grid_build(); // pass water_grid
-                self.run_blocks(s..s + 1, h, true, axial);
-                let placed = &self.placed[s * nc..(s + 1) * nc];
+                if wet {
+                    self.water.as_mut().expect("wet").grid_build(); // pass water_grid
+                }
+                if bridging {
+                    self.bridges.as_mut().expect("bridging").gather(&self.state);
+                    // pass cohesion
+                }
+                self.run_blocks(s..s + 1, h, wet, bridging, axial);
+                if !wet {
+                    continue;
+                }
                 let water = self.water.as_mut().expect("wet");
+                if let (Some(held), true) = (&mut self.held, self.params.held_water.absorbs()) {
+                    let last = (crate::physics::wet::to_quanta(self.params.water.particle_mass as f64) as f64
+                        * crate::physics::wet::ABSORB_LAST_FRACTION) as u32;
+                    water.absorb(self.workers.iter().map(|w| &w.demands[..]), &mut held.water, last);
+                    // pass absorb
+                }
                 // Workers hold contiguous block ranges in order, so their lists one after
                 // another are every block's reactions in block order, whatever the thread count.
                 let reactions = self.workers.iter().map(|w| &w.reactions[..]);
@@ -234,25 +310,38 @@ impl CpuBackend {
                     reactions,
                     &self.params.water,
                     self.params.gravity,
+                    self.wind,
                     h,
-                    placed,
+                    placed_of(&self.placed, s, nc),
                     self.params.friction,
                 );
             }
-            let water = self.water.as_mut().expect("wet");
-            if water.pos.iter().chain(&water.vel).any(|p| !p.is_finite()) {
-                return Err(Error::Unstable {
-                    strand: None,
-                    detail: "a water particle became non-finite".into(),
-                });
+            if wet {
+                let water = self.water.as_ref().expect("wet");
+                if water.pos.iter().chain(&water.vel).any(|p| !p.is_finite()) {
+                    return Err(Error::Unstable {
+                        strand: None,
+                        detail: "a water particle became non-finite".into(),
+                    });
+                }
             }
-            report.water_removed = water.cull(to);
         } else {
-            self.run_blocks(0..n_sub, h, false, axial);
+            self.run_blocks(0..n_sub, h, false, false, axial);
         }
         if let Some(held) = &mut self.held {
-            held.dry(&self.state, dt); // pass dry
+            held.flow(&self.lay, &self.state, self.params.gravity, dt); // pass flow
+            if self.params.held_water.drips() {
+                let cap = self.params.water.capacity as usize;
+                let water = self.water.as_mut().expect("allocated at create when water can drip");
+                let g = self.params.gravity;
+                let reach = self.params.water.r_max;
+                held.drip(&self.lay, &self.state, g, dt, reach, water, cap); // pass drip
+            }
+            held.dry(&self.state, self.wind, dt); // pass dry
             held.saturation_into(&mut self.wet);
+        }
+        if wet {
+            report.water_removed = self.water.as_mut().expect("wet").cull(to); // pass water_cull
         }
         if self.workers.iter().any(|w| w.nonfinite) {
             let strand = self.first_nonfinite_strand();
@@ -265,19 +354,27 @@ impl CpuBackend {
         Ok(report)
     }
 
-    /// Runs substeps `subs` over every block, split into one chunk per worker.
-    fn run_blocks(&mut self, subs: std::ops::Range<usize>, h: f32, wet: bool, axial: bool) {
+    /// Runs substeps `subs` over every block, split into one chunk per worker (`wet`: with
+    /// the particles; `bridging`: with the liquid bridges' forces).
+    fn run_blocks(&mut self, subs: std::ops::Range<usize>, h: f32, wet: bool, bridging: bool, axial: bool) {
         let p = &self.params;
         let water = if wet { self.water.as_ref() } else { None };
+        let held = self.held.as_ref();
         let ctx = Ctx {
             integrator: self.integrator,
             solver_iterations: p.solver_iterations,
             lay: &self.lay,
-            params: self.held.as_ref().map_or(&self.lay.params[..], |h| &h.params[..]),
+            params: held.map_or(&self.lay.params[..], |h| h.row_params()),
             avx2: self.avx2,
             h,
             g: p.gravity.to_array(),
             drag: p.air_drag,
+            wind: self.wind.to_array(),
+            cohesion: if bridging {
+                self.bridges.as_ref().map(|b| &b.force[..])
+            } else {
+                None
+            },
             bend: has_bend(p, self.lay.rows),
             heads: &self.heads,
             placed: &self.placed,
@@ -289,13 +386,27 @@ impl CpuBackend {
                 r_min: p.water.r_min,
                 r_max: p.water.r_max,
                 s: p.water.adhesion,
-                wet_gain: (p.water.wetting_rate * h).min(1.0),
+                // With held water, wetness is the saturation (written after the step).
+                wet_gain: if held.is_some() {
+                    0.0
+                } else {
+                    (p.water.wetting_rate * h).min(1.0)
+                },
+                absorb: held.filter(|_| p.held_water.absorbs()).map(|hd| AbsorbCtx {
+                    mass: &w.sorted_mass,
+                    strength_per_quantum: p.water.adhesion as f64
+                        / (p.water.particle_mass as f64 / crate::physics::wet::WATER_QUANTUM),
+                    rate: p.held_water.absorb_rate,
+                    held: &hd.water,
+                    capacity: &hd.capacity,
+                }),
             }),
         };
         let rows = self.lay.rows;
         let per_chunk = self.lay.blocks.div_ceil(self.workers.len()).max(1);
         let run = |k: usize, state: &mut [StateRow], wet: &mut [Lane], worker: &mut Worker| {
             worker.reactions.clear();
+            worker.demands.clear();
             let first = k * per_chunk;
             for (j, rows_b) in state.chunks_mut(rows).enumerate() {
                 let wet_b = if wet.is_empty() {
@@ -373,4 +484,9 @@ impl CpuBackend {
             dst,
         );
     }
+}
+
+/// The colliders placed for substep `s` (`nc` per substep).
+fn placed_of(placed: &[Placed], s: usize, nc: usize) -> &[Placed] {
+    &placed[s * nc..(s + 1) * nc]
 }

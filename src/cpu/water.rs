@@ -4,9 +4,12 @@
 
 use crate::error::{Error, Result};
 use crate::params::WaterParams;
+use crate::physics::absorb::Demand;
 use crate::physics::adhesion::Reaction;
 use crate::physics::collide::{collide_point, Placed};
 use crate::physics::grid::Grid;
+use crate::physics::lanes::W;
+use crate::physics::wet;
 use crate::plan::{check_new_particles, WaterDomain};
 use glam::{Affine3A, Vec3};
 
@@ -27,15 +30,32 @@ pub struct Water {
     pub center_local: Vec3,
     /// Domain radius, m.
     pub radius: f32,
-    /// Particles removed for leaving the domain since creation (or reset).
+    /// Particles removed since creation (or reset): left the domain, or emptied by the hair.
     pub removed: u64,
+    /// With held water: each particle's water, quanta (empty in the paper's model, where
+    /// every particle weighs `particle_mass`).
+    pub mass: Vec<u32>,
+    /// `mass` in grid order (slot k is particle `grid.sorted()[k]`).
+    pub sorted_mass: Vec<u32>,
+    /// With held water: quanta given by the host, and quanta that left (culled outside the
+    /// domain, or cleared by the host).
+    pub added: u64,
+    /// See `added`.
+    pub left: u64,
+    /// Scratch of the absorb pass, per grid slot: demands summed, then quanta given, and the
+    /// point that asked for most (with what it asked).
+    demand: Vec<u64>,
+    given: Vec<u64>,
+    best: Vec<(u32, u32)>,
 }
 
 impl Water {
-    /// Allocates storage for `p.capacity` particles. The grid cell is `2 r_max`, so a query
-    /// cube of side `2 r_max` overlaps exactly 8 cells.
-    pub fn new(p: &WaterParams, domain: WaterDomain) -> Water {
+    /// Allocates storage for `p.capacity` particles (`massive`: each carries its own water,
+    /// for held water). The grid cell is `2 r_max`, so a query cube of side `2 r_max`
+    /// overlaps exactly 8 cells.
+    pub fn new(p: &WaterParams, domain: WaterDomain, massive: bool) -> Water {
         let cap = p.capacity as usize;
+        let per = |n: usize| if massive { n } else { 0 };
         Water {
             pos: Vec::with_capacity(cap),
             vel: Vec::with_capacity(cap),
@@ -49,12 +69,24 @@ impl Water {
             center_local: domain.center_local,
             radius: domain.radius,
             removed: 0,
+            mass: Vec::with_capacity(per(cap)),
+            sorted_mass: Vec::with_capacity(per(cap)),
+            added: 0,
+            left: 0,
+            demand: Vec::with_capacity(per(cap)),
+            given: Vec::with_capacity(per(cap)),
+            best: Vec::with_capacity(per(cap)),
         }
     }
 
-    /// Appends particles; `vel` may be empty (then at rest). Checks everything first, so a
-    /// failed call adds nothing.
-    pub fn add(&mut self, pos: &[Vec3], vel: &[Vec3], capacity: usize) -> Result<()> {
+    /// Whether each particle carries its own water (held water is on).
+    pub fn massive(&self) -> bool {
+        self.mass.capacity() > 0
+    }
+
+    /// Appends particles; `vel` may be empty (then at rest); each holds `quanta` of water when
+    /// massive. Checks everything first, so a failed call adds nothing.
+    pub fn add(&mut self, pos: &[Vec3], vel: &[Vec3], capacity: usize, quanta: u32) -> Result<()> {
         check_new_particles(pos, vel)?;
         if self.pos.len() + pos.len() > capacity {
             return Err(Error::Capacity(format!(
@@ -69,7 +101,28 @@ impl Water {
         } else {
             self.vel.extend_from_slice(vel);
         }
+        if self.massive() {
+            self.mass.resize(self.pos.len(), quanta);
+            self.added += quanta as u64 * pos.len() as u64;
+        }
         Ok(())
+    }
+
+    /// Adds one drop (a drip from the hair, docs/WET_MODEL.md §6) holding `quanta` taken from
+    /// the hair; false, adding nothing, when the water is at capacity.
+    pub fn add_drop(&mut self, x: Vec3, v: Vec3, quanta: u32, capacity: usize) -> bool {
+        if self.pos.len() >= capacity {
+            return false;
+        }
+        self.pos.push(x);
+        self.vel.push(v);
+        self.mass.push(quanta);
+        true
+    }
+
+    /// Water in particles, quanta.
+    pub fn water_quanta(&self) -> u64 {
+        self.mass.iter().map(|&q| q as u64).sum()
     }
 
     /// Number of particles.
@@ -89,30 +142,108 @@ impl Water {
             s.clear();
             s.extend(self.grid.sorted().iter().map(|&j| self.pos[j as usize][c]));
         }
+        if self.massive() {
+            self.sorted_mass.clear();
+            self.sorted_mass
+                .extend(self.grid.sorted().iter().map(|&j| self.mass[j as usize]));
+        }
+    }
+
+    /// Pass `absorb` (docs/WET_MODEL.md §2): grants the substep's demands, listed in block
+    /// order, from the particles to the hair points (`held`, per row of lanes). Each particle
+    /// gives every demand in full while they sum to at most its water, else its share rounded
+    /// down; a point takes at most what fits its count. A particle left with less than `last`
+    /// quanta goes whole to the point that asked it for most (first found on a tie).
+    /// Integers throughout: the particles lose exactly what the hair gains, whatever the order.
+    pub fn absorb<'a>(
+        &mut self,
+        demands: impl Iterator<Item = &'a [Demand]> + Clone,
+        held: &mut [[u32; W]],
+        last: u32,
+    ) {
+        let n = self.sorted_mass.len();
+        self.demand.clear();
+        self.demand.resize(n, 0);
+        self.given.clear();
+        self.given.resize(n, 0);
+        self.best.clear();
+        self.best.resize(n, (0, 0));
+        for d in demands.clone().flatten() {
+            let k = d.slot as usize;
+            self.demand[k] += d.quanta as u64;
+            if d.quanta > self.best[k].1 {
+                self.best[k] = (d.point, d.quanta);
+            }
+        }
+        let mut take = |point: u32, q: u32| -> u32 {
+            let (r, l) = (point as usize / W, point as usize % W);
+            let q = q.min(u32::MAX - held[r][l]);
+            held[r][l] += q;
+            q
+        };
+        for d in demands.flatten() {
+            let k = d.slot as usize;
+            let g = wet::grant(self.sorted_mass[k], d.quanta, self.demand[k]);
+            self.given[k] += take(d.point, g) as u64;
+        }
+        for k in 0..n {
+            let left = self.sorted_mass[k] - self.given[k] as u32;
+            if self.best[k].1 > 0 && left > 0 && left < last {
+                self.given[k] += take(self.best[k].0, left) as u64;
+            }
+        }
+        for (k, &j) in self.grid.sorted().iter().enumerate() {
+            let g = self.given[k] as u32; // at most the particle's own count
+            self.sorted_mass[k] -= g;
+            self.mass[j as usize] -= g;
+        }
     }
 
     /// Pass `water_integrate`: symplectic Euler for every particle under its drag plus the
     /// hair's reactions, summed in the order given (block order, so the same bits for any
     /// thread count), then the colliders.
+    #[allow(clippy::too_many_arguments)]
     pub fn integrate<'a>(
         &mut self,
         reactions: impl Iterator<Item = &'a [Reaction]>,
         p: &WaterParams,
         g: Vec3,
+        wind: Vec3,
         h: f32,
         colliders: &[Placed],
         friction: f32,
     ) {
-        let inv_m = 1.0 / p.particle_mass;
+        let inv_m0 = 1.0 / p.particle_mass;
         self.force.clear();
-        self.force
-            .extend(self.grid.sorted().iter().map(|&j| -p.drag * self.vel[j as usize]));
+        if self.massive() {
+            // A particle's drag scales with its water, so every drop, whatever its size, slows
+            // at the rate a full particle does (`drag / particle_mass`) and falls alike.
+            let per_quantum = p.drag as f64 * wet::WATER_QUANTUM / p.particle_mass as f64;
+            self.force.extend(self.grid.sorted().iter().map(|&j| {
+                let c = (self.mass[j as usize] as f64 * per_quantum) as f32;
+                c * (wind - self.vel[j as usize])
+            }));
+        } else {
+            self.force.extend(
+                self.grid
+                    .sorted()
+                    .iter()
+                    .map(|&j| p.drag * (wind - self.vel[j as usize])),
+            );
+        }
         for r in reactions.flatten() {
             self.force[r.slot as usize] += Vec3::from(r.f);
         }
         for (k, &j) in self.grid.sorted().iter().enumerate() {
             let j = j as usize;
             let f = self.force[k];
+            // A held-water particle weighs its own water; an empty one (removed at the end of
+            // the step) only falls.
+            let inv_m = match self.mass.get(j) {
+                None => inv_m0,
+                Some(0) => 0.0,
+                Some(&q) => (1.0 / wet::to_kg(q)) as f32,
+            };
             let v = self.vel[j] + h * (f * inv_m + g);
             let mut x = self.pos[j] + h * v;
             let mut v = v;
@@ -125,16 +256,23 @@ impl Water {
     }
 
     /// Removes particles farther than the domain radius from the domain centre placed by
-    /// `head` (swap-remove: order is not kept). Returns how many left.
+    /// `head` (their water is booked as left), and with held water the particles the hair
+    /// emptied (swap-remove: order is not kept). Returns how many went.
     pub fn cull(&mut self, head: &Affine3A) -> usize {
         let c = head.transform_point3(self.center_local);
         let r2 = self.radius * self.radius;
         let before = self.pos.len();
+        let massive = self.massive();
         let mut j = 0;
         while j < self.pos.len() {
-            if (self.pos[j] - c).length_squared() > r2 {
+            let outside = (self.pos[j] - c).length_squared() > r2;
+            let empty = massive && self.mass[j] == 0;
+            if outside || empty {
                 self.pos.swap_remove(j);
                 self.vel.swap_remove(j);
+                if massive {
+                    self.left += self.mass.swap_remove(j) as u64;
+                }
             } else {
                 j += 1;
             }
@@ -144,9 +282,19 @@ impl Water {
         gone
     }
 
-    /// Removes every particle.
+    /// Removes every particle (its water is booked as left).
     pub fn clear(&mut self) {
         self.pos.clear();
         self.vel.clear();
+        self.left += self.water_quanta();
+        self.mass.clear();
+    }
+
+    /// Removes every particle and empties the ledger.
+    pub fn reset(&mut self) {
+        self.clear();
+        self.removed = 0;
+        self.added = 0;
+        self.left = 0;
     }
 }

@@ -465,6 +465,7 @@ impl WetHairSimDesc {
             readback,
             // Not in the C ABI yet (it comes with the rest of the wet model).
             held_water: crate::params::HeldWater::OFF,
+            wind: crate::params::Wind::CALM,
         })
     }
 }

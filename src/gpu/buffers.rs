@@ -51,6 +51,8 @@ gpu_record! {
         pub domain_r2: f32,
         /// Domain centre (xyz), placed by this step's final head transform.
         pub domain_center: [f32; 4],
+        /// The wind this step (xyz), m/s: drag pulls hair and particles toward it.
+        pub wind: [f32; 4],
     }
 }
 

@@ -72,6 +72,11 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
             | Pass::WaterIntegrate
             | Pass::WaterCull
             | Pass::Dry
+            | Pass::HairGrid
+            | Pass::Cohesion
+            | Pass::Absorb
+            | Pass::Flow
+            | Pass::Drip
             | Pass::ImplicitSolve
             | Pass::ProjectConstraints => "",
         });

@@ -76,7 +76,9 @@ pub struct Reaction {
 /// otherwise) and every particle of a run, whose first particle sits in grid slot
 /// `first_slot`. Adds the forces on the hair lanes to `acc`, marks in `near` the lanes with a
 /// particle within `r_max`, and appends each touched particle's reaction (minus the sum over
-/// lanes) to `reactions`. One particle against eight hair points is one SIMD pass.
+/// lanes) to `reactions`. One particle against eight hair points is one SIMD pass. With held
+/// water (`wet`), each particle pulls with `s` scaled by the water it holds, and the lanes it
+/// reaches ask it for water (docs/WET_MODEL.md §2).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn gather_run_lanes(
@@ -90,26 +92,36 @@ pub fn gather_run_lanes(
     r_min: f32,
     r_max: f32,
     s: f32,
+    mut wet: Option<&mut super::absorb::WetRow>,
 ) {
     let r2 = r_max * r_max;
     let parts = run.x.iter().zip(run.y).zip(run.z);
     for (j, ((&qx, &qy), &qz)) in parts.enumerate() {
         let mut d2s = [0.0f32; W];
+        let mut inside = [0.0f32; W];
         let mut hit = 0u32;
         for l in 0..W {
             let (dx, dy, dz) = (qx - x.x[l], qy - x.y[l], qz - x.z[l]);
             d2s[l] = dx * dx + dy * dy + dz * dz;
-            let inside = if d2s[l] <= r2 { mask[l] } else { 0.0 };
-            near[l] = near[l].max(inside);
+            inside[l] = if d2s[l] <= r2 { mask[l] } else { 0.0 };
+            near[l] = near[l].max(inside[l]);
             // An integer OR, not a float sum: it reduces in a tree instead of a serial chain.
-            hit |= (inside > 0.0) as u32;
+            hit |= (inside[l] > 0.0) as u32;
         }
         if hit == 0 {
             continue; // no lane within r_max of this particle
         }
+        let slot = first_slot + j as u32;
+        let s_j = match wet.as_deref_mut() {
+            Some(w) => {
+                w.demand(slot, &d2s, &inside, r_min, r_max);
+                w.strength(slot)
+            }
+            None => s,
+        };
         let (mut rx, mut ry, mut rz) = ([0.0f32; W], [0.0f32; W], [0.0f32; W]);
         for l in 0..W {
-            let m = force_scale(d2s[l], r_min, r_max, s) * mask[l];
+            let m = force_scale(d2s[l], r_min, r_max, s_j) * mask[l];
             rx[l] = m * (qx - x.x[l]);
             ry[l] = m * (qy - x.y[l]);
             rz[l] = m * (qz - x.z[l]);
@@ -118,7 +130,7 @@ pub fn gather_run_lanes(
             acc.z[l] += rz[l];
         }
         reactions.push(Reaction {
-            slot: first_slot + j as u32,
+            slot,
             f: [-hsum(&rx), -hsum(&ry), -hsum(&rz)],
         });
     }

@@ -2,6 +2,7 @@
 //! colliders, the integrator, and the clumping measure. The CPU backend runs them over strand
 //! blocks; nothing here knows about threads or the C ABI.
 
+pub mod absorb;
 pub mod adhesion;
 pub mod clumping;
 pub mod collide;

@@ -1,7 +1,7 @@
 //! The wet model's laws (docs/WET_MODEL.md), each written once: capacity, saturation,
 //! absorption with the particle's grant, limpness, liquid-bridge cohesion, flow along a strand,
 //! drip, drying and gusts. Pure functions of their inputs, so both backends and the tests read
-//! the same definition. The passes that call them are not built yet (issue 14).
+//! the same definition; the CPU backend's passes call them (the GPU's are to come).
 //!
 //! Water is counted in whole [`WATER_QUANTUM`]s (`u32`): every transfer (absorb, flow, drip,
 //! dry) moves an integer from one count to another, so the ledger balances exactly, in any
@@ -33,6 +33,10 @@ pub fn to_kg(q: u32) -> f64 {
 pub const CAPACITY_RATIO: f32 = 0.3;
 /// Rate at which hair draws in a droplet it touches, 1/s.
 pub const ABSORB_RATE: f32 = 20.0;
+/// A particle left holding less than this fraction of a full particle (`particle_mass`) is
+/// taken whole by the point that asked it for most: absorption is exponential and would
+/// otherwise never finish.
+pub const ABSORB_LAST_FRACTION: f64 = 1.0e-3;
 /// Bending stiffness of saturated hair over dry (Robbins 2012, ch. 9: the modulus in water is
 /// about half of its value at ambient humidity).
 pub const WET_BEND_RATIO: f32 = 0.5;
@@ -71,6 +75,13 @@ pub fn bend_scale(s: f32, wet_ratio: f32) -> f32 {
     1.0 - (1.0 - wet_ratio) * s.clamp(0.0, 1.0)
 }
 
+/// The absorption distance weight: 1 within `r_min` of the particle, falling linearly to 0 at
+/// `r_max` (where eq. 2's pull ends).
+#[inline]
+pub fn absorb_weight(d: f32, r_min: f32, r_max: f32) -> f32 {
+    ((r_max - d) / (r_max - r_min)).clamp(0.0, 1.0)
+}
+
 /// What one hair point asks of one particle holding `particle` quanta in a substep `h`, in
 /// quanta (rounded down): the fraction `1 - e^(-rate h)` of the particle's water, times the
 /// distance weight `weight` (1 at `r_min`, 0 at `r_max`) and the point's free share `1 - s`.
@@ -94,15 +105,29 @@ pub fn grant(particle: u32, demand: u32, total: u64) -> u32 {
     }
 }
 
-/// The magnitude of the liquid-bridge pull between two wet points of different strands, N:
-/// `kappa` (N/m, about `2 γ`) times their mean length of hair `len` (m), the drier point's
-/// saturation, and a linear fall to zero at the bridge length `d_b`.
+/// The stiffness of the liquid bridge between two wet points of different strands, N/m:
+/// `4 kappa len min(s_i, s_j) / d_b`, with `kappa` the pull per metre of bridged hair (about
+/// `2 γ`), `len` the two points' mean length of hair (m) and `d_b` the bridge length. With
+/// [`bridge_scale`] the pull is `kappa len s` at its peak (`d_b / 2`) and zero at contact and
+/// at `d_b`: a zero-length spring that lets go, smooth where the points meet.
 #[inline]
-pub fn bridge_force(kappa: f32, len: f32, s_i: f32, s_j: f32, r: f32, d_b: f32) -> f32 {
-    if r >= d_b || d_b <= 0.0 {
+pub fn bridge_stiffness(kappa: f32, len: f32, s_i: f32, s_j: f32, d_b: f32) -> f32 {
+    if d_b <= 0.0 {
         return 0.0;
     }
-    kappa * len * s_i.min(s_j).clamp(0.0, 1.0) * (1.0 - r / d_b)
+    4.0 * kappa * len * s_i.min(s_j).clamp(0.0, 1.0) / d_b
+}
+
+/// The factor `m` such that a bridge of stiffness `c` pulls point i with `m (x_j - x_i)` at
+/// distance `r`: `c (1 - r / d_b)` below the bridge length, else 0. The same for both points,
+/// so the pair's forces are exact negatives.
+#[inline]
+pub fn bridge_scale(c: f32, r: f32, d_b: f32) -> f32 {
+    if r < d_b {
+        c * (1.0 - r / d_b)
+    } else {
+        0.0
+    }
 }
 
 /// The drying rate at air speed `u` past the point (m/s), 1/s: `(1 / tau) (1 + sqrt(u / u_ref))`
@@ -126,8 +151,16 @@ pub fn evaporate(held: u32, k: f32, h: f32) -> u32 {
     }
 }
 
+/// Whether held water at a strand point with effective gravity `g_eff` (gravity minus the
+/// point's acceleration) runs toward a neighbour in unit direction `t`: the flow law's test.
+#[inline]
+pub fn runs_toward(g_eff: Vec3, t: Vec3) -> bool {
+    g_eff.dot(t) > 0.0
+}
+
 /// The drop (quanta) that leaves a point holding `held` of `capacity`: the excess over
-/// capacity once it reaches `min_drop`, else 0 (the excess waits for more).
+/// capacity once it reaches `min_drop`, else 0 (the excess waits for more). Only points the
+/// water cannot run on from drip (a hanging strand's tip; see [`runs_toward`]).
 #[inline]
 pub fn drip(held: u32, capacity: u32, min_drop: u32) -> u32 {
     let excess = held.saturating_sub(capacity);
@@ -138,6 +171,15 @@ pub fn drip(held: u32, capacity: u32, min_drop: u32) -> u32 {
     }
 }
 
+/// Scratch for [`flow_strand`], kept by the caller so a pass allocates nothing per strand.
+#[derive(Debug, Default)]
+pub struct FlowScratch {
+    down: Vec<u64>,
+    up: Vec<u64>,
+    out: Vec<u64>,
+    start: Vec<u32>,
+}
+
 /// Moves one strand's held water (quanta per point, updated in place) one step `h` along its
 /// segments toward where the effective gravity `g - a` points (`x` positions, `a`
 /// accelerations). Each end of a segment sends `h mobility held (g - a).t / |g|` away from
@@ -145,7 +187,7 @@ pub fn drip(held: u32, capacity: u32, min_drop: u32) -> u32 {
 /// points are visited does not matter), rounded down to whole quanta, and scaled so no point
 /// sends more than it holds. Every transfer is one integer taken from one point and given to
 /// its neighbour: the strand's total never changes.
-pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: f32, h: f32) {
+pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: f32, h: f32, sc: &mut FlowScratch) {
     let n = held.len();
     debug_assert!(x.len() == n && a.len() == n);
     let g_len = g.length();
@@ -153,32 +195,42 @@ pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: 
         return;
     }
     // Per segment, what each end sends across it (down: i to i+1; up: i+1 to i).
-    let mut down = vec![0u64; n - 1];
-    let mut up = vec![0u64; n - 1];
-    let mut out = vec![0u64; n];
+    for v in [&mut sc.down, &mut sc.up, &mut sc.out] {
+        v.clear();
+        v.resize(n, 0);
+    }
     let rate = h as f64 * mobility as f64;
     for i in 0..n - 1 {
         let t = (x[i + 1] - x[i]).normalize_or_zero();
-        let along_i = ((g - a[i]).dot(t) / g_len).max(0.0) as f64;
-        let along_j = ((g - a[i + 1]).dot(-t) / g_len).max(0.0) as f64;
-        down[i] = (rate * along_i * held[i] as f64).floor() as u64;
-        up[i] = (rate * along_j * held[i + 1] as f64).floor() as u64;
-        out[i] += down[i];
-        out[i + 1] += up[i];
+        let along = |g_eff: Vec3, t: Vec3| {
+            if runs_toward(g_eff, t) {
+                (g_eff.dot(t) / g_len) as f64
+            } else {
+                0.0
+            }
+        };
+        let along_i = along(g - a[i], t);
+        let along_j = along(g - a[i + 1], -t);
+        sc.down[i] = (rate * along_i * held[i] as f64).floor() as u64;
+        sc.up[i] = (rate * along_j * held[i + 1] as f64).floor() as u64;
+        sc.out[i] += sc.down[i];
+        sc.out[i + 1] += sc.up[i];
     }
     // A point asked to send more than it holds sends all of it, shared in proportion (rounded
     // down, so never more).
-    let share = |q: u64, from: usize, start: &[u32]| -> u32 {
+    sc.start.clear();
+    sc.start.extend_from_slice(held);
+    let (out, start) = (&sc.out, &sc.start);
+    let share = |q: u64, from: usize| -> u32 {
         if out[from] > start[from] as u64 {
             (q * start[from] as u64 / out[from]) as u32
         } else {
             q as u32
         }
     };
-    let start = held.to_vec();
     for i in 0..n - 1 {
-        let d = share(down[i], i, &start);
-        let u = share(up[i], i + 1, &start);
+        let d = share(sc.down[i], i);
+        let u = share(sc.up[i], i + 1);
         held[i] = held[i] - d + u;
         held[i + 1] = held[i + 1] + d - u;
     }

@@ -7,6 +7,9 @@ use crate::params::{Integrator, SimParams, SpringModel};
 /// One pass of the step, as reported by [`crate::Simulation::passes`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pass {
+    /// Find the liquid bridges between wet points of different strands over a grid of the wet
+    /// hair points (once per step, before the substeps; docs/WET_MODEL.md §5).
+    HairGrid,
     /// Rebuild the water grid (counting sort).
     WaterGrid,
     /// Linear air drag on hair points.
@@ -15,8 +18,11 @@ pub enum Pass {
     StretchSprings,
     /// Bend springs (i, i+2).
     BendSprings,
-    /// Eq. 2 between hair points and particles.
+    /// Eq. 2 between hair points and particles (with held water, each point also asks the
+    /// particles it reaches for water).
     Adhesion,
+    /// Liquid bridges pull wet points of different strands together (§5).
+    Cohesion,
     /// Symplectic Euler (or XPBD's prediction); pinned points follow the head.
     Integrate,
     /// Implicit Euler: springs, Jacobians and each strand's banded solve, per Newton iteration.
@@ -25,8 +31,14 @@ pub enum Pass {
     ProjectConstraints,
     /// Push hair out of colliders.
     Collide,
+    /// Particles give the hair what it asked for (§2).
+    Absorb,
     /// Integrate water particles (and collide them).
     WaterIntegrate,
+    /// Held water runs along the strands (once per step; §6).
+    Flow,
+    /// Points above capacity shed drops (once per step; §6).
+    Drip,
     /// Remove particles that left the domain (once per step).
     WaterCull,
     /// Held water evaporates (once per step; docs/WET_MODEL.md §7).
@@ -37,16 +49,21 @@ impl Pass {
     /// The pass's name, the same as the GPU entry point that mirrors it.
     pub fn name(self) -> &'static str {
         match self {
+            Pass::HairGrid => "hair_grid",
             Pass::WaterGrid => "water_grid",
             Pass::Drag => "drag",
             Pass::StretchSprings => "stretch_springs",
             Pass::BendSprings => "bend_springs",
             Pass::Adhesion => "adhesion",
+            Pass::Cohesion => "cohesion",
             Pass::Integrate => "integrate",
             Pass::ImplicitSolve => "implicit_solve",
             Pass::ProjectConstraints => "project_constraints",
             Pass::Collide => "collide",
+            Pass::Absorb => "absorb",
             Pass::WaterIntegrate => "water_integrate",
+            Pass::Flow => "flow",
+            Pass::Drip => "drip",
             Pass::WaterCull => "water_cull",
             Pass::Dry => "dry",
         }
@@ -76,7 +93,11 @@ pub fn has_stretch(p: &SimParams) -> bool {
 /// from this one list. `bend`: the scene has bend springs ([`has_bend`]); `wet`: it holds
 /// water now.
 pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -> Vec<Pass> {
+    let hw = &p.held_water;
     let mut v = Vec::new();
+    if hw.bridges() {
+        v.push(Pass::HairGrid);
+    }
     if wet {
         v.push(Pass::WaterGrid);
     }
@@ -93,6 +114,9 @@ pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -
     if wet {
         v.push(Pass::Adhesion);
     }
+    if hw.bridges() {
+        v.push(Pass::Cohesion);
+    }
     v.push(match integrator {
         Integrator::IMPLICIT_EULER => Pass::ImplicitSolve,
         _ => Pass::Integrate,
@@ -103,12 +127,23 @@ pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -
     if !p.colliders.is_empty() {
         v.push(Pass::Collide);
     }
+    if wet && hw.absorbs() {
+        v.push(Pass::Absorb);
+    }
     if wet {
         v.push(Pass::WaterIntegrate);
-        v.push(Pass::WaterCull);
     }
-    if p.held_water.enabled && p.held_water.dry_time > 0.0 {
+    if hw.flows() {
+        v.push(Pass::Flow);
+    }
+    if hw.drips() {
+        v.push(Pass::Drip);
+    }
+    if hw.dries() {
         v.push(Pass::Dry);
+    }
+    if wet {
+        v.push(Pass::WaterCull);
     }
     v
 }

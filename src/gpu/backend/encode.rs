@@ -44,6 +44,7 @@ impl GpuBackend {
             max_cells: MAX_CELLS as u32,
             domain_r2: self.domain.radius * self.domain.radius,
             domain_center: c.extend(0.0).to_array(),
+            wind: self.wind.extend(0.0).to_array(),
         };
         self.dev
             .queue

@@ -30,6 +30,10 @@ impl Engine for GpuBackend {
 
     /// A failure seen by the last status read is reported before more work is submitted; the
     /// speed returned is that status's (the step just submitted has not run yet).
+    fn set_wind(&mut self, wind: Vec3) {
+        self.wind = wind;
+    }
+
     fn step(&mut self, dt: f32, from: &Affine3A, to: &Affine3A) -> Result<f32> {
         let last = self.last_status();
         self.check_status(&last)?;

@@ -47,6 +47,8 @@ pub struct Status {
 #[derive(Debug)]
 pub struct GpuBackend {
     params: SimParams,
+    /// The wind this step, m/s.
+    pub(super) wind: Vec3,
     consts: SceneConsts,
     integrator: Integrator,
     points: u32,
@@ -274,6 +276,7 @@ impl GpuBackend {
             water: None,
             water_share: None,
             domain: WaterDomain::new(groom, params),
+            wind: params.wind.velocity,
             staging: Vec::new(),
             status_ring: Vec::new(),
             frame: 0,

@@ -87,7 +87,7 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
     let react = vec3<f32>(bitcast<f32>(atomicLoad(&water_force[4u * k])),
                           bitcast<f32>(atomicLoad(&water_force[4u * k + 1u])),
                           bitcast<f32>(atomicLoad(&water_force[4u * k + 2u])));
-    let f = -P.water_drag * p.v.xyz + react;
+    let f = P.water_drag * (P.wind.xyz - p.v.xyz) + react;
     var v = p.v.xyz + P.h * (f * P.particle_inv_mass + P.g.xyz);
     var x = p.x.xyz + P.h * v;
     for (var c = 0u; c < N_COLLIDERS; c++) {

@@ -30,9 +30,9 @@ fn spring(xa: vec3<f32>, xb: vec3<f32>, va: vec3<f32>, vb: vec3<f32>, rest: f32,
     return m * n + c * dv;
 }
 
-// Pass drag: linear air drag (it starts the force sum, as on the CPU).
+// Pass drag: linear air drag toward the wind (it starts the force sum, as on the CPU).
 fn drag(v: vec3<f32>, f: ptr<function, vec3<f32>>) {
-    *f = -P.drag * v;
+    *f = P.drag * (P.wind.xyz - v);
 }
 
 // Pass stretch_springs: the springs (i-1, i) and (i, i+1) this point belongs to, added in the

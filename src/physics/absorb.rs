@@ -1,0 +1,70 @@
+//! Absorption's side of the adhesion gather (docs/WET_MODEL.md §2): while eq. 2 visits a
+//! particle from a row of hair points, each lane within `r_max` asks the particle for water
+//! (`wet::absorb_demand`), and the particle's pull scales with the water it still holds. The
+//! demands are kept as a list and granted after every block has run (`cpu/water.rs`
+//! `Water::absorb`), so what a particle gives does not depend on which thread found it.
+
+use super::lanes::{Lane, W};
+use super::wet;
+
+/// One hair point's request to one particle in a substep.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Demand {
+    /// The particle's grid slot.
+    pub slot: u32,
+    /// The hair point: row index (block * rows + point) times `W` plus lane.
+    pub point: u32,
+    /// Quanta asked for.
+    pub quanta: u32,
+}
+
+/// What the adhesion gather needs to absorb for one row of hair points.
+pub struct WetRow<'a> {
+    /// Each particle's water in grid order, quanta.
+    pub mass: &'a [u32],
+    /// `s / particle_mass` in N per quantum: a particle's pull is eq. 2's `s` times the
+    /// fraction of a full particle it still holds.
+    pub strength_per_quantum: f64,
+    /// The row's saturations (a point at or above 1 asks for nothing).
+    pub sat: Lane,
+    /// The row's first point index (`row * W`).
+    pub first_point: u32,
+    /// Absorption rate, 1/s.
+    pub rate: f32,
+    /// Substep, s.
+    pub h: f32,
+    /// This worker's demands, in the order found.
+    pub out: &'a mut Vec<Demand>,
+}
+
+impl WetRow<'_> {
+    /// Eq. 2's strength for the particle in `slot`.
+    #[inline(always)]
+    pub fn strength(&self, slot: u32) -> f32 {
+        (self.mass[slot as usize] as f64 * self.strength_per_quantum) as f32
+    }
+
+    /// Records each included lane's demand on the particle in `slot` (`d2s`: squared distances
+    /// per lane; `inside[l]`: 1 when lane `l` is included and within `r_max`).
+    #[inline(always)]
+    pub fn demand(&mut self, slot: u32, d2s: &Lane, inside: &Lane, r_min: f32, r_max: f32) {
+        let q = self.mass[slot as usize];
+        if q == 0 {
+            return;
+        }
+        for l in 0..W {
+            if inside[l] == 0.0 || self.sat[l] >= 1.0 {
+                continue;
+            }
+            let w = wet::absorb_weight(d2s[l].sqrt(), r_min, r_max);
+            let quanta = wet::absorb_demand(q, w, self.sat[l], self.rate, self.h);
+            if quanta > 0 {
+                self.out.push(Demand {
+                    slot,
+                    point: self.first_point + l as u32,
+                    quanta,
+                });
+            }
+        }
+    }
+}
