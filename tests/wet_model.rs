@@ -305,3 +305,83 @@ fn water_is_conserved_exactly_over_1000_frames_of_spray_drip_and_drying() {
     assert!(seen.left > 0, "water fell out of the domain");
     assert!(seen.evaporated > 0, "water evaporated");
 }
+
+#[test]
+fn liquid_bridges_pull_two_wet_strands_together_equally_and_dry_ones_not_at_all() {
+    // Two hanging strands 2 mm apart (the bridge length is 3 mm), no gravity along x.
+    let n = 6;
+    let mut pos = Vec::new();
+    for x in [-0.001f32, 0.001] {
+        pos.extend((0..n).map(|i| Vec3::new(x, 0.0, -0.02 * i as f32)));
+    }
+    let groom = Groom::new(pos, &[n as u32, n as u32], None, None, 1.0e-3).unwrap();
+    let gap = |soak: Option<f32>| -> (f32, f32) {
+        let mut p = full(0.0);
+        p.held_water.flow_mobility = 0.0; // the water stays where it was put
+        p.air_drag = 0.01;
+        let mut sim = Simulation::new(&groom, p).unwrap();
+        if let Some(s) = soak {
+            sim.soak(s).unwrap();
+        }
+        let mut worst = 0.0f32;
+        for _ in 0..120 {
+            sim.step(DT).unwrap();
+            // Equal and opposite: the pair's sideways momentum stays zero.
+            let px: f64 = sim.velocities().iter().map(|v| v.x as f64).sum();
+            worst = worst.max(px.abs() as f32);
+        }
+        let x = sim.positions();
+        (x[2 * n - 1].x - x[n - 1].x, worst)
+    };
+    let (dry, _) = gap(None);
+    assert!((dry - 0.002).abs() < 1e-6, "dry strands stay apart: {dry}");
+    let (wet, px) = gap(Some(1.0));
+    assert!(wet < 0.0005, "soaked tips pulled together: {wet}");
+    assert!(px < 1e-6, "sideways velocity sum {px}");
+    let (half, _) = gap(Some(0.2));
+    assert!(half < dry && half > wet, "a weaker pull when less wet: {half}");
+}
+
+/// The behaviour on the paper scene (10,000 strands, head collider): soaked and left
+/// with no water but its own, the groom clumps (along-strand clumping at most 0.7 of a dry
+/// twin's) for a second, then, as it dries (time constant 1 s here), lets go to within 10% of
+/// dry. Without liquid bridges it does not clump that far (`examples/wet_timeline.rs` prints
+/// both).
+#[test]
+fn a_soaked_groom_stays_clumped_then_lets_go_as_it_dries() {
+    let groom = paper_scene(10_000, 6).unwrap();
+    let base = SimParams {
+        backend: Backend::CPU,
+        ..SimParams::paper_scene_with_head()
+    };
+    let mut wet = Simulation::new(
+        &groom,
+        SimParams {
+            held_water: HeldWater {
+                dry_time: 1.0,
+                ..HeldWater::ON
+            },
+            ..base.clone()
+        },
+    )
+    .unwrap();
+    let mut dry = Simulation::new(&groom, base).unwrap();
+    wet.soak(1.0).unwrap();
+    let mut ratios = Vec::new();
+    for f in 1..=450 {
+        wet.step(DT).unwrap();
+        dry.step(DT).unwrap();
+        if f % 15 == 0 {
+            let r = wet.stats().clumping_along / dry.stats().clumping_along;
+            ratios.push((f as f32 * DT, r));
+        }
+    }
+    for &(t, r) in &ratios {
+        if (0.5..=1.5).contains(&t) {
+            assert!(r <= 0.7, "clumped at {t:.2} s: ratio {r:.3} ({ratios:?})");
+        }
+    }
+    let (t, last) = *ratios.last().unwrap();
+    assert!(last >= 0.9, "let go by {t:.2} s: ratio {last:.3} ({ratios:?})");
+    assert!(wet.water_ledger().unwrap().balanced());
+}
