@@ -35,6 +35,10 @@ enum {
   WETHAIR_READBACK_FORCE32 = 0x7fffffff
 };
 
+/* Kilograms of water in one unit of WetHairStats' water_* counts (since 0.2.0): water is
+ * counted in whole nanograms so that the ledger balances exactly. */
+#define WETHAIR_WATER_QUANTUM_KG 1e-12
+
 /* Version of this header; compare WETHAIR_VERSION with wethair_version() at run time. */
 #define WETHAIR_VERSION_MAJOR 0
 #define WETHAIR_VERSION_MINOR 1
@@ -384,6 +388,46 @@ typedef struct WetHairMaterial {
   float bend_damping;
 } WetHairMaterial;
 
+// The full wet model (docs/WET_MODEL.md; CPU backend only for now: a GPU desc is refused and
+// AUTO runs on the CPU). Off (`enabled` 0, the default) a simulation runs the paper's model.
+// Rates of 0 switch their part off; no part costs anything while off.
+typedef struct WetHairHeldWater {
+  // 1: hair points hold water (weight, limpness, absorption, bridges, flow, drip, drying);
+  // 0: off. Other values are refused.
+  uint32_t enabled;
+  // Water a kilogram of dry hair holds when saturated, kg/kg, 0..=100. Default 0.3.
+  float capacity_ratio;
+  // Drying time constant in still air, s; 0 never dries. Default 1200.
+  float dry_time;
+  // Air speed at which drying runs twice as fast, m/s, > 0. Default 1.
+  float dry_air_speed;
+  // Rate at which hair draws in a particle within r_max, 1/s; 0: never. Default 20.
+  float absorb_rate;
+  // Bending stiffness of saturated hair over dry, 0..=1 (1: not limp). Default 0.5.
+  float wet_bend_ratio;
+  // Pull of a liquid bridge per metre of bridged hair, N/m, 0..=1.44; 0: no bridges.
+  // Default 0.144 (twice water's surface tension).
+  float bridge_tension;
+  // Distance at which a bridge lets go, m; 0: 1.5 r_min (the default).
+  float bridge_length;
+  // Mobility of held water along a strand, 1/s; 0: it stays put. Default 5.
+  float flow_mobility;
+  // Smallest drop that leaves a point above capacity, kg, > 0. Default 4.2e-6.
+  float drip_mass;
+} WetHairHeldWater;
+
+// A uniform wind with gusts: `velocity` times `1 + gust` times the mean of three sines whose
+// frequencies and phases come from `seed`. Drags hair (with `air_drag` > 0) and particles,
+// and dries held water faster. Both backends.
+typedef struct WetHairWind {
+  // Mean velocity, m/s, at most 100 m/s. Default (0, 0, 0): calm.
+  float velocity[3];
+  // Gust amplitude as a fraction of the mean, 0..=1. Default 0.
+  float gust;
+  // Seed of the gusts. Default 0.
+  uint32_t seed;
+} WetHairWind;
+
 // Everything a simulation is made from. Fill with `wethair_sim_desc_init(&desc, sizeof desc)`
 // (material springs, AUTO integrator: right for any groom), or with the older
 // `wethair_sim_desc_default()` (the paper scene's exact parameters in the 0.1.0 layout), then
@@ -435,6 +479,15 @@ typedef struct WetHairSimDesc {
   uint32_t spring_model;
   // Material properties for `WETHAIR_SPRING_MODEL_MATERIAL` (since 0.2.0).
   struct WetHairMaterial material;
+  // Unused; keep 0. A 152-byte layout (material last) ended in 4 bytes of padding here,
+  // so the fields after it start where such a host has none.
+  uint32_t reserved2;
+  // The wet model (since 0.2.0): water held by the hair and what it does. Off by default.
+  struct WetHairHeldWater held_water;
+  // The wind at the start (since 0.2.0; `wethair_sim_set_wind` changes it). Calm by default.
+  struct WetHairWind wind;
+  // Unused; keep 0 (the layout's end, so that fields added later start after it).
+  uint32_t reserved3;
 } WetHairSimDesc;
 
 // Where each attribute sits in the interleaved vertex buffer.
@@ -486,6 +539,19 @@ typedef struct WetHairStats {
   // the quarter points (tips included). Long hair bundles along its length even where the
   // tips still fan out; this sees it. Computed on request.
   float clumping_along;
+  // Since 0.2.0, with held water (else 0): where the water went, in whole
+  // `WETHAIR_WATER_QUANTUM_KG` units, exactly: `water_added` equals `water_in_particles +
+  // water_held + water_left + water_evaporated`. Added since create or reset (particles
+  // the host added, soaking).
+  uint64_t water_added;
+  // In free particles now (drops the hair shed included).
+  uint64_t water_in_particles;
+  // Held by the hair now.
+  uint64_t water_held;
+  // Left the simulation: particles that fell out of the domain or were cleared.
+  uint64_t water_left;
+  // Evaporated from the hair.
+  uint64_t water_evaporated;
 } WetHairStats;
 
 // Which backend runs a simulation, on what, and why AUTO chose it.
@@ -983,6 +1049,21 @@ WetHairResult wethair_sim_get_vulkan_buffer(struct WetHairSim *sim, struct WetHa
 // # Safety
 // `sim` is valid; `out` is writable.
 WetHairResult wethair_sim_get_vulkan_water(struct WetHairSim *sim, struct WetHairVulkanWater *out);
+
+// Wets every hair point up to saturation `s` (0..=1) of its capacity, as when a character
+// steps out of water; never removes water. Needs `held_water.enabled` (else
+// `WETHAIR_ERROR_UNSUPPORTED`).
+//
+// # Safety
+// `sim` is valid.
+WetHairResult wethair_sim_soak(struct WetHairSim *sim, float s);
+
+// Sets the wind from the next step on (checked: finite, at most 100 m/s, gust in [0, 1]);
+// a bad wind changes nothing. The gusts follow the simulation's own clock.
+//
+// # Safety
+// `sim` is valid; `wind` points to a `WetHairWind`.
+WetHairResult wethair_sim_set_wind(struct WetHairSim *sim, const struct WetHairWind *wind);
 
 #ifdef __cplusplus
 }  // extern "C"

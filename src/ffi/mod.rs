@@ -24,6 +24,7 @@ mod sizes;
 mod types;
 mod unity;
 mod vulkan;
+mod wet;
 
 pub use boundary::WetHairResult;
 pub use enums::c_enum_constants;
@@ -34,3 +35,4 @@ pub use sizes::struct_sizes;
 pub use types::*;
 pub use unity::*;
 pub use vulkan::*;
+pub use wet::*;

@@ -255,6 +255,7 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
         let out = check_out_size!(out, WetHairStats, "out");
         s.0.device_ok()?;
         let st = s.0.stats();
+        let ledger = s.0.water_ledger().unwrap_or_default();
         out.write(WetHairStats {
             struct_size: std::mem::size_of::<WetHairStats>() as u32,
             strands: st.strands,
@@ -269,6 +270,11 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
             integrator: st.integrator as u32,
             backend: st.backend as u32,
             clumping_along: st.clumping_along,
+            water_added: ledger.added,
+            water_in_particles: ledger.in_particles,
+            water_held: ledger.held,
+            water_left: ledger.left,
+            water_evaporated: ledger.evaporated,
         });
         Ok(())
     })

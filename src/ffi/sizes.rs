@@ -43,8 +43,8 @@ sized!(
     WetHairVulkanRequirementsInfo = 40,
     WetHairVulkanBuffer = 96,
     WetHairVulkanWater = 48,
-    // 0.2.0 (WetHairStats grew to 64 bytes: clumping_along; WetHairSimDesc to 152:
-    // spring_model and material)
+    // 0.2.0 (WetHairStats grew to 104 bytes: clumping_along, the water ledger;
+    // WetHairSimDesc to 216: spring_model, material, held_water, wind)
     WetHairLoadDesc = 32,
 );
 

@@ -160,6 +160,15 @@ pub struct WetHairSimDesc {
     pub spring_model: u32,
     /// Material properties for `WETHAIR_SPRING_MODEL_MATERIAL` (since 0.2.0).
     pub material: WetHairMaterial,
+    /// Unused; keep 0. A 152-byte layout (material last) ended in 4 bytes of padding here,
+    /// so the fields after it start where such a host has none.
+    pub reserved2: u32,
+    /// The wet model (since 0.2.0): water held by the hair and what it does. Off by default.
+    pub held_water: super::wet::WetHairHeldWater,
+    /// The wind at the start (since 0.2.0; `wethair_sim_set_wind` changes it). Calm by default.
+    pub wind: super::wet::WetHairWind,
+    /// Unused; keep 0 (the layout's end, so that fields added later start after it).
+    pub reserved3: u32,
 }
 
 /// The host's own strands. Fill with `wethair_groom_desc_default()`.
@@ -315,6 +324,19 @@ pub struct WetHairStats {
     /// the quarter points (tips included). Long hair bundles along its length even where the
     /// tips still fan out; this sees it. Computed on request.
     pub clumping_along: f32,
+    /// Since 0.2.0, with held water (else 0): where the water went, in whole
+    /// `WETHAIR_WATER_QUANTUM_KG` units, exactly: `water_added` equals `water_in_particles +
+    /// water_held + water_left + water_evaporated`. Added since create or reset (particles
+    /// the host added, soaking).
+    pub water_added: u64,
+    /// In free particles now (drops the hair shed included).
+    pub water_in_particles: u64,
+    /// Held by the hair now.
+    pub water_held: u64,
+    /// Left the simulation: particles that fell out of the domain or were cleared.
+    pub water_left: u64,
+    /// Evaporated from the hair.
+    pub water_evaporated: u64,
 }
 
 /// Which backend runs a simulation, on what, and why AUTO chose it.
@@ -385,6 +407,10 @@ impl WetHairSimDesc {
             reserved: 0,
             spring_model: p.spring_model as u32,
             material: p.material.into(),
+            reserved2: 0,
+            held_water: p.held_water.into(),
+            wind: p.wind.into(),
+            reserved3: 0,
         }
     }
 
@@ -463,9 +489,8 @@ impl WetHairSimDesc {
             attributes: VertexAttributes(self.vertex_attributes),
             backend,
             readback,
-            // Not in the C ABI yet (it comes with the rest of the wet model).
-            held_water: crate::params::HeldWater::OFF,
-            wind: crate::params::Wind::CALM,
+            held_water: self.held_water.params()?,
+            wind: self.wind.into(),
         })
     }
 }

@@ -1,0 +1,214 @@
+//! The wet model through the C ABI (issue 14): `held_water` and `wind` in `WetHairSimDesc`,
+//! `wethair_sim_soak`, `wethair_sim_set_wind`, and the exact water ledger in `WetHairStats`;
+//! bad values refused by name with nothing written, older struct sizes still accepted.
+
+use std::ffi::CStr;
+use std::ptr::null_mut;
+use wethair::ffi::*;
+use WetHairResult::*;
+
+fn last_error() -> String {
+    unsafe { CStr::from_ptr(wethair_last_error_message()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn paper(strands: u32) -> *mut WetHairGroom {
+    let mut g = null_mut();
+    assert_eq!(
+        unsafe { wethair_groom_create_paper_scene(strands, 6, &mut g) },
+        WETHAIR_OK
+    );
+    g
+}
+
+/// The current desc's defaults on the CPU, with held water switched on.
+fn wet_desc(groom: *const WetHairGroom) -> WetHairSimDesc {
+    let mut d = std::mem::MaybeUninit::<WetHairSimDesc>::zeroed();
+    let size = std::mem::size_of::<WetHairSimDesc>() as u32;
+    assert_eq!(unsafe { wethair_sim_desc_init(d.as_mut_ptr(), size) }, WETHAIR_OK);
+    let mut d = unsafe { d.assume_init() };
+    assert_eq!(d.held_water.enabled, 0, "off by default");
+    assert_eq!(d.wind.velocity, [0.0; 3], "calm by default");
+    d.groom = groom;
+    d.backend = wethair::Backend::CPU as u32;
+    d.held_water.enabled = 1;
+    d.held_water.dry_time = 2.0;
+    d
+}
+
+fn stats(sim: *const WetHairSim) -> WetHairStats {
+    let mut st = std::mem::MaybeUninit::<WetHairStats>::zeroed();
+    unsafe {
+        (*st.as_mut_ptr()).struct_size = std::mem::size_of::<WetHairStats>() as u32;
+        assert_eq!(wethair_sim_get_stats(sim, st.as_mut_ptr()), WETHAIR_OK);
+        st.assume_init()
+    }
+}
+
+#[test]
+fn the_ledger_reaches_c_hosts_exactly() {
+    assert_eq!(WETHAIR_WATER_QUANTUM_KG, 1e-12);
+    let header = include_str!("../include/wethair.h");
+    assert!(header.contains("#define WETHAIR_WATER_QUANTUM_KG 1e-12"));
+    let g = paper(200);
+    let mut s = null_mut();
+    assert_eq!(
+        unsafe { wethair_sim_create(&wet_desc(g), &mut s) },
+        WETHAIR_OK,
+        "{}",
+        last_error()
+    );
+    assert_eq!(unsafe { wethair_sim_soak(s, 0.8) }, WETHAIR_OK);
+    let wind = WetHairWind {
+        velocity: [2.0, 0.0, 0.0],
+        gust: 0.3,
+        seed: 9,
+    };
+    assert_eq!(unsafe { wethair_sim_set_wind(s, &wind) }, WETHAIR_OK);
+    let pos = [0.0f32, 0.0, 0.25, 0.01, 0.0, 0.25];
+    assert_eq!(
+        unsafe { wethair_sim_add_water(s, pos.as_ptr(), std::ptr::null(), 2) },
+        WETHAIR_OK
+    );
+    for _ in 0..120 {
+        assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
+        let st = stats(s);
+        assert_eq!(
+            st.water_added,
+            st.water_in_particles + st.water_held + st.water_left + st.water_evaporated,
+            "balanced every frame"
+        );
+    }
+    let st = stats(s);
+    assert!(st.water_held > 0 && st.water_evaporated > 0, "{st:?}");
+    // An older host's 64-byte stats get no ledger, and no write past their size.
+    let mut old = [0xa5u8; 112];
+    old[..4].copy_from_slice(&64u32.to_ne_bytes());
+    assert_eq!(
+        unsafe { wethair_sim_get_stats(s, old.as_mut_ptr() as *mut WetHairStats) },
+        WETHAIR_OK
+    );
+    assert!(old[64..].iter().all(|&b| b == 0xa5), "written past the host's 64 bytes");
+    unsafe {
+        wethair_sim_destroy(s);
+        wethair_groom_destroy(g);
+    }
+}
+
+#[test]
+fn bad_wet_values_are_refused_by_name_and_write_nothing() {
+    let g = paper(20);
+    let sentinel = 0x5a5a as *mut WetHairSim;
+    let refused = |d: WetHairSimDesc, code: WetHairResult, name: &str| {
+        let mut out = sentinel;
+        let r = unsafe { wethair_sim_create(&d, &mut out) };
+        assert_eq!(r, code, "{name}: {}", last_error());
+        assert_eq!(out, sentinel, "{name}: output written on failure");
+        assert!(last_error().contains(name), "{name}: {}", last_error());
+    };
+    let mut d = wet_desc(g);
+    d.held_water.enabled = 2;
+    refused(d, WETHAIR_ERROR_INVALID_ARGUMENT, "held_water.enabled");
+    for (set, name) in [
+        (
+            (|d: &mut WetHairSimDesc| d.held_water.capacity_ratio = f32::NAN) as fn(&mut WetHairSimDesc),
+            "capacity_ratio",
+        ),
+        (|d| d.held_water.dry_time = -1.0, "dry_time"),
+        (|d| d.held_water.absorb_rate = f32::INFINITY, "absorb_rate"),
+        (|d| d.held_water.wet_bend_ratio = 1.5, "wet_bend_ratio"),
+        (|d| d.held_water.bridge_tension = -0.1, "bridge_tension"),
+        (|d| d.held_water.flow_mobility = f32::NAN, "flow_mobility"),
+        (|d| d.held_water.drip_mass = 0.0, "drip_mass"),
+        (|d| d.wind.velocity = [f32::NAN, 0.0, 0.0], "wind velocity"),
+        (|d| d.wind.gust = -0.5, "gust"),
+    ] {
+        let mut d = wet_desc(g);
+        set(&mut d);
+        refused(d, WETHAIR_ERROR_INVALID_ARGUMENT, name);
+    }
+    // Held water runs on the CPU backend only for now: a GPU desc is refused by name.
+    let mut d = wet_desc(g);
+    d.backend = wethair::Backend::GPU as u32;
+    refused(d, WETHAIR_ERROR_UNSUPPORTED, "held water");
+    // A live simulation refuses a bad wind and a bad soak, and keeps going.
+    let mut s = null_mut();
+    assert_eq!(unsafe { wethair_sim_create(&wet_desc(g), &mut s) }, WETHAIR_OK);
+    let bad = WetHairWind {
+        velocity: [1e6, 0.0, 0.0],
+        gust: 0.0,
+        seed: 0,
+    };
+    assert_eq!(unsafe { wethair_sim_set_wind(s, &bad) }, WETHAIR_ERROR_INVALID_ARGUMENT);
+    assert!(last_error().contains("wind speed"));
+    assert_eq!(
+        unsafe { wethair_sim_set_wind(s, std::ptr::null()) },
+        WETHAIR_ERROR_NULL_POINTER
+    );
+    assert_eq!(
+        unsafe { wethair_sim_set_wind(null_mut(), &bad) },
+        WETHAIR_ERROR_NULL_POINTER
+    );
+    for v in [f32::NAN, -0.1, 1.5] {
+        assert_eq!(
+            unsafe { wethair_sim_soak(s, v) },
+            WETHAIR_ERROR_INVALID_ARGUMENT,
+            "soak {v}"
+        );
+    }
+    assert_eq!(unsafe { wethair_sim_soak(null_mut(), 0.5) }, WETHAIR_ERROR_NULL_POINTER);
+    assert_eq!(stats(s).water_added, 0, "nothing was added by the refused calls");
+    assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
+    unsafe { wethair_sim_destroy(s) };
+    // Without held water, soaking is unsupported and the ledger reads zero.
+    let mut d = wet_desc(g);
+    d.held_water.enabled = 0;
+    let mut s = null_mut();
+    assert_eq!(unsafe { wethair_sim_create(&d, &mut s) }, WETHAIR_OK);
+    assert_eq!(unsafe { wethair_sim_soak(s, 0.5) }, WETHAIR_ERROR_UNSUPPORTED);
+    let st = stats(s);
+    assert_eq!((st.water_added, st.water_held), (0, 0));
+    unsafe {
+        wethair_sim_destroy(s);
+        wethair_groom_destroy(g);
+    }
+}
+
+#[test]
+fn an_older_desc_without_the_wet_fields_runs_dry() {
+    // A host built before held water passes 152 bytes: the fields past them take their
+    // defaults (off, calm), whatever lies beyond its struct.
+    let g = paper(20);
+    let mut d = wet_desc(g);
+    d.struct_size = 152;
+    d.held_water.enabled = 7; // beyond the host's struct: never read
+    let mut s = null_mut();
+    assert_eq!(
+        unsafe { wethair_sim_create(&d, &mut s) },
+        WETHAIR_OK,
+        "{}",
+        last_error()
+    );
+    assert_eq!(unsafe { wethair_sim_soak(s, 0.5) }, WETHAIR_ERROR_UNSUPPORTED);
+    unsafe {
+        wethair_sim_destroy(s);
+        wethair_groom_destroy(g);
+    }
+}
+
+#[test]
+fn the_desc_grows_by_whole_fields_past_every_older_size() {
+    // Every field added since a size starts at or after it: 128 (0.1.0), 152 (material).
+    let d = std::mem::MaybeUninit::<WetHairSimDesc>::zeroed();
+    let base = d.as_ptr() as usize;
+    let at = |p: *const u8| p as usize - base;
+    let d = d.as_ptr();
+    unsafe {
+        assert!(at(std::ptr::addr_of!((*d).spring_model) as *const u8) >= 128);
+        assert!(at(std::ptr::addr_of!((*d).held_water) as *const u8) >= 152);
+        assert!(at(std::ptr::addr_of!((*d).wind) as *const u8) >= 152);
+    }
+    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 216, "no padding at the end");
+    assert_eq!(std::mem::size_of::<WetHairStats>(), 104);
+}
