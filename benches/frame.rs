@@ -136,7 +136,77 @@ fn main() {
         );
     }
     integrator_costs(cores, quick);
+    wet_model_costs(cores, quick);
     copy_path_cost(cores, quick);
+}
+
+/// The wet model's cost (issue 14): the paper scene with 1,000 particles on its hair, and a
+/// 100,000 x 16 groom under rain, each dry, with the paper's model (adhesion only) and with
+/// the full model (held water: absorption, weight, limpness, bridges, flow, drip, drying).
+fn wet_model_costs(cores: u32, quick: bool) {
+    use wethair::{HeldWater, Rain};
+    println!();
+    println!("Wet model, CPU backend, {cores} threads (median ms/frame; full / paper is the model's cost over the paper's wet step):");
+    println!();
+    println!("| scene | dry | paper model | full model | full / paper | particles at end (paper, full) |");
+    println!("|---|---|---|---|---|---|");
+    let frames = if quick { 40 } else { 200 };
+    let time = |groom: &Groom, wet: Option<bool>, water: &dyn Fn(&mut Simulation), frames: usize| -> (f64, u32) {
+        let mut p = SimParams {
+            threads: cores,
+            ..SimParams::paper_scene_with_head()
+        };
+        if wet == Some(true) {
+            p.held_water = HeldWater::ON;
+        }
+        let mut sim = Simulation::new(groom, p).expect("sim");
+        if wet.is_some() {
+            water(&mut sim);
+        }
+        let mut times = Vec::with_capacity(frames);
+        for f in 0..5 + frames {
+            let t0 = Instant::now();
+            sim.step(1.0 / 60.0).expect("step");
+            if f >= 5 {
+                times.push(t0.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        (median(times), sim.stats().particles)
+    };
+    let paper = paper_scene(10_000, 6).expect("paper scene");
+    let on_hair_1000 = |s: &mut Simulation| {
+        let w = on_hair(s.positions().as_slice(), 1000, &mut Lcg(2024));
+        s.add_water(&w, &[]).expect("water");
+    };
+    let big = paper_scene(100_000, 16).expect("big scene");
+    let rain = |s: &mut Simulation| {
+        s.set_rain(Some(Rain {
+            center: glam::Vec3::new(0.0, 0.0, 0.6),
+            size: [0.5, 0.5],
+            rate: 6000.0,
+            speed: 2.0,
+            seed: 1,
+        }))
+        .expect("rain");
+    };
+    let big_frames = if quick { 20 } else { 100 };
+    for (name, groom, water, n) in [
+        (
+            "paper 10000x6, 1000 particles on hair",
+            &paper,
+            &on_hair_1000 as &dyn Fn(&mut Simulation),
+            frames,
+        ),
+        ("100000x16 under rain (100 drops a frame)", &big, &rain, big_frames),
+    ] {
+        let (dry, _) = time(groom, None, water, n);
+        let (paper_ms, pp) = time(groom, Some(false), water, n);
+        let (full_ms, pf) = time(groom, Some(true), water, n);
+        println!(
+            "| {name} | {dry:.2} | {paper_ms:.2} | {full_ms:.2} | {:.2} | {pp}, {pf} |",
+            full_ms / paper_ms
+        );
+    }
 }
 
 /// Reading the vertices (position, tangent, wetness) against the dry step on many short

@@ -743,6 +743,38 @@ typedef struct WetHairVulkanWater {
   uint64_t draw_offset;
 } WetHairVulkanWater;
 
+// Rain: drops appear uniformly over a horizontal rectangle and fall straight down (-z).
+// Each drop weighs `water.particle_mass`; drop `k` comes from `(seed, k)` alone, so runs
+// and backends rain alike.
+typedef struct WetHairRain {
+  // Centre of the rectangle drops start from, world space, m.
+  float center[3];
+  // The rectangle's extent along x and y, m (each >= 0).
+  float size[2];
+  // Drops per second, 0..=1e6.
+  float rate;
+  // Fall speed, m/s, 0..=100.
+  float speed;
+  // Seed of the drops' places.
+  uint32_t seed;
+} WetHairRain;
+
+// A spray: drops leave `origin` within `half_angle` of `direction` at `speed`.
+typedef struct WetHairSpray {
+  // Nozzle position, world space, m.
+  float origin[3];
+  // The cone's axis (non-zero).
+  float direction[3];
+  // The cone's half-angle, radians, 0..=pi.
+  float half_angle;
+  // Drops per second, 0..=1e6.
+  float rate;
+  // Drop speed, m/s, 0..=100.
+  float speed;
+  // Seed of the drops' directions.
+  uint32_t seed;
+} WetHairSpray;
+
 // `UnityInterfaceGUID`.
 typedef struct UnityInterfaceGuid {
   // High 64 bits.
@@ -1064,6 +1096,21 @@ WetHairResult wethair_sim_soak(struct WetHairSim *sim, float s);
 // # Safety
 // `sim` is valid; `wind` points to a `WetHairWind`.
 WetHairResult wethair_sim_set_wind(struct WetHairSim *sim, const struct WetHairWind *wind);
+
+// Starts, changes (`rain` non-NULL) or stops (NULL) the rain from the next step on. Drops
+// that do not fit `water.capacity` are left out. A bad rain (NaN, negative size, rate or
+// speed out of range) is refused by name and changes nothing.
+//
+// # Safety
+// `sim` is valid; `rain` is NULL or points to a `WetHairRain`.
+WetHairResult wethair_sim_set_rain(struct WetHairSim *sim, const struct WetHairRain *rain);
+
+// Starts, changes (`spray` non-NULL) or stops (NULL) the spray from the next step on, as
+// `wethair_sim_set_rain` does the rain.
+//
+// # Safety
+// `sim` is valid; `spray` is NULL or points to a `WetHairSpray`.
+WetHairResult wethair_sim_set_spray(struct WetHairSim *sim, const struct WetHairSpray *spray);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -72,6 +72,9 @@ pub trait Engine: std::fmt::Debug + Send {
     fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()>;
     /// Removes every particle (wetness stays).
     fn clear_water(&mut self);
+    /// How many particles can still be added without exceeding the capacity, as far as the
+    /// backend knows without waiting for the device (it may say fewer than there is room for).
+    fn particle_room(&self) -> usize;
     /// Sets the wind the next step blows with, m/s (the simulation samples its gusts).
     fn set_wind(&mut self, wind: Vec3);
     /// Advances by `dt` in the configured substeps while the head moves `from` → `to`; returns

@@ -22,6 +22,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod cpu;
+pub mod emit;
 pub mod engine;
 pub mod error;
 pub mod ffi;
@@ -35,6 +36,7 @@ pub mod reference;
 pub mod scenes;
 pub mod sim;
 
+pub use emit::{Rain, Spray};
 pub use engine::WaterLedger;
 pub use error::{Error, Result};
 pub use params::{

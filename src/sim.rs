@@ -99,8 +99,13 @@ pub struct Simulation {
     last_step_ms: f32,
     max_speed: f32,
     steps: u64,
-    /// Simulated time since creation or reset, s (the wind's gusts follow it).
+    /// Simulated time since creation or reset, s (the wind's gusts and the emitters follow it).
     time: f64,
+    /// Rain and spray (none by default), and the drops of this step (reused: no allocation
+    /// once they have grown).
+    emitters: [Option<crate::emit::Emitter>; 2],
+    emit_pos: Vec<Vec3>,
+    emit_vel: Vec<Vec3>,
     failed: Option<Error>,
 }
 
@@ -127,6 +132,9 @@ impl Simulation {
             max_speed: 0.0,
             steps: 0,
             time: 0.0,
+            emitters: [None, None],
+            emit_pos: Vec::new(),
+            emit_vel: Vec::new(),
             failed: None,
         }
     }
@@ -245,6 +253,7 @@ impl Simulation {
             return Err(invalid!("dt must be finite, > 0 and <= {MAX_DT} s, got {dt}"));
         }
         let t0 = Instant::now();
+        self.emit(dt)?;
         if self.params.wind.blows() {
             self.engine.set_wind(self.params.wind.at(self.time));
         }
@@ -278,6 +287,49 @@ impl Simulation {
         self.time = 0.0;
         self.max_speed = 0.0;
         Ok(())
+    }
+
+    /// Sets the rain from the next step on (`None` stops it). See [`crate::emit::Rain`].
+    pub fn set_rain(&mut self, rain: Option<crate::emit::Rain>) -> Result<()> {
+        self.set_emitter(0, rain.map(crate::emit::Emitter::Rain))
+    }
+
+    /// Sets the spray from the next step on (`None` stops it). See [`crate::emit::Spray`].
+    pub fn set_spray(&mut self, spray: Option<crate::emit::Spray>) -> Result<()> {
+        self.set_emitter(1, spray.map(crate::emit::Emitter::Spray))
+    }
+
+    fn set_emitter(&mut self, slot: usize, e: Option<crate::emit::Emitter>) -> Result<()> {
+        if let Some(e) = &e {
+            e.validate()?;
+        }
+        self.emitters[slot] = e;
+        Ok(())
+    }
+
+    /// Adds the drops the emitters make over the coming step, rain first. What does not fit
+    /// the particle capacity is left out (the emitters do not wait).
+    fn emit(&mut self, dt: f32) -> Result<()> {
+        if self.emitters.iter().all(Option::is_none) {
+            return Ok(());
+        }
+        self.emit_pos.clear();
+        self.emit_vel.clear();
+        for e in self.emitters.iter().flatten() {
+            for k in e.drops_between(self.time, dt as f64) {
+                let (x, v) = e.drop(k);
+                self.emit_pos.push(x);
+                self.emit_vel.push(v);
+            }
+        }
+        let n = self.emit_pos.len().min(self.engine.particle_room());
+        if n == 0 {
+            return Ok(());
+        }
+        match self.engine.add_water(&self.emit_pos[..n], &self.emit_vel[..n]) {
+            Err(Error::Capacity(_)) => Ok(()), // a count that lags on the GPU: next frame
+            r => r,
+        }
     }
 
     /// Sets the wind from the next step on (see [`crate::Wind`]): its mean velocity, gusts and

@@ -529,3 +529,62 @@ fn gpu_implicit_survives_stiff_springs_at_frame_rate() {
         assert!((l / rest - 1.0).abs() < 0.05, "strand {s} length {l} vs rest {rest}");
     }
 }
+
+/// The wind reaches the GPU's `drag` and `water_integrate` as it does the CPU's: a dry paper
+/// scene with air drag in a gusty wind matches the CPU, and rain blown by it lands alike.
+#[test]
+fn wind_and_rain_match_the_cpu() {
+    let _serial = serial();
+    let groom = paper_scene(2_000, 6).unwrap();
+    let mut params = SimParams::paper_scene_with_head();
+    params.air_drag = 2.0e-3;
+    params.water.domain_radius = 5.0; // no drop leaves: both backends hold them all
+    params.wind = wethair::Wind {
+        velocity: Vec3::new(3.0, 1.0, 0.0),
+        gust: 0.5,
+        seed: 4,
+    };
+    let Some(mut g) = gpu(&groom, params.clone()) else {
+        return;
+    };
+    let mut c = cpu(&groom, params.clone());
+    let mut calm = cpu(
+        &groom,
+        SimParams {
+            wind: wethair::Wind::CALM,
+            ..params
+        },
+    );
+    for f in 0..60 {
+        for s in [&mut g, &mut c, &mut calm] {
+            s.step(1.0 / 60.0).unwrap();
+        }
+        if f == 29 {
+            let rain = wethair::Rain {
+                // Beside the head: the drops fall through air only.
+                center: Vec3::new(0.6, 0.0, 0.5),
+                size: [0.1, 0.1],
+                rate: 600.0,
+                speed: 1.0,
+                seed: 2,
+            };
+            g.set_rain(Some(rain)).unwrap();
+            c.set_rain(Some(rain)).unwrap();
+        }
+    }
+    let len = groom.max_strand_length();
+    let d = max_diff(&g.positions(), &c.positions());
+    let blown = max_diff(&calm.positions(), &c.positions());
+    eprintln!("wind parity: GPU {d} m from the CPU; the wind moved tips {blown} m");
+    assert!(blown > 1e-3, "the wind moves the hair: {blown} m");
+    assert!(
+        d < 1e-3 * len && d < 0.01 * blown,
+        "GPU {d} m from the CPU (wind moved {blown} m)"
+    );
+    let (mut wg, mut wc) = (g.water_positions().unwrap(), c.water_positions().unwrap());
+    assert_eq!(wg.len(), wc.len(), "the same drops on both backends");
+    // Particles are stored in different orders: compare their mean drift.
+    let mean = |w: &mut Vec<Vec3>| w.iter().fold(Vec3::ZERO, |a, p| a + *p) / w.len().max(1) as f32;
+    let (mg, mc) = (mean(&mut wg), mean(&mut wc));
+    assert!((mg - mc).length() < 1e-3, "mean particle {mg} vs {mc}");
+}

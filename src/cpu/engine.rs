@@ -29,6 +29,11 @@ impl Engine for CpuBackend {
         CpuBackend::clear_water(self)
     }
 
+    fn particle_room(&self) -> usize {
+        let held = self.water.as_ref().map_or(0, |w| w.len());
+        (self.params().water.capacity as usize).saturating_sub(held)
+    }
+
     fn set_wind(&mut self, wind: Vec3) {
         CpuBackend::set_wind(self, wind)
     }

@@ -134,6 +134,11 @@ impl CpuBackend {
         Ok(cpu)
     }
 
+    /// The parameters the backend was made with.
+    pub fn params(&self) -> &SimParams {
+        &self.params
+    }
+
     /// The integrator in use (`Auto` resolved).
     pub fn integrator(&self) -> Integrator {
         self.integrator

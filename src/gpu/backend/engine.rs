@@ -30,6 +30,10 @@ impl Engine for GpuBackend {
 
     /// A failure seen by the last status read is reported before more work is submitted; the
     /// speed returned is that status's (the step just submitted has not run yet).
+    fn particle_room(&self) -> usize {
+        GpuBackend::particle_room(self)
+    }
+
     fn set_wind(&mut self, wind: Vec3) {
         self.wind = wind;
     }

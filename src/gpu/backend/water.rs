@@ -77,6 +77,15 @@ impl WaterGpu {
 }
 
 impl GpuBackend {
+    /// Room for particles as far as the host knows without reading the device: the capacity
+    /// less the upper bound on those held and those waiting.
+    pub fn particle_room(&self) -> usize {
+        let cap = self.params.water.capacity;
+        self.water
+            .as_ref()
+            .map_or(cap, |w| cap.saturating_sub(w.bound + w.pending)) as usize
+    }
+
     /// Uploads particles (they join at the next step); water buffers are created at the
     /// first call.
     pub fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
