@@ -84,7 +84,7 @@ int main(void) {
     bad.struct_size = 4; /* smaller than any released layout */
     CHECK(wethair_sim_get_stats(sim, &bad) == WETHAIR_ERROR_STRUCT_SIZE, "tiny stats accepted");
     WetHairSimDesc big = desc;
-    big.struct_size = sizeof big + 64;
+    big.struct_size = sizeof big + 4096; /* larger than any layout this library will have */
     WetHairSim *none = (WetHairSim *)0x1;
     CHECK(wethair_sim_create(&big, &none) == WETHAIR_ERROR_STRUCT_SIZE && none == (WetHairSim *)0x1, "larger desc");
 
