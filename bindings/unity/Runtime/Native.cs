@@ -50,6 +50,33 @@ namespace WetHair
         public float bend_damping;
     }
 
+    /// <summary>The wet model (since 0.2.0; units and defaults in the C header): water held by
+    /// the hair, its weight, limpness, absorption, bridges, flow, drip and drying. Off when
+    /// enabled is 0; CPU backend only for now.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairHeldWater
+    {
+        public uint enabled;
+        public float capacity_ratio;
+        public float dry_time;
+        public float dry_air_speed;
+        public float absorb_rate;
+        public float wet_bend_ratio;
+        public float bridge_tension;
+        public float bridge_length;
+        public float flow_mobility;
+        public float drip_mass;
+    }
+
+    /// <summary>A uniform wind with gusts (since 0.2.0): velocity m/s, gust 0..1, seed.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public unsafe struct WetHairWind
+    {
+        public fixed float velocity[3];
+        public float gust;
+        public uint seed;
+    }
+
     /// <summary>Water parameters (see the C header for units).</summary>
     [StructLayout(LayoutKind.Sequential)]
     public struct WetHairWaterDesc
@@ -113,6 +140,12 @@ namespace WetHair
         public uint reserved;
         public uint spring_model;
         public WetHairMaterial material;
+        public uint reserved2;
+        /// <summary>Since 0.2.0: the wet model (off by default).</summary>
+        public WetHairHeldWater held_water;
+        /// <summary>Since 0.2.0: the wind at the start (calm by default).</summary>
+        public WetHairWind wind;
+        public uint reserved3;
     }
 
     /// <summary>The vertex buffer's layout (byte offsets, -1 when absent).</summary>
@@ -146,6 +179,13 @@ namespace WetHair
         public uint backend;
         /// <summary>Since 0.2.0: clumping along the strands' quarter points, m.</summary>
         public float clumping_along;
+        /// <summary>Since 0.2.0, with held water: the exact water ledger in units of 1e-12 kg
+        /// (added = in particles + held + left + evaporated).</summary>
+        public ulong water_added;
+        public ulong water_in_particles;
+        public ulong water_held;
+        public ulong water_left;
+        public ulong water_evaporated;
     }
 
     /// <summary>Which backend runs the simulation, its device, and why AUTO chose it.</summary>
@@ -231,6 +271,8 @@ namespace WetHair
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern IntPtr wethair_last_error_message();
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern void wethair_sim_desc_default(WetHairSimDesc* desc);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_desc_init(WetHairSimDesc* desc, uint struct_size);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_soak(SimulationHandle sim, float saturation);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_wind(SimulationHandle sim, WetHairWind* wind);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern void wethair_groom_desc_default(WetHairGroomDesc* desc);
 
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_groom_create(WetHairGroomDesc* desc, out GroomHandle groom);
