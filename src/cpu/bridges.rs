@@ -26,6 +26,8 @@ pub struct Bridges {
     nbr: Vec<u32>,
     /// Each pair's spring coefficient, N/m (the same for both directions).
     coef: Vec<f32>,
+    /// Scratch: what stiffness each wet point may still take (kept: no allocation per step).
+    room: Vec<f32>,
     /// Force per row, N (zero where no bridge acts).
     pub force: Vec<L3>,
     /// Each point's length of hair, m, per row (half of each adjacent segment).
@@ -56,6 +58,7 @@ impl Bridges {
             first: Vec::new(),
             nbr: Vec::new(),
             coef: Vec::new(),
+            room: Vec::new(),
             force: vec![L3::ZERO; n_rows],
             length,
             kappa,
@@ -125,18 +128,18 @@ impl Bridges {
         };
         let len = |p: u32| self.length[p as usize / W][p as usize % W];
         // What each point may take: m / (4 h^2 n) (pinned points take anything).
-        let room: Vec<f32> = (0..self.point.len())
-            .map(|i| {
-                let p = self.point[i] as usize;
-                let w = inv_mass(p / W, p % W);
-                let n = (self.first[i + 1] - self.first[i]).max(1) as f32;
-                if w > 0.0 {
-                    1.0 / (w * 4.0 * h * h * n)
-                } else {
-                    f32::INFINITY
-                }
-            })
-            .collect();
+        self.room.clear();
+        self.room.extend((0..self.point.len()).map(|i| {
+            let p = self.point[i] as usize;
+            let w = inv_mass(p / W, p % W);
+            let n = (self.first[i + 1] - self.first[i]).max(1) as f32;
+            if w > 0.0 {
+                1.0 / (w * 4.0 * h * h * n)
+            } else {
+                f32::INFINITY
+            }
+        }));
+        let room = &self.room;
         for i in 0..self.point.len() {
             let pi = self.point[i];
             for k in self.first[i] as usize..self.first[i + 1] as usize {
@@ -170,7 +173,11 @@ impl Bridges {
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         self.grid.bytes()
-            + 4 * (self.point.capacity() + self.first.capacity() + self.nbr.capacity() + self.coef.capacity())
+            + 4 * (self.point.capacity()
+                + self.first.capacity()
+                + self.nbr.capacity()
+                + self.coef.capacity()
+                + self.room.capacity())
             + 12 * self.pos.capacity()
             + std::mem::size_of::<L3>() * self.force.capacity()
             + 4 * W * self.length.capacity()

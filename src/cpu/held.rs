@@ -179,29 +179,28 @@ impl Held {
             let rows = b * lay.rows..b * lay.rows + lay.strand_points(s);
             for r in rows.clone() {
                 let q = wet::drip(self.water[r][l], self.capacity[r][l], min_drop);
-                if q == 0 || (!self.v0.is_empty() && self.runs_on(state, &rows, r, l, g, dt)) {
+                if q == 0 {
                     continue;
                 }
-                let v = state[r].v.get(l);
-                let g_eff = if self.v0.is_empty() {
-                    g
-                } else {
-                    g - (v - self.v0[r].get(l)) / dt
-                };
+                let g_eff = self.g_eff(state, r, l, g, dt);
+                if !self.v0.is_empty() && runs_on(state, &rows, r, l, g_eff) {
+                    continue;
+                }
                 let x = state[r].x.get(l) + reach * g_eff.normalize_or_zero();
-                if water.add_drop(x, v, q, capacity) {
+                if water.add_drop(x, state[r].v.get(l), q, capacity) {
                     self.water[r][l] -= q;
                 }
             }
         }
     }
 
-    /// Whether water at row `r` (lane `l`) of a strand on `rows` runs on to a neighbour.
-    fn runs_on(&self, state: &[StateRow], rows: &std::ops::Range<usize>, r: usize, l: usize, g: Vec3, dt: f32) -> bool {
-        let x = state[r].x.get(l);
-        let g_eff = g - (state[r].v.get(l) - self.v0[r].get(l)) / dt;
-        let toward = |n: usize| wet::runs_toward(g_eff, (state[n].x.get(l) - x).normalize_or_zero());
-        (r > rows.start && toward(r - 1)) || (r + 1 < rows.end && toward(r + 1))
+    /// Gravity less the acceleration over the step of lane `l` of row `r` (gravity alone when
+    /// water does not flow and no velocities were kept).
+    fn g_eff(&self, state: &[StateRow], r: usize, l: usize, g: Vec3, dt: f32) -> Vec3 {
+        match self.v0.get(r) {
+            Some(v0) => g - (state[r].v.get(l) - v0.get(l)) / dt,
+            None => g,
+        }
     }
 
     /// Pass `dry`: each point loses `held (1 - e^(-k dt))` to the nearest quantum, with
@@ -271,4 +270,12 @@ impl Held {
             + self.params.capacity() * std::mem::size_of::<ParamRow>()
             + self.v0.capacity() * std::mem::size_of::<L3>()
     }
+}
+
+/// Whether water at row `r` (lane `l`) of a strand on `rows`, under effective gravity `g_eff`,
+/// runs on to a neighbour.
+fn runs_on(state: &[StateRow], rows: &std::ops::Range<usize>, r: usize, l: usize, g_eff: Vec3) -> bool {
+    let x = state[r].x.get(l);
+    let toward = |n: usize| wet::runs_toward(g_eff, (state[n].x.get(l) - x).normalize_or_zero());
+    (r > rows.start && toward(r - 1)) || (r + 1 < rows.end && toward(r + 1))
 }
