@@ -1,5 +1,5 @@
 //! Steps the paper scene (head collider, `particles` placed in the hair) for `frames` frames:
-//! a target for `perf record` when tuning the CPU backend.
+//! a target for `perf record` when tuning the CPU backend (`FULL=1`: with the full wet model).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -26,6 +26,9 @@ fn main() {
     };
     if let Some(a) = std::env::var_os("ADHESION") {
         params.water.adhesion = a.to_str().and_then(|s| s.parse().ok()).expect("ADHESION=number");
+    }
+    if std::env::var_os("FULL").is_some() {
+        params.held_water = wethair::HeldWater::ON; // the full wet model
     }
     let mut sim = Simulation::new(&groom, params).expect("sim");
     if particles > 0 {

@@ -129,3 +129,47 @@ fn grid_handles_any_finite_extent() {
     let wide = cloud(&mut rng, 1000, Vec3::splat(-0.5), Vec3::splat(0.5));
     check(&wide, &qs, 1e-6, 1e-6);
 }
+
+/// The hashed grid (the hair grid of the liquid bridges) finds exactly the brute-force
+/// neighbours, each once, for clouds small and wide (where the box grid would grow its cells),
+/// queries far away, at negative coordinates, and with radius up to its cell.
+#[test]
+fn hash_grid_query_equals_brute_force() {
+    use wethair::physics::hash_grid::HashGrid;
+    let mut rng = Lcg(7);
+    for (n, r, half) in [
+        (1usize, 0.004f32, 0.01f32),
+        (300, 0.004, 0.01),
+        (5000, 0.00375, 0.5),
+        (20000, 0.002, 0.05),
+    ] {
+        let pts = cloud(&mut rng, n, Vec3::splat(-half), Vec3::splat(half));
+        let mut queries: Vec<Vec3> = pts.iter().step_by((n / 200).max(1)).copied().collect();
+        queries.extend(cloud(&mut rng, 100, Vec3::splat(-half), Vec3::splat(half)));
+        queries.extend([
+            Vec3::splat(1e3),
+            Vec3::splat(-1e3),
+            Vec3::new(f32::MAX, 0.0, 0.0),
+            Vec3::NAN,
+        ]);
+        for cell in [r, 1.5 * r] {
+            let mut grid = HashGrid::new(cell);
+            grid.build(&pts);
+            for q in &queries {
+                let mut found = vec![];
+                grid.for_each_near(*q, r, |i, d2| {
+                    assert_eq!(d2, (pts[i as usize] - *q).length_squared());
+                    found.push(i);
+                });
+                let visits = found.len();
+                found.sort_unstable();
+                found.dedup();
+                assert_eq!(found.len(), visits, "a candidate was visited twice");
+                let brute: Vec<u32> = (0..n as u32)
+                    .filter(|&i| (pts[i as usize] - *q).length_squared() < r * r)
+                    .collect();
+                assert_eq!(found, brute, "query at {q:?}, n {n}, cell {cell}");
+            }
+        }
+    }
+}

@@ -1,33 +1,61 @@
-//! Liquid bridges on the CPU (docs/WET_MODEL.md §5): a grid over the wet hair points finds,
-//! once per step, the wet points of other strands within reach of each (pass `hair_grid`);
-//! every substep each such pair pulls its two points together (pass `cohesion`), gathered per
-//! point into a force per row that the block kernel adds. Exists only when bridges are on.
+//! Liquid bridges on the CPU (docs/WET_MODEL.md §5): a hashed grid over the wet hair points
+//! finds each point's nearest wet points of other strands (pass `hair_grid`, once per step,
+//! each point searched in turn); every substep each mutual pair pulls its two points together
+//! (pass `cohesion`), gathered per point into a force per row that the block kernel adds.
+//! Exists only when bridges are on.
 
 use super::layout::{Layout, StateRow};
-use crate::physics::grid::Grid;
+use super::pool::Pool;
+use crate::physics::hash_grid::HashGrid;
 use crate::physics::lanes::{L3, W};
 use crate::physics::wet;
 use glam::Vec3;
+use rayon::prelude::*;
 
-/// How far past the bridge length pairs are looked for, so that points closing in during the
-/// step are not missed (the force itself ends at the bridge length).
-const SEARCH_MARGIN: f32 = 1.25;
+/// The most bridges one point holds: a fibre in a bundle of parallel fibres touches at most six
+/// others (hexagonal packing), and a point keeps a pair only when each is among the other's
+/// six nearest. This bounds the passes' cost by the points, not by how dense a clump gets.
+pub const MAX_BRIDGES: usize = 6;
+
+/// Each step searches the points whose index is the step's number modulo this (and every point
+/// that had no neighbour): a point's nearest are at most this many steps old. Bridges form
+/// and break over tenths of a second; the search is the model's dearest part.
+pub const SEARCH_TURNS: u32 = 4;
+
+/// Points searched per parallel task.
+const CHUNK: usize = 512;
 
 /// Pairs found this step and the force they give.
 #[derive(Debug)]
 pub struct Bridges {
-    grid: Grid,
-    /// The wet points: row index times `W` plus lane.
+    grid: HashGrid,
+    /// The wet free points (row index times `W` plus lane), in index order.
     point: Vec<u32>,
     /// Their positions at the step's start (the grid's input).
     pos: Vec<Vec3>,
-    /// Their neighbours (indices into `point`), `first[i]..first[i + 1]`.
+    /// Their strands (block times `W` plus lane: one number per strand).
+    strand: Vec<u32>,
+    /// Their saturation (at most 1) and length of hair, m.
+    sat_len: Vec<(f32, f32)>,
+    /// Per point index: its place in `point`, or `u32::MAX` when it is not wet.
+    local: Vec<u32>,
+    /// Per point index: its nearest wet points of other strands (point indices, sorted) as of
+    /// its last search, and how many.
+    nearest: Vec<[u32; MAX_BRIDGES]>,
+    n_nearest: Vec<u8>,
+    /// This step's searches: places in `point`, and what each found.
+    turn: Vec<u32>,
+    found: Vec<([u32; MAX_BRIDGES], u8)>,
+    /// The mutual pairs: neighbours of `point[i]` are `nbr[first[i]..first[i + 1]]` (places
+    /// in `point`), each with its spring coefficient, N/m (the same for both directions).
     first: Vec<u32>,
     nbr: Vec<u32>,
-    /// Each pair's spring coefficient, N/m (the same for both directions).
     coef: Vec<f32>,
-    /// Scratch: what stiffness each wet point may still take (kept: no allocation per step).
+    /// Scratch: what stiffness each wet point may still take, and each one's gathered force.
     room: Vec<f32>,
+    gathered: Vec<Vec3>,
+    /// Steps since the last reset (whose turn it is).
+    step: u32,
     /// Force per row, N (zero where no bridge acts).
     pub force: Vec<L3>,
     /// Each point's length of hair, m, per row (half of each adjacent segment).
@@ -52,13 +80,22 @@ impl Bridges {
             }
         }
         Bridges {
-            grid: Grid::new(lay.mass.len(), d_b * SEARCH_MARGIN),
+            grid: HashGrid::new(d_b),
             point: Vec::new(),
             pos: Vec::new(),
+            strand: Vec::new(),
+            sat_len: Vec::new(),
+            local: vec![u32::MAX; n_rows * W],
+            nearest: vec![[0; MAX_BRIDGES]; n_rows * W],
+            n_nearest: vec![0; n_rows * W],
+            turn: Vec::new(),
+            found: Vec::new(),
             first: Vec::new(),
             nbr: Vec::new(),
             coef: Vec::new(),
             room: Vec::new(),
+            gathered: Vec::new(),
+            step: 0,
             force: vec![L3::ZERO; n_rows],
             length,
             kappa,
@@ -71,11 +108,28 @@ impl Bridges {
         !self.nbr.is_empty()
     }
 
-    /// Pass `hair_grid`: finds every pair of wet points of different strands within the search
-    /// reach, in point order, and gives each its coefficient: the bridge's stiffness
-    /// `4 kappa l min(s_i, s_j) / d_b` (peak pull `kappa l s` at `d_b / 2`), capped so that no
-    /// point's bridges together exceed a quarter of what an explicit substep `h` holds stably
-    /// (`m / (4 h^2)`, shared among its bridges). `params` gives each point's inverse mass.
+    /// No pair, and the search turns start over (a reset simulation replays like a new one).
+    pub fn reset(&mut self) {
+        for &p in &self.point {
+            self.force[p as usize / W] = L3::ZERO;
+            self.local[p as usize] = u32::MAX;
+        }
+        self.point.clear();
+        self.first.clear();
+        self.nbr.clear();
+        self.coef.clear();
+        self.n_nearest.iter_mut().for_each(|n| *n = 0);
+        self.step = 0;
+    }
+
+    /// Pass `hair_grid`: searches this step's turn of wet free points (and every wet point with
+    /// no neighbour yet) for its [`MAX_BRIDGES`] nearest wet points of other strands within the
+    /// bridge length, keeps the pairs that are each among the other's nearest, in point order,
+    /// and gives each its coefficient: the bridge's stiffness `4 kappa l min(s_i, s_j) / d_b`
+    /// (peak pull `kappa l s` at `d_b / 2`), capped so that no point's bridges together exceed
+    /// a quarter of what an explicit substep `h` holds stably (`m / (4 h^2)`, shared among its
+    /// bridges). `inv_mass` gives each point's inverse mass (0 pinned).
+    #[allow(clippy::too_many_arguments)]
     pub fn find_pairs(
         &mut self,
         lay: &Layout,
@@ -84,20 +138,35 @@ impl Bridges {
         capacity: &[[u32; W]],
         inv_mass: impl Fn(usize, usize) -> f32,
         h: f32,
+        pool: Option<&Pool>,
     ) {
         for &p in &self.point {
             self.force[p as usize / W] = L3::ZERO;
+            self.local[p as usize] = u32::MAX;
         }
         self.point.clear();
         self.pos.clear();
+        self.strand.clear();
+        self.sat_len.clear();
+        // Pinned points (roots) take no part: a bridge cannot move them, and the scalp is
+        // where hair is densest. A point that is dry forgets its neighbours.
         for (r, (w, row)) in held.iter().zip(state).enumerate() {
             for l in 0..W {
-                if w[l] > 0 && lay.real_lanes[r] & (1 << l) != 0 {
-                    self.point.push((r * W + l) as u32);
+                let p = r * W + l;
+                if w[l] > 0 && lay.real_lanes[r] & (1 << l) != 0 && inv_mass(r, l) > 0.0 {
+                    self.local[p] = self.point.len() as u32;
+                    self.point.push(p as u32);
                     self.pos.push(row.x.get(l));
+                    self.strand.push(((r / lay.rows) * W + l) as u32);
+                    self.sat_len
+                        .push((wet::saturation(w[l], capacity[r][l]).min(1.0), self.length[r][l]));
+                } else {
+                    self.n_nearest[p] = 0;
                 }
             }
         }
+        let turn = self.step % SEARCH_TURNS;
+        self.step = self.step.wrapping_add(1);
         self.first.clear();
         self.nbr.clear();
         self.coef.clear();
@@ -105,68 +174,104 @@ impl Bridges {
             return;
         }
         self.grid.build(&self.pos);
-        let reach = self.d_b * SEARCH_MARGIN;
-        let strand = |p: u32| (p as usize / W / lay.rows, p as usize % W); // (block, lane)
+        self.turn.clear();
+        for (i, &p) in self.point.iter().enumerate() {
+            if p % SEARCH_TURNS == turn || self.n_nearest[p as usize] == 0 {
+                self.turn.push(i as u32);
+            }
+        }
+        self.found.clear();
+        self.found.resize(self.turn.len(), ([0; MAX_BRIDGES], 0));
+        let (grid, point, strand, pos, turns) = (&self.grid, &self.point, &self.strand, &self.pos, &self.turn);
+        let d_b = self.d_b;
+        let search = |k0: usize, out: &mut [([u32; MAX_BRIDGES], u8)]| {
+            for (k, (near, n)) in out.iter_mut().enumerate() {
+                let i = turns[k0 + k] as usize;
+                *n = nearest_of(grid, pos[i], point, strand, strand[i], d_b, near) as u8;
+            }
+        };
+        let found = &mut self.found;
+        match pool {
+            Some(pool) => pool.install(|| {
+                found
+                    .par_chunks_mut(CHUNK)
+                    .enumerate()
+                    .for_each(|(c, out)| search(c * CHUNK, out))
+            }),
+            None => search(0, found),
+        }
+        for (&i, (near, n)) in self.turn.iter().zip(&self.found) {
+            let p = self.point[i as usize] as usize;
+            self.nearest[p] = *near;
+            self.n_nearest[p] = *n;
+        }
+        // Keep a pair only when each is among the other's nearest and both are wet: the
+        // bridges are symmetric, so each pair's two forces are exact negatives.
         self.first.push(0);
-        for i in 0..self.point.len() {
-            let (si, xi) = (strand(self.point[i]), self.pos[i]);
-            let start = self.nbr.len();
-            self.grid.for_each_candidate(xi, reach, |j| {
-                let j = j as usize;
-                if strand(self.point[j]) != si && (self.pos[j] - xi).length_squared() < reach * reach {
-                    self.nbr.push(j as u32);
+        for &p in &self.point {
+            let p = p as usize;
+            for &q in &self.nearest[p][..self.n_nearest[p] as usize] {
+                let (q, j) = (q as usize, self.local[q as usize]);
+                if j != u32::MAX
+                    && self.nearest[q][..self.n_nearest[q] as usize]
+                        .binary_search(&(p as u32))
+                        .is_ok()
+                {
+                    self.nbr.push(j);
                 }
-            });
-            // The grid visits candidates cell by cell; sorting makes the list (and so the
-            // force sum) depend only on which points are near, not on the grid's shape.
-            self.nbr[start..].sort_unstable();
+            }
             self.first.push(self.nbr.len() as u32);
         }
-        let sat = |p: u32| {
-            let (r, l) = (p as usize / W, p as usize % W);
-            wet::saturation(held[r][l], capacity[r][l]).min(1.0)
-        };
-        let len = |p: u32| self.length[p as usize / W][p as usize % W];
-        // What each point may take: m / (4 h^2 n) (pinned points take anything).
+        // What each point may take: m / (4 h^2 n).
         self.room.clear();
         self.room.extend((0..self.point.len()).map(|i| {
             let p = self.point[i] as usize;
-            let w = inv_mass(p / W, p % W);
             let n = (self.first[i + 1] - self.first[i]).max(1) as f32;
-            if w > 0.0 {
-                1.0 / (w * 4.0 * h * h * n)
-            } else {
-                f32::INFINITY
-            }
+            1.0 / (inv_mass(p / W, p % W) * 4.0 * h * h * n)
         }));
-        let room = &self.room;
+        let (room, sl) = (&self.room, &self.sat_len);
         for i in 0..self.point.len() {
-            let pi = self.point[i];
             for k in self.first[i] as usize..self.first[i + 1] as usize {
                 let j = self.nbr[k] as usize;
-                let pj = self.point[j];
-                let l = 0.5 * (len(pi) + len(pj));
-                let stiff = wet::bridge_stiffness(self.kappa, l, sat(pi), sat(pj), self.d_b);
+                let l = 0.5 * (sl[i].1 + sl[j].1);
+                let stiff = wet::bridge_stiffness(self.kappa, l, sl[i].0, sl[j].0, self.d_b);
                 self.coef.push(stiff.min(room[i].min(room[j])));
             }
         }
     }
 
     /// Pass `cohesion`: each wet point's pull toward its bridged neighbours at the substep's
-    /// start, `c (1 - r / d_b) (x_j - x_i)` for `r < d_b`, summed in neighbour order into the
-    /// row force. Each pair's two forces are exact negatives.
-    pub fn gather(&mut self, state: &[StateRow]) {
-        for i in 0..self.point.len() {
-            let p = self.point[i] as usize;
-            let (r, l) = (p / W, p % W);
-            let xi = state[r].x.get(l);
-            let mut f = Vec3::ZERO;
-            for k in self.first[i] as usize..self.first[i + 1] as usize {
-                let q = self.point[self.nbr[k] as usize] as usize;
-                let d = state[q / W].x.get(q % W) - xi;
-                f += d * wet::bridge_scale(self.coef[k], d.length(), self.d_b);
+    /// start, `c (1 - r / d_b) (x_j - x_i)` for `r < d_b`, summed in neighbour order (point by
+    /// point in parallel) into the row force. Each pair's two forces are exact negatives.
+    pub fn gather(&mut self, state: &[StateRow], pool: Option<&Pool>) {
+        self.gathered.clear();
+        self.gathered.resize(self.point.len(), Vec3::ZERO);
+        let (point, first, nbr, coef, d_b) = (&self.point, &self.first, &self.nbr, &self.coef, self.d_b);
+        let x = |p: u32| state[p as usize / W].x.get(p as usize % W);
+        let pull = |i0: usize, out: &mut [Vec3]| {
+            for (k, f) in out.iter_mut().enumerate() {
+                let i = i0 + k;
+                let xi = x(point[i]);
+                let mut sum = Vec3::ZERO;
+                for m in first[i] as usize..first[i + 1] as usize {
+                    let d = x(point[nbr[m] as usize]) - xi;
+                    sum += d * wet::bridge_scale(coef[m], d.length(), d_b);
+                }
+                *f = sum;
             }
-            self.force[r].set(l, f);
+        };
+        let gathered = &mut self.gathered;
+        match pool {
+            Some(pool) => pool.install(|| {
+                gathered
+                    .par_chunks_mut(4 * CHUNK)
+                    .enumerate()
+                    .for_each(|(c, out)| pull(c * 4 * CHUNK, out))
+            }),
+            None => pull(0, gathered),
+        }
+        for (&p, f) in self.point.iter().zip(&self.gathered) {
+            self.force[p as usize / W].set(p as usize % W, *f);
         }
     }
 
@@ -174,12 +279,64 @@ impl Bridges {
     pub fn bytes(&self) -> usize {
         self.grid.bytes()
             + 4 * (self.point.capacity()
+                + self.strand.capacity()
+                + self.local.capacity()
+                + MAX_BRIDGES * self.nearest.capacity()
+                + self.turn.capacity()
                 + self.first.capacity()
                 + self.nbr.capacity()
                 + self.coef.capacity()
                 + self.room.capacity())
-            + 12 * self.pos.capacity()
+            + self.n_nearest.capacity()
+            + (4 * MAX_BRIDGES + 1) * self.found.capacity()
+            + 12 * (self.pos.capacity() + self.gathered.capacity())
+            + 8 * self.sat_len.capacity()
             + std::mem::size_of::<L3>() * self.force.capacity()
             + 4 * W * self.length.capacity()
     }
+}
+
+/// The up to [`MAX_BRIDGES`] points nearest `x` within `reach` whose strand is not `own`,
+/// nearest first with ties by point index (a strict order, so the set does not depend on the
+/// order the grid visits them), written to `out` as point indices sorted ascending; returns
+/// how many. `point` maps the grid's entries to point indices.
+fn nearest_of(
+    grid: &HashGrid,
+    x: Vec3,
+    point: &[u32],
+    strand: &[u32],
+    own: u32,
+    reach: f32,
+    out: &mut [u32; MAX_BRIDGES],
+) -> usize {
+    // The few nearest so far, nearest first: squared distances, indices, count.
+    let mut best = ([f32::INFINITY; MAX_BRIDGES], [0u32; MAX_BRIDGES], 0usize);
+    let closer = |d: &[f32; MAX_BRIDGES], out: &[u32; MAX_BRIDGES], k: usize, d2: f32, q: u32| {
+        d2 < d[k] || (d2 == d[k] && q < out[k])
+    };
+    // Once full, nothing farther than the last matters.
+    let bound = |b: &([f32; MAX_BRIDGES], [u32; MAX_BRIDGES], usize)| b.0[MAX_BRIDGES - 1];
+    grid.for_each_near_by(x, reach, &mut best, bound, |(d, out, n), j, d2| {
+        if strand[j as usize] == own {
+            return;
+        }
+        let q = point[j as usize];
+        if *n == MAX_BRIDGES && !closer(d, out, MAX_BRIDGES - 1, d2, q) {
+            return;
+        }
+        // Insertion into the sorted few: the farther ones move out by one.
+        let mut k = (*n).min(MAX_BRIDGES - 1);
+        while k > 0 && closer(d, out, k - 1, d2, q) {
+            d[k] = d[k - 1];
+            out[k] = out[k - 1];
+            k -= 1;
+        }
+        d[k] = d2;
+        out[k] = q;
+        *n = (*n + 1).min(MAX_BRIDGES);
+    });
+    let n = best.2;
+    out[..n].copy_from_slice(&best.1[..n]);
+    out[..n].sort_unstable();
+    n
 }

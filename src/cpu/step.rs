@@ -238,6 +238,9 @@ impl CpuBackend {
         if let Some(h) = &mut self.held {
             h.reset(&self.lay);
         }
+        if let Some(b) = &mut self.bridges {
+            b.reset();
+        }
         if let Some(w) = &mut self.water {
             w.reset();
         }
@@ -282,7 +285,15 @@ impl CpuBackend {
             held.keep_velocities(&self.state);
             if let Some(br) = &mut self.bridges {
                 let inv_mass = |r: usize, l: usize| held.inv_mass(r, l);
-                br.find_pairs(&self.lay, &self.state, &held.water, &held.capacity, inv_mass, h);
+                br.find_pairs(
+                    &self.lay,
+                    &self.state,
+                    &held.water,
+                    &held.capacity,
+                    inv_mass,
+                    h,
+                    self.pool.as_ref(),
+                );
                 // pass hair_grid
             }
         }
@@ -294,7 +305,8 @@ impl CpuBackend {
                     self.water.as_mut().expect("wet").grid_build(); // pass water_grid
                 }
                 if bridging {
-                    self.bridges.as_mut().expect("bridging").gather(&self.state);
+                    let pool = self.pool.as_ref();
+                    self.bridges.as_mut().expect("bridging").gather(&self.state, pool);
                     // pass cohesion
                 }
                 self.run_blocks(s..s + 1, h, wet, bridging, axial);

@@ -7,6 +7,7 @@ pub mod adhesion;
 pub mod clumping;
 pub mod collide;
 pub mod grid;
+pub mod hash_grid;
 pub mod head;
 pub mod implicit;
 pub mod integrate;

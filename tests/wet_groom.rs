@@ -1,0 +1,111 @@
+//! The full wet model on a real long-strand groom (issue 14's behaviour on something other than
+//! the paper scene): the TressFX ponytail in metres with the loader's 1 g per metre and the
+//! default material springs, soaked, against a dry twin. Soaked hair hangs lower, drops fall
+//! from the tips, the strands stay bundled while wet and let go as they dry.
+
+use glam::Vec3;
+use wethair::groom::{load_file_with, Groom, LoadOptions, UpAxis};
+use wethair::{Backend, HeldWater, SimParams, Simulation};
+
+const DT: f32 = 1.0 / 60.0;
+
+/// The ponytail (517 strands of 16 points, centimetres and y up in the file) in metres, z up,
+/// with the loader's default mass (1 g per metre of strand).
+fn ponytail() -> Groom {
+    let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ponytail_back.tfx"));
+    let opt = LoadOptions {
+        scale: 0.01,
+        up_axis: UpAxis::Y_TO_Z,
+        ..Default::default()
+    };
+    load_file_with(path, &opt).unwrap()
+}
+
+/// Mean height of the strands' last points, m.
+fn mean_tip_z(sim: &Simulation, groom: &Groom) -> f32 {
+    let x = sim.positions();
+    let ends: Vec<usize> = (0..groom.strand_count())
+        .map(|s| groom.strand_range(s).end - 1)
+        .collect();
+    ends.iter().map(|&i| x[i].z).sum::<f32>() / ends.len() as f32
+}
+
+#[test]
+fn a_soaked_ponytail_hangs_lower_drips_from_its_tips_and_lets_go_as_it_dries() {
+    let groom = ponytail();
+    let base = SimParams {
+        backend: Backend::CPU,
+        ..SimParams::default()
+    };
+    let wet_params = SimParams {
+        held_water: HeldWater {
+            dry_time: 1.0,
+            ..HeldWater::ON
+        },
+        ..base.clone()
+    };
+    let mut dry = Simulation::new(&groom, base).unwrap();
+    let mut wet = Simulation::new(&groom, wet_params).unwrap();
+    // Settle under gravity, then soak.
+    for _ in 0..60 {
+        dry.step(DT).unwrap();
+        wet.step(DT).unwrap();
+    }
+    wet.soak(1.0).unwrap();
+    let tip_rows: Vec<usize> = (0..groom.strand_count())
+        .map(|s| groom.strand_range(s).end - 1)
+        .collect();
+    let r_max = wet.params().water.r_max;
+    let (mut ratios, mut sags, mut first_drop) = (Vec::new(), Vec::new(), None);
+    for f in 1..=480 {
+        let tips: Vec<Vec3> = {
+            let x = wet.positions();
+            tip_rows.iter().map(|&i| x[i]).collect()
+        };
+        dry.step(DT).unwrap();
+        wet.step(DT).unwrap();
+        let (drops, _) = wet.water().unwrap();
+        if first_drop.is_none() && !drops.is_empty() {
+            first_drop = Some((f, drops[0], tips));
+        }
+        let t = f as f32 * DT;
+        if f % 15 == 0 {
+            ratios.push((t, wet.stats().clumping_along / dry.stats().clumping_along));
+            sags.push((t, mean_tip_z(&dry, &groom) - mean_tip_z(&wet, &groom)));
+        }
+    }
+    // Soaked hair is heavier and limper: its tips hang lower than the dry twin's while wet.
+    let wet_sag: Vec<f32> = sags
+        .iter()
+        .filter(|(t, _)| (0.5..=3.0).contains(t))
+        .map(|p| p.1)
+        .collect();
+    let mean_sag = wet_sag.iter().sum::<f32>() / wet_sag.len() as f32;
+    assert!(
+        mean_sag > 1e-4 && wet_sag.iter().all(|&d| d > 0.0),
+        "tips lower by {sags:?}"
+    );
+    // The first drop leaves from a strand's tip: it appears within r_max (plus what it falls
+    // in a frame) below the tip it left (it leaves with the tip's velocity; that drops then
+    // fall freely is tests/wet_model.rs's).
+    let (f, drop, tips) = first_drop.expect("the soaked ponytail drips");
+    let tip = tips
+        .iter()
+        .min_by(|a, b| a.distance(drop).total_cmp(&b.distance(drop)))
+        .unwrap();
+    assert!(
+        tip.distance(drop) < 2.0 * r_max && drop.z < tip.z,
+        "drop at {drop} (frame {f}) near tip {tip}"
+    );
+    // Bundled while wet (measurably; see the closing note of issue 14 on light hair), within
+    // 10% of dry again once dried.
+    let wet_ratio = ratios
+        .iter()
+        .filter(|(t, _)| (0.5..=2.0).contains(t))
+        .map(|p| p.1)
+        .fold(f32::INFINITY, f32::min);
+    assert!(wet_ratio < 0.97, "clumping while wet {ratios:?}");
+    let (t, last) = *ratios.last().unwrap();
+    assert!(last >= 0.9, "let go by {t:.2} s: {ratios:?}");
+    assert!(wet.water_ledger().unwrap().balanced());
+}
