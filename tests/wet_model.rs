@@ -239,9 +239,11 @@ fn a_saturated_strand_drips_only_from_its_tip_and_the_drops_fall_freely() {
 }
 
 #[test]
-fn the_full_model_gives_the_same_bits_on_any_thread_count() {
+fn the_full_model_gives_the_same_bits_on_any_thread_count_and_after_a_reset() {
     let groom = paper_scene(300, 6).unwrap();
-    let run = |threads: u32| -> (Vec<f32>, wethair::WaterLedger, Vec<Vec3>) {
+    // `replay`: run the whole sequence, reset, and run it again (a reset simulation must
+    // replay like a new one: held water, particles, bridges' search turns, the clock).
+    let run = |threads: u32, replay: bool| -> (Vec<f32>, wethair::WaterLedger, Vec<Vec3>) {
         let mut p = full(5.0);
         p.threads = threads;
         p.air_drag = 0.002;
@@ -251,33 +253,41 @@ fn the_full_model_gives_the_same_bits_on_any_thread_count() {
             seed: 3,
         };
         let mut sim = Simulation::new(&groom, p).unwrap();
-        sim.soak(0.6).unwrap();
-        for f in 0..120 {
-            if f % 10 == 0 {
-                let pos: Vec<Vec3> = (0..20)
-                    .map(|k| Vec3::new(-0.1 + 0.01 * k as f32, 0.02 * (f % 7) as f32, 0.25))
-                    .collect();
-                sim.add_water(&pos, &[]).unwrap();
+        let go = |sim: &mut Simulation| {
+            sim.soak(0.6).unwrap();
+            for f in 0..120 {
+                if f % 10 == 0 {
+                    let pos: Vec<Vec3> = (0..20)
+                        .map(|k| Vec3::new(-0.1 + 0.01 * k as f32, 0.02 * (f % 7) as f32, 0.25))
+                        .collect();
+                    sim.add_water(&pos, &[]).unwrap();
+                }
+                sim.set_head_transform(glam::Mat4::from_rotation_z(0.01 * f as f32))
+                    .unwrap();
+                sim.step(DT).unwrap();
             }
-            sim.set_head_transform(glam::Mat4::from_rotation_z(0.01 * f as f32))
-                .unwrap();
-            sim.step(DT).unwrap();
+        };
+        if replay {
+            go(&mut sim);
+            sim.set_head_transform(glam::Mat4::IDENTITY).unwrap();
+            sim.reset().unwrap();
         }
+        go(&mut sim);
         let mut v = vec![0.0; sim.vertex_count() * sim.attributes().stride()];
         sim.write_vertices(&mut v).unwrap();
         (v, sim.water_ledger().unwrap(), sim.water().unwrap().0)
     };
-    let (one, l1, w1) = run(1);
+    let (one, l1, w1) = run(1, false);
     assert!(l1.balanced());
     assert!(l1.in_particles > 0 && l1.held > 0 && l1.evaporated > 0);
-    for t in [2, 3, 8] {
-        let (v, l, w) = run(t);
+    for (t, replay) in [(2, false), (3, false), (8, false), (2, true)] {
+        let (v, l, w) = run(t, replay);
         assert!(
             one.iter().zip(&v).all(|(a, b)| a.to_bits() == b.to_bits()),
-            "{t} threads"
+            "{t} threads, replayed after a reset: {replay}"
         );
-        assert_eq!(l1, l, "{t} threads");
-        assert_eq!(w1, w, "{t} threads");
+        assert_eq!(l1, l, "{t} threads, replay {replay}");
+        assert_eq!(w1, w, "{t} threads, replay {replay}");
     }
 }
 
