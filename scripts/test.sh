@@ -31,10 +31,13 @@ make -C examples/c --quiet all build/unity_fake
 ./examples/c/build/smoke 100 --backend gpu
 ./examples/c/build/smoke 10 1000 --backend gpu --lose-device
 mkdir -p out
-./examples/c/build/render --out out/test-render.png --frames 60 --backend cpu
-test -s out/test-render.png
-./examples/c/build/render --out out/test-render-gpu.png --frames 60 --backend gpu
-test -s out/test-render-gpu.png
+# The strip (2.5 s: dry, soaked, dripping, half dry; the host checks the water ledger) and the
+# paper model's pair.
+./examples/c/build/render --out out/test-render.png --frames 60 --backend cpu --strip-seconds 2.5 | tee target/render.log
+test -s out/test-render.png && test -s out/test-render-paper.png
+grep -q "^  half dry" target/render.log
+./examples/c/build/render --out out/test-render-gpu.png --frames 60 --backend gpu --strip-seconds 0
+test -s out/test-render-gpu-paper.png
 
 step "Linking against the build tree as the README shows (no install): shared with its SONAME link, and static"
 ln -sf libwethair.so target/release/libwethair.so.0.1
@@ -142,7 +145,7 @@ make -C examples/c --quiet BUILD=build-asan CFLAGS="-O1 -g -fno-omit-frame-point
 # The CPU backend: Mesa's lavapipe allocates for the process's lifetime, which LeakSanitizer
 # would report against the GPU runs.
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/smoke 120 4000 --backend cpu
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/render --out out/asan-render.png --frames 30 --backend cpu
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/render --out out/asan-render.png --frames 30 --backend cpu --strip-seconds 1.6
 ASAN_OPTIONS=detect_leaks=1 ./examples/c/build-asan/header_check_c
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ./examples/c/build-asan/cpp_paper_scene
 # The Vulkan host on lavapipe: lavapipe is preloaded so that the loader's dlclose keeps its
@@ -173,9 +176,10 @@ step "Peer bench harness: NumPy and wethair (through its C ABI, ctypes) agree on
     --max-disagreement 1e-6 --out target/peers-smoke
 
 step "The main job prints only its own lines (no Mesa warning without XDG_RUNTIME_DIR); last, as it rebuilds the library without the unity feature"
-env -u XDG_RUNTIME_DIR bash scripts/main.sh --frames 10 --out out/test-main.png 2>&1 | tee target/main.log
+env -u XDG_RUNTIME_DIR bash scripts/main.sh --frames 10 --strip-seconds 2 --out out/test-main.png 2>&1 | tee target/main.log
 ! grep -qi "error\|warning" target/main.log
-grep -q "^timing: dry" target/main.log
+grep -q "^timing (paper model): dry" target/main.log
+grep -q "^wet model .* ms/frame" target/main.log
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
 c_checks=36  # peer bench harness, build-tree links shared and static, 0.1.0 host, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy

@@ -1,8 +1,10 @@
-//! A minimal SVG writer for the report's log-log plots and stability maps.
+//! A minimal SVG writer for the report's log-log plots and stability maps, and the wet
+//! timeline's linear plots.
 
 use std::fmt::Write;
 
-/// One line of a log-log plot: a label, a colour, and (x, y) points (non-positive ones skipped).
+/// One line of a plot: a label, a colour, and (x, y) points (on a log plot, non-positive ones
+/// are skipped).
 pub struct Series {
     pub label: String,
     pub colour: &'static str,
@@ -27,8 +29,61 @@ pub struct Panel<'a> {
     pub yl: &'a str,
 }
 
+/// How an axis maps values: by decades, or linearly from zero (or the data's least value,
+/// if negative) to a round top.
+#[derive(Clone, Copy, PartialEq)]
+enum Scale {
+    Log,
+    Linear,
+}
+
+/// The axis range (in the mapped unit: decades for a log axis) and its ticks (value, label).
+fn axis(scale: Scale, lo: f64, hi: f64) -> ((f64, f64), Vec<(f64, String)>) {
+    match scale {
+        Scale::Log => {
+            let (a, b) = decades(lo, hi);
+            (
+                (a, b),
+                (a as i32..=b as i32)
+                    .map(|d| (10f64.powi(d), format!("1e{d}")))
+                    .collect(),
+            )
+        }
+        Scale::Linear => {
+            let (lo, hi) = (lo.min(0.0), hi.max(lo.min(0.0) + 1e-12));
+            // A step of 1, 2 or 5 times a power of ten giving 4 to 10 ticks.
+            let raw = (hi - lo) / 5.0;
+            let p = 10f64.powf(raw.log10().floor());
+            let step = [1.0, 2.0, 5.0, 10.0]
+                .iter()
+                .map(|m| m * p)
+                .find(|s| (hi - lo) / s <= 8.0)
+                .unwrap_or(10.0 * p);
+            let (a, b) = ((lo / step).floor() * step, (hi / step).ceil() * step);
+            let n = ((b - a) / step).round() as i32;
+            (
+                (a, b),
+                (0..=n)
+                    .map(|k| a + k as f64 * step)
+                    .map(|v| (v, format!("{}", (v * 1e6).round() / 1e6)))
+                    .collect(),
+            )
+        }
+    }
+}
+
 /// A log-log plot of `series` in `panel`.
 pub fn loglog(out: &mut String, panel: &Panel, series: &[Series]) {
+    plot(out, panel, series, Scale::Log);
+}
+
+/// A plot of `series` in `panel` with linear axes.
+#[allow(dead_code)] // used by examples/wet_timeline, not by the report
+pub fn linear(out: &mut String, panel: &Panel, series: &[Series]) {
+    plot(out, panel, series, Scale::Linear);
+}
+
+fn plot(out: &mut String, panel: &Panel, series: &[Series], scale: Scale) {
     let Panel {
         ox,
         oy,
@@ -38,25 +93,24 @@ pub fn loglog(out: &mut String, panel: &Panel, series: &[Series]) {
         xl,
         yl,
     } = *panel;
+    let shown =
+        |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && (scale == Scale::Linear || (p.0 > 0.0 && p.1 > 0.0));
     let pts: Vec<(f64, f64)> = series
         .iter()
         .flat_map(|s| s.points.iter().copied())
-        .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+        .filter(shown)
         .collect();
     if pts.is_empty() {
         return;
     }
-    let (x0, x1) = decades(
-        pts.iter().map(|p| p.0).fold(f64::INFINITY, f64::min),
-        pts.iter().map(|p| p.0).fold(0.0, f64::max),
-    );
-    let (y0, y1) = decades(
-        pts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min),
-        pts.iter().map(|p| p.1).fold(0.0, f64::max),
-    );
+    let min = |f: fn(&(f64, f64)) -> f64| pts.iter().map(f).fold(f64::INFINITY, f64::min);
+    let max = |f: fn(&(f64, f64)) -> f64| pts.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
+    let ((x0, x1), xticks) = axis(scale, min(|p| p.0), max(|p| p.0));
+    let ((y0, y1), yticks) = axis(scale, min(|p| p.1), max(|p| p.1));
+    let map = |v: f64| if scale == Scale::Log { v.log10() } else { v };
     let (l, r, t, b) = (ox + 60.0, ox + w - 10.0, oy + 30.0, oy + h - 45.0);
-    let px = |x: f64| l + (x.log10() - x0) / (x1 - x0) * (r - l);
-    let py = |y: f64| b - (y.log10() - y0) / (y1 - y0) * (b - t);
+    let px = |x: f64| l + (map(x) - x0) / (x1 - x0) * (r - l);
+    let py = |y: f64| b - (map(y) - y0) / (y1 - y0) * (b - t);
     let _ = writeln!(
         out,
         r#"<text x="{}" y="{}" font-size="14" text-anchor="middle">{title}</text>"#,
@@ -69,19 +123,19 @@ pub fn loglog(out: &mut String, panel: &Panel, series: &[Series]) {
         r - l,
         b - t
     );
-    for d in x0 as i32..=x1 as i32 {
-        let x = px(10f64.powi(d));
+    for (v, label) in &xticks {
+        let x = px(*v);
         let _ = writeln!(
             out,
-            r##"<line x1="{x}" y1="{t}" x2="{x}" y2="{b}" stroke="#ddd"/><text x="{x}" y="{}" font-size="11" text-anchor="middle">1e{d}</text>"##,
+            r##"<line x1="{x}" y1="{t}" x2="{x}" y2="{b}" stroke="#ddd"/><text x="{x}" y="{}" font-size="11" text-anchor="middle">{label}</text>"##,
             b + 14.0
         );
     }
-    for d in y0 as i32..=y1 as i32 {
-        let y = py(10f64.powi(d));
+    for (v, label) in &yticks {
+        let y = py(*v);
         let _ = writeln!(
             out,
-            r##"<line x1="{l}" y1="{y}" x2="{r}" y2="{y}" stroke="#ddd"/><text x="{}" y="{}" font-size="11" text-anchor="end">1e{d}</text>"##,
+            r##"<line x1="{l}" y1="{y}" x2="{r}" y2="{y}" stroke="#ddd"/><text x="{}" y="{}" font-size="11" text-anchor="end">{label}</text>"##,
             l - 4.0,
             y + 4.0
         );
@@ -104,7 +158,7 @@ pub fn loglog(out: &mut String, panel: &Panel, series: &[Series]) {
         let p: Vec<String> = s
             .points
             .iter()
-            .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+            .filter(|p| shown(p))
             .map(|&(x, y)| format!("{:.1},{:.1}", px(x), py(y)))
             .collect();
         if !p.is_empty() {
