@@ -1,5 +1,5 @@
 //! Steps the paper scene (head collider, `particles` placed in the hair) for `frames` frames:
-//! a target for `perf record` when tuning the CPU backend (`FULL=1`: with the full wet model).
+//! a target for `perf record` when tuning the CPU backend (`FULL=1`: with the full wet model; `BIG=1`: on 100,000 x 16).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -15,7 +15,13 @@ fn main() {
         a.get(1).copied().unwrap_or(1),
         a.get(2).copied().unwrap_or(300),
     );
-    let groom = paper_scene(10_000, 6).expect("groom");
+    // BIG=1: the 100,000 x 16 groom of the bench's second wet row.
+    let (strands, points) = if std::env::var_os("BIG").is_some() {
+        (100_000, 16)
+    } else {
+        (10_000, 6)
+    };
+    let groom = paper_scene(strands, points).expect("groom");
     let mut params = SimParams {
         threads: threads as u32,
         ..if std::env::var_os("NO_COLLIDER").is_some() {
