@@ -147,6 +147,13 @@ namespace WetHair
         /// <summary>Back to rest, dry, no water.</summary>
         public void Reset() => WetHairException.Check(Native.wethair_sim_reset(handle));
 
+        /// <summary>Wets every hair point up to <paramref name="saturation"/> (0..1) of its
+        /// capacity, as after a dunk (needs held_water.enabled; wethair_sim_soak).</summary>
+        public void Soak(float saturation) => WetHairException.Check(Native.wethair_sim_soak(handle, saturation));
+
+        /// <summary>Sets the wind from the next step on (wethair_sim_set_wind).</summary>
+        public void SetWind(WetHairWind wind) => WetHairException.Check(Native.wethair_sim_set_wind(handle, &wind));
+
         /// <summary>Vertex count, stride and attribute offsets.</summary>
         public WetHairVertexLayout Layout
         {

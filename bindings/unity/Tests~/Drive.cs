@@ -94,6 +94,37 @@ static class Drive
                 }
             }
         }
+        // The wet model through the current layout: soak, a gusty wind, drying; the ledger in
+        // the stats balances to the quantum, and a bad saturation is refused.
+        using (Groom g3 = Groom.PaperScene(500, 6))
+        {
+            var d3 = Simulation.GroomDesc();
+            d3.backend = (uint)Backend.Cpu;
+            d3.held_water.enabled = 1;
+            d3.held_water.dry_time = 1.0f;
+            d3.air_drag = 0.002f;
+            using (var s3 = new Simulation(g3, d3))
+            {
+                s3.Soak(1.0f);
+                var wind = new WetHairWind { gust = 0.5f, seed = 3 };
+                wind.velocity[0] = 2.0f;
+                s3.SetWind(wind);
+                for (int f = 0; f < 60; f++) s3.Step(1.0f / 60.0f);
+                var w = s3.Stats;
+                Console.WriteLine("wet model: added " + w.water_added + " quanta = particles " + w.water_in_particles + " + held " + w.water_held + " + left " + w.water_left + " + evaporated " + w.water_evaporated);
+                if (w.water_added == 0 || w.water_held == 0 || w.water_evaporated == 0) return Fail("the hair did not soak and dry");
+                if (w.water_added != w.water_in_particles + w.water_held + w.water_left + w.water_evaporated) return Fail("the ledger does not balance");
+                try
+                {
+                    s3.Soak(float.NaN);
+                    return Fail("a NaN saturation was accepted");
+                }
+                catch (WetHairException e)
+                {
+                    if (e.Code != Result.InvalidArgument) return Fail("code " + e.Code);
+                }
+            }
+        }
         // The Unity entry outside Unity: not loaded, so simulations are made as usual.
         var us = Simulation.UnityStatus;
         if (us.loaded != 0) return Fail("plugin reported loaded outside Unity");
