@@ -154,6 +154,17 @@ namespace WetHair
         /// <summary>Sets the wind from the next step on (wethair_sim_set_wind).</summary>
         public void SetWind(WetHairWind wind) => WetHairException.Check(Native.wethair_sim_set_wind(handle, &wind));
 
+        /// <summary>Sets the wind from its velocity (m/s), gust (0..1) and seed, for callers
+        /// without unsafe code.</summary>
+        public void SetWind(float vx, float vy, float vz, float gust, uint seed)
+        {
+            var wind = new WetHairWind { gust = gust, seed = seed };
+            wind.velocity[0] = vx;
+            wind.velocity[1] = vy;
+            wind.velocity[2] = vz;
+            SetWind(wind);
+        }
+
         /// <summary>Vertex count, stride and attribute offsets.</summary>
         public WetHairVertexLayout Layout
         {

@@ -106,9 +106,7 @@ static class Drive
             using (var s3 = new Simulation(g3, d3))
             {
                 s3.Soak(1.0f);
-                var wind = new WetHairWind { gust = 0.5f, seed = 3 };
-                wind.velocity[0] = 2.0f;
-                s3.SetWind(wind);
+                s3.SetWind(2.0f, 0.0f, 0.0f, 0.5f, 3);
                 for (int f = 0; f < 60; f++) s3.Step(1.0f / 60.0f);
                 var w = s3.Stats;
                 Console.WriteLine("wet model: added " + w.water_added + " quanta = particles " + w.water_in_particles + " + held " + w.water_held + " + left " + w.water_left + " + evaporated " + w.water_evaporated);

@@ -1,6 +1,7 @@
 // Sample: wet hair on a GameObject. Creates a simulation from a hair file (.tfx or .hair, in
 // StreamingAssets) or the paper scene, follows this transform as the head, sprays water while
-// a key is held, steps on the render thread through the plugin event, and fills a
+// a key is held, soaks the hair and toggles a gusty wind on keys (the full wet model: held
+// water that weighs, bridges, drips and dries; CPU backend for now), steps on the render thread through the plugin event, and fills a
 // GraphicsBuffer with the vertices (copy path) for a material to draw with
 // Graphics.RenderPrimitivesIndexed (see bindings/shaders/kajiya_kay.hlsl for the shading).
 //
@@ -21,7 +22,16 @@ public class WetHairHair : MonoBehaviour
     [Tooltip("Held to spray water from the camera.")]
     public KeyCode sprayKey = KeyCode.Space;
     public int particlesPerFrame = 50;
+    [Tooltip("The full wet model (held water, liquid bridges, drip, drying); off: the paper's adhesion only.")]
+    public bool fullWetModel = true;
+    [Tooltip("Soaks the hair to saturation (full wet model).")]
+    public KeyCode soakKey = KeyCode.S;
+    [Tooltip("Toggles the wind.")]
+    public KeyCode windKey = KeyCode.W;
+    public Vector3 windVelocity = new Vector3(3f, 0f, 0f);
+    [Range(0f, 1f)] public float windGust = 0.5f;
     public Material hairMaterial;
+    bool windOn;
 
     Groom groom;
     Simulation sim;
@@ -40,8 +50,20 @@ public class WetHairHair : MonoBehaviour
         groom = string.IsNullOrEmpty(hairFile)
             ? Groom.PaperScene(10000, 6)
             : Groom.Load(System.IO.Path.Combine(Application.streamingAssetsPath, hairFile), pointMass);
-        var desc = Simulation.DefaultDesc();
+        // The current layout (it has held_water and wind); the paper scene keeps its own springs.
+        var desc = Simulation.GroomDesc();
+        if (string.IsNullOrEmpty(hairFile))
+        {
+            desc.spring_model = 0; // per spring, the paper's constants
+            desc.integrator = (uint)Integrator.SymplecticEuler;
+            // Its points weigh 1 g (wisps of thousands of hairs): hold a thirtieth of the
+            // default water, shed 30 mg drops (as the main job's strip does).
+            desc.held_water.capacity_ratio = 0.01f;
+            desc.held_water.drip_mass = 3e-5f;
+        }
         desc.backend = (uint)Backend.Auto;
+        desc.air_drag = 0.002f; // so the wind moves the hair, not only the water
+        desc.held_water.enabled = fullWetModel ? 1u : 0u;
         // On Unity's Vulkan renderer this runs on Unity's own VkDevice (see the README).
         sim = new Simulation(groom, desc, new[] { new WetHairCollider { shape = 0, radius = 0.1f } }, onUnityDevice: true);
         Debug.Log("wethair: " + sim.BackendDescription);
@@ -71,6 +93,13 @@ public class WetHairHair : MonoBehaviour
         sim.SetHeadTransform(cols);
 
         if (Input.GetKey(sprayKey)) Spray();
+        if (fullWetModel && Input.GetKeyDown(soakKey)) sim.Soak(1.0f);
+        if (Input.GetKeyDown(windKey))
+        {
+            windOn = !windOn;
+            var v = windOn ? windVelocity : Vector3.zero;
+            sim.SetWind(v.x, v.y, v.z, windOn ? windGust : 0f, 1);
+        }
 
         // Read last frame's step result (the render thread wrote it), then step this frame there.
         if (step[0].result != 0 && step[0].struct_size != 0)
