@@ -6,11 +6,12 @@
  *
  * usage: viewer [--groom FILE.tfx|.hair] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl]
  *               [--size WxH] [--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N]
+ *               [--wet-model]
  *
  * Controls: left drag orbit, wheel zoom; space or right mouse: spray at the cursor; arrows turn
  * the head (left/right yaw, up/down pitch), W/A/S/D/Q/E move it; C dry (remove all water);
  * R reset; B switch backend (CPU/GPU); I switch integrator; P pause; N single step; + and -
- * line width; Esc quit. Drawn in the window (and in its title, and on stdout every second):
+ * line width; T rain on/off; G gusty wind on/off; K soak the hair (--wet-model); Esc quit. Drawn in the window (and in its title, and on stdout every second):
  * simulation and draw ms/frame, renderer and vertex source, backend and adapter, integrator,
  * points, particles, the clumping measure, the spray rate.
  *
@@ -20,7 +21,9 @@
  * --script FILE replays timed events, one per line: "FRAME COMMAND [ARGS]" with COMMAND one of
  *   spray on|off, yaw DEG, pitch DEG, move DX DY DZ (m), dry, reset, backend cpu|gpu|auto,
  *   integrator symplectic|implicit, pause, resume, step, screenshot FILE (.png or .ppm; the
- *   frame drawn next), resize WxH (the window), stats, quit
+ *   frame drawn next), resize WxH (the window), stats, rain on|off, wind on|off, soak, quit
+ * --wet-model runs the full wet model (held water, liquid bridges, drip, drying in 20 s; on the
+ *   CPU backend for now) and shows the water ledger.
  * In script mode the spray aims from the camera at the head, the frame step is a fixed 1/60 s
  * and every frame is stepped (no dropped frames), so runs repeat. */
 #include <GLFW/glfw3.h>
@@ -125,13 +128,39 @@ static const char *integrator_name(uint32_t i) {
 }
 
 /* (Re)creates the simulation with the current backend and integrator; reuses the groom. */
+/* Applies the rain and wind toggles to the simulation (rain over the head, falling at 4 m/s;
+ * a 3 m/s wind along x with gusts). */
+static void set_weather(Viewer *v) {
+    WetHairRain rain = {{0.0f, 0.0f, 0.45f}, {0.4f, 0.4f}, 600.0f, 4.0f, 7};
+    wh_check(wethair_sim_set_rain(v->sim, v->raining ? &rain : NULL), "wethair_sim_set_rain");
+    WetHairWind wind = {{v->windy ? 3.0f : 0.0f, 0.0f, 0.0f}, v->windy ? 0.5f : 0.0f, 1};
+    wh_check(wethair_sim_set_wind(v->sim, &wind), "wethair_sim_set_wind");
+}
+
+/* Soaks the hair (the wet model only; says so otherwise). */
+static void soak(Viewer *v) {
+    if (v->wet_model) wh_check(wethair_sim_soak(v->sim, 1.0f), "wethair_sim_soak");
+    else printf("viewer: soak needs --wet-model\n");
+}
+
 static void make_sim(Viewer *v) {
     if (v->sim) wethair_sim_destroy(v->sim);
     /* The paper scene runs the paper's exact parameters; a groom file the current defaults
      * (springs from material properties, right for any sampling). */
     WetHairSimDesc desc;
-    if (v->is_paper) wethair_sim_desc_default(&desc);
+    if (v->is_paper && !v->wet_model) wethair_sim_desc_default(&desc);
     else wh_check(wethair_sim_desc_init(&desc, sizeof desc), "wethair_sim_desc_init");
+    if (v->is_paper && v->wet_model) {
+        desc.spring_model = WETHAIR_SPRING_MODEL_PER_SPRING; /* the paper's springs, current layout */
+        desc.integrator = WETHAIR_INTEGRATOR_SYMPLECTIC_EULER;
+        /* 1 g points (wisps of thousands of hairs): a thirtieth of the capacity, 30 mg drops. */
+        desc.held_water.capacity_ratio = 0.01f;
+        desc.held_water.drip_mass = 3.0e-5f;
+    }
+    if (v->wet_model) {
+        desc.held_water.enabled = 1;
+        desc.held_water.dry_time = 20.0f; /* 60x faster than in air, to watch it dry */
+    }
     WetHairCollider head = {WETHAIR_COLLIDER_SPHERE, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.1f};
     desc.groom = v->groom;
     if (v->is_paper) {
@@ -155,6 +184,7 @@ static void make_sim(Viewer *v) {
     head_matrix(v, m);
     wh_check(wethair_sim_set_head_transform(v->sim, m), "wethair_sim_set_head_transform");
     wh_check(wethair_sim_reset(v->sim), "wethair_sim_reset");
+    set_weather(v);
     wh_print_backend(v->sim);
     printf("viewer: integrator %s; strands drawn with %s from the %s\n", integrator_name(v->integrator), v->api,
            v->r.source(v));
@@ -244,6 +274,21 @@ static void print_stats(Viewer *v) {
              info.device, integrator_name(v->integrator), st.points, st.particles, 1e3 * st.clumping);
     snprintf(v->overlay[2], sizeof v->overlay[2], "SPRAY %d PARTICLES/S (SPACE, RIGHT MOUSE)  LINES %.1f PX%s",
              SPRAY_PER_FRAME * 60, v->line_width, v->paused ? "  PAUSED" : "");
+    if (v->wet_model) {
+        double g = WETHAIR_WATER_QUANTUM_KG * 1e3;
+        snprintf(v->overlay[3], sizeof v->overlay[3],
+                 "RAIN %s (T)  WIND %s (G)  WATER G: ADDED %.1f = DROPS %.1f + HELD %.1f + LEFT %.1f + DRIED %.1f",
+                 v->raining ? "ON" : "OFF", v->windy ? "ON" : "OFF", g * (double)st.water_added,
+                 g * (double)st.water_in_particles, g * (double)st.water_held, g * (double)st.water_left,
+                 g * (double)st.water_evaporated);
+        printf("water: added %llu = particles %llu + held %llu + left %llu + evaporated %llu quanta\n",
+               (unsigned long long)st.water_added, (unsigned long long)st.water_in_particles,
+               (unsigned long long)st.water_held, (unsigned long long)st.water_left,
+               (unsigned long long)st.water_evaporated);
+    } else {
+        snprintf(v->overlay[3], sizeof v->overlay[3], "RAIN %s (T)  WIND %s (G)  (--WET-MODEL: HELD WATER)",
+                 v->raining ? "ON" : "OFF", v->windy ? "ON" : "OFF");
+    }
     v->sim_ms = v->draw_ms = 0.0;
     v->frames_in_window = 0;
 }
@@ -262,7 +307,11 @@ static const char *run_event(Viewer *v, const Event *e) {
     } else if (!strcmp(e->cmd, "integrator")) {
         v->integrator = !strcmp(e->arg, "implicit") ? WETHAIR_INTEGRATOR_IMPLICIT_EULER : WETHAIR_INTEGRATOR_SYMPLECTIC_EULER;
         make_sim(v);
-    } else if (!strcmp(e->cmd, "pause")) v->paused = 1;
+    } else if (!strcmp(e->cmd, "rain") || !strcmp(e->cmd, "wind")) {
+        *(!strcmp(e->cmd, "rain") ? &v->raining : &v->windy) = !strcmp(e->arg, "on");
+        set_weather(v);
+    } else if (!strcmp(e->cmd, "soak")) soak(v);
+    else if (!strcmp(e->cmd, "pause")) v->paused = 1;
     else if (!strcmp(e->cmd, "resume")) v->paused = 0;
     else if (!strcmp(e->cmd, "step")) v->step_once = 1;
     else if (!strcmp(e->cmd, "screenshot")) return e->arg;
@@ -311,6 +360,15 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
     case GLFW_KEY_C: wh_check(wethair_sim_clear_water(v->sim), "wethair_sim_clear_water"); break;
     case GLFW_KEY_R: wh_check(wethair_sim_reset(v->sim), "wethair_sim_reset"); break;
     case GLFW_KEY_P: v->paused = !v->paused; break;
+    case GLFW_KEY_T:
+        v->raining = !v->raining;
+        set_weather(v);
+        break;
+    case GLFW_KEY_G:
+        v->windy = !v->windy;
+        set_weather(v);
+        break;
+    case GLFW_KEY_K: soak(v); break;
     case GLFW_KEY_N: v->step_once = 1; break;
     case GLFW_KEY_EQUAL:
     case GLFW_KEY_KP_ADD: v->line_width = fminf(8.0f, v->line_width + 0.5f); break;
@@ -413,6 +471,7 @@ int main(int argc, char **argv) {
     int frames = 0, msaa = 0;
     for (int i = 1; i < argc; i++) {
         if (i + 1 < argc && !strcmp(argv[i], "--groom")) groom_path = argv[++i];
+        else if (!strcmp(argv[i], "--wet-model")) v.wet_model = 1;
         else if (i + 1 < argc && !strcmp(argv[i], "--backend")) v.backend = wh_parse_backend(argv[++i]);
         else if (i + 1 < argc && !strcmp(argv[i], "--renderer")) renderer = argv[++i];
         else if (i + 1 < argc && !strcmp(argv[i], "--script")) script = argv[++i];
@@ -424,7 +483,7 @@ int main(int argc, char **argv) {
         else {
             fprintf(stderr,
                     "usage: %s [--groom FILE] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl] [--size WxH] "
-                    "[--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N]\n",
+                    "[--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N] [--wet-model]\n",
                     argv[0]);
             return 2;
         }

@@ -11,7 +11,7 @@
 
 #define MAX_PARTICLES 8192
 #define SPRAY_PER_FRAME 25
-#define OVERLAY_LINES 3
+#define OVERLAY_LINES 4
 
 typedef struct GLFWwindow GLFWwindow;
 typedef struct Viewer Viewer;
@@ -38,6 +38,9 @@ struct Viewer {
     int is_paper;
     float head_yaw, head_pitch, head_pos[3];
     int spraying, paused, step_once;
+    /* Weather and the wet model: rain and wind toggles (both backends); --wet-model holds
+     * water in the hair (the CPU backend for now) and shows the ledger. */
+    int raining, windy, wet_model;
     uint32_t seed;
     WetHairVertexLayout lay;
     /* Camera: orbit around target */
