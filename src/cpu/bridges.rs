@@ -114,16 +114,25 @@ impl Bridges {
 
     /// No pair, and the search turns start over (a reset simulation replays like a new one).
     pub fn reset(&mut self) {
+        self.forget_points();
+        self.n_nearest.iter_mut().for_each(|n| *n = 0);
+        self.step = 0;
+    }
+
+    /// Drops the last step's wet points and pairs: their forces are zeroed and their places
+    /// unmapped (each point's nearest are kept for the search turns).
+    fn forget_points(&mut self) {
         for &p in &self.point {
             self.force[p as usize / W] = L3::ZERO;
             self.local[p as usize] = u32::MAX;
         }
         self.point.clear();
+        self.pos.clear();
+        self.strand.clear();
+        self.sat_len.clear();
         self.first.clear();
         self.nbr.clear();
         self.coef.clear();
-        self.n_nearest.iter_mut().for_each(|n| *n = 0);
-        self.step = 0;
     }
 
     /// Pass `hair_grid`: searches this step's turn of wet free points (and every wet point with
@@ -144,14 +153,7 @@ impl Bridges {
         h: f32,
         pool: Option<&Pool>,
     ) {
-        for &p in &self.point {
-            self.force[p as usize / W] = L3::ZERO;
-            self.local[p as usize] = u32::MAX;
-        }
-        self.point.clear();
-        self.pos.clear();
-        self.strand.clear();
-        self.sat_len.clear();
+        self.forget_points();
         // Pinned points (roots) take no part: a bridge cannot move them, and the scalp is
         // where hair is densest. A point that is dry forgets its neighbours.
         for (r, (w, row)) in held.iter().zip(state).enumerate() {
@@ -171,9 +173,6 @@ impl Bridges {
         }
         let turn = self.step % SEARCH_TURNS;
         self.step = self.step.wrapping_add(1);
-        self.first.clear();
-        self.nbr.clear();
-        self.coef.clear();
         if self.point.len() < 2 {
             return;
         }
