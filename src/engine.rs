@@ -100,8 +100,9 @@ pub trait Engine: std::fmt::Debug + Send {
             "held water is not simulated on this backend".into(),
         ))
     }
-    /// Where the held water is, in quanta (`None` without held water).
-    fn ledger(&self) -> Option<WaterLedger> {
+    /// Where the held water is, in quanta (`None` without held water; an error when the
+    /// device could not be read).
+    fn ledger(&self) -> Option<Result<WaterLedger>> {
         None
     }
     /// The GPU compute entry points one step dispatches (none on the CPU).
@@ -147,9 +148,26 @@ pub fn not_shared(what: &str) -> crate::error::Error {
     ))
 }
 
-/// Why a scene with held water runs on the CPU.
+/// Why a scene's held water runs on the CPU, if it does: the GPU runs weight, limpness,
+/// soaking and drying; absorption, liquid bridges, flow and drip are CPU-only for now.
 #[cfg(feature = "gpu")]
-const HELD_WATER_CPU_ONLY: &str = "held water (SimParams::held_water) runs on the CPU backend only for now";
+fn held_water_cpu_only(p: &SimParams) -> Option<String> {
+    let hw = &p.held_water;
+    let parts: Vec<&str> = [
+        (hw.absorbs(), "absorption (absorb_rate)"),
+        (hw.bridges(), "liquid bridges (bridge_tension)"),
+        (hw.flows(), "flow and drip (flow_mobility)"),
+    ]
+    .iter()
+    .filter_map(|&(on, what)| on.then_some(what))
+    .collect();
+    (!parts.is_empty()).then(|| {
+        format!(
+            "held water's {} run on the CPU backend only for now (set them to 0 for the GPU)",
+            parts.join(", ")
+        )
+    })
+}
 
 /// A backend for `groom` under `p`, as `p.backend` asks (see [`Backend`]), at rest under
 /// `head`.
@@ -178,8 +196,8 @@ pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn 
         match p.backend {
             Backend::CPU => cpu(String::new()),
             Backend::GPU => {
-                if p.held_water.enabled {
-                    return Err(crate::error::Error::Unsupported(HELD_WATER_CPU_ONLY.into()));
+                if let Some(why) = held_water_cpu_only(p) {
+                    return Err(crate::error::Error::Unsupported(why));
                 }
                 let dev = crate::gpu::GpuDevice::open(true)?;
                 create_gpu(dev, groom, p, integrator, head)
@@ -188,8 +206,8 @@ pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn 
                 if integrator == Integrator::XPBD {
                     return cpu(format!("{integrator:?} runs on the CPU backend only"));
                 }
-                if p.held_water.enabled {
-                    return cpu(HELD_WATER_CPU_ONLY.into());
+                if let Some(why) = held_water_cpu_only(p) {
+                    return cpu(why);
                 }
                 match crate::gpu::GpuDevice::open(false) {
                     Err(e) => cpu(e.to_string()),
@@ -212,8 +230,8 @@ pub fn create_gpu(
     integrator: Integrator,
     head: &Affine3A,
 ) -> Result<(Box<dyn Engine>, BackendInfo)> {
-    if p.held_water.enabled {
-        return Err(crate::error::Error::Unsupported(HELD_WATER_CPU_ONLY.into()));
+    if let Some(why) = held_water_cpu_only(p) {
+        return Err(crate::error::Error::Unsupported(why));
     }
     let device = dev.adapter_name();
     let g = crate::gpu::GpuBackend::new(dev, groom, p, integrator, head)?;

@@ -402,9 +402,15 @@ impl Simulation {
     }
 
     /// Where the water went, in whole quanta (`None` without held water): added equals in
-    /// particles plus held plus left plus evaporated, exactly.
+    /// particles plus held plus left plus evaporated, exactly. On the GPU a blocking read; if
+    /// that fails (a lost device) this is `None` too: [`Simulation::try_water_ledger`] says why.
     pub fn water_ledger(&self) -> Option<crate::engine::WaterLedger> {
-        self.engine.ledger()
+        self.try_water_ledger().ok().flatten()
+    }
+
+    /// [`Simulation::water_ledger`], with the device's failure as an error.
+    pub fn try_water_ledger(&self) -> Result<Option<crate::engine::WaterLedger>> {
+        self.engine.ledger().transpose()
     }
 
     /// The passes the next step will run (only those the scene needs), the same list on

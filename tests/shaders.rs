@@ -35,13 +35,14 @@ fn kajiya_kay_wgsl_validates_with_the_vertex_layout() {
 /// with and without bend springs and colliders, before any device compiles them.
 #[test]
 fn output_modules_validate() {
-    use wethair::gpu::pipelines::{output_source, water_output_source, water_source};
+    use wethair::gpu::pipelines::{held_source, output_source, water_output_source, water_source};
     for (bend, colliders) in [(false, 0), (true, 2)] {
         let c = consts(bend, colliders);
         for (name, src, entry) in [
             ("output", output_source(c), "write_vertices"),
             ("water", water_source(c), "water_cull"),
             ("water output", water_output_source(c), "write_water_vertices"),
+            ("held", held_source(c), "dry"),
         ] {
             let module =
                 naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
@@ -70,7 +71,7 @@ fn consts(bend: bool, colliders: u32) -> wethair::gpu::pipelines::SceneConsts {
 /// Every module a scene can compile: dry and wet hair for each GPU integrator, water, vertex
 /// output and shared water, for a scene with and without bend springs and colliders.
 fn all_modules() -> Vec<(String, String)> {
-    use wethair::gpu::pipelines::{hair_source, output_source, water_output_source, water_source};
+    use wethair::gpu::pipelines::{hair_source, held_source, output_source, water_output_source, water_source};
     use wethair::plan::{pass_list, Pass};
     use wethair::{Integrator, Shape, SimParams};
     let mut out = Vec::new();
@@ -96,6 +97,7 @@ fn all_modules() -> Vec<(String, String)> {
         out.push((format!("water bend={bend}"), water_source(c)));
         out.push((format!("output bend={bend}"), output_source(c)));
         out.push((format!("water output bend={bend}"), water_output_source(c)));
+        out.push((format!("held bend={bend}"), held_source(c)));
     }
     out
 }
@@ -153,7 +155,7 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
             "{name}: collider stride"
         );
     }
-    assert_eq!(checked, 5 * 14, "every record in every module");
+    assert_eq!(checked, 5 * 16, "every record in every module");
 }
 
 /// The generated constants are the Rust values, as each module compiles them (naga evaluates

@@ -88,7 +88,7 @@ impl Engine for CpuBackend {
         CpuBackend::soak(self, s)
     }
 
-    fn ledger(&self) -> Option<WaterLedger> {
-        CpuBackend::ledger(self)
+    fn ledger(&self) -> Option<Result<WaterLedger>> {
+        CpuBackend::ledger(self).map(Ok)
     }
 }

@@ -255,7 +255,7 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
         let out = check_out_size!(out, WetHairStats, "out");
         s.0.device_ok()?;
         let st = s.0.stats();
-        let ledger = s.0.water_ledger().unwrap_or_default();
+        let ledger = s.0.try_water_ledger()?.unwrap_or_default();
         out.write(WetHairStats {
             struct_size: std::mem::size_of::<WetHairStats>() as u32,
             strands: st.strands,

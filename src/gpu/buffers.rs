@@ -53,6 +53,14 @@ gpu_record! {
         pub domain_center: [f32; 4],
         /// The wind this step (xyz), m/s: drag pulls hair and particles toward it.
         pub wind: [f32; 4],
+        /// The whole step, s (held water's once-per-step passes).
+        pub dt: f32,
+        /// Held water's drying time constant in still air, s (0: never dries).
+        pub dry_time: f32,
+        /// Air speed at which held water dries twice as fast, m/s.
+        pub dry_air_speed: f32,
+        /// Bending stiffness of saturated hair over dry.
+        pub wet_bend_ratio: f32,
     }
 }
 
@@ -180,6 +188,17 @@ pub mod water_state {
     pub const KEPT: u32 = 1;
     /// Particles removed since reset.
     pub const REMOVED: u32 = 2;
+}
+
+/// Word offsets of the held-water ledger block (`held_ledger`): 64-bit counts as (lo, hi)
+/// word pairs, added to with integer atomics so they are exact in any order.
+pub mod held_ledger {
+    /// Quanta added by soaking.
+    pub const ADDED: u32 = 0;
+    /// Quanta evaporated.
+    pub const EVAPORATED: u32 = 2;
+    /// Words in the block.
+    pub const WORDS: u32 = 4;
 }
 
 /// An attribute offset meaning "not written" (`Params::pos_off` and friends).

@@ -13,6 +13,7 @@ const WATER: &str = include_str!("shaders/water.wgsl");
 const OUTPUT: &str = include_str!("shaders/output.wgsl");
 const WATER_OUTPUT: &str = include_str!("shaders/water_output.wgsl");
 const IMPLICIT: &str = include_str!("shaders/implicit.wgsl");
+const HELD: &str = include_str!("shaders/held.wgsl");
 
 /// Compile-time constants of one scene's shaders.
 #[derive(Clone, Copy, Debug)]
@@ -138,6 +139,11 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
 /// The water module (grid build, append, cull).
 pub fn water_source(c: SceneConsts) -> String {
     format!("{}{GRID}\n{WATER}", prelude(c))
+}
+
+/// The held-water module (scenes with held water only).
+pub fn held_source(c: SceneConsts) -> String {
+    format!("{}{HELD}", prelude(c))
 }
 
 /// The vertex output module.

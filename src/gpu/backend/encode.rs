@@ -32,7 +32,12 @@ impl GpuBackend {
             r_min: p.water.r_min,
             r_max: p.water.r_max,
             adhesion: p.water.adhesion,
-            wet_gain: (p.water.wetting_rate * h).min(1.0),
+            // With held water, wetness is the saturation (written by the held-water passes).
+            wet_gain: if p.held_water.enabled {
+                0.0
+            } else {
+                (p.water.wetting_rate * h).min(1.0)
+            },
             particle_inv_mass: 1.0 / p.water.particle_mass,
             water_drag: p.water.drag,
             capacity: p.water.capacity,
@@ -45,6 +50,10 @@ impl GpuBackend {
             domain_r2: self.domain.radius * self.domain.radius,
             domain_center: c.extend(0.0).to_array(),
             wind: self.wind.extend(0.0).to_array(),
+            dt: h * self.n_sub as f32,
+            dry_time: p.held_water.dry_time,
+            dry_air_speed: p.held_water.dry_air_speed,
+            wet_bend_ratio: p.held_water.wet_bend_ratio,
         };
         self.dev
             .queue
@@ -98,6 +107,9 @@ impl GpuBackend {
                 }),
             };
             let mut pass = enc.begin_compute_pass(&desc);
+            if let Some(h) = &self.held {
+                h.encode_before(&mut pass, self.cur, self.points); // pass wet_params
+            }
             if let Some(w) = self.water.as_mut().filter(|w| w.pending > 0) {
                 pass.set_pipeline(&w.pipes[0]);
                 pass.set_bind_group(0, &w.build_bg[w.cur], &[]);
@@ -141,6 +153,9 @@ impl GpuBackend {
                     );
                 }
                 self.cur = 1 - self.cur;
+            }
+            if let Some(h) = &self.held {
+                h.encode_after(&mut pass, self.cur, self.points); // passes dry, saturation
             }
             if let (true, Some(w)) = (wet, self.water.as_mut()) {
                 // Pass water_cull.

@@ -45,6 +45,14 @@ impl Engine for GpuBackend {
         Ok(last.max_speed)
     }
 
+    fn soak(&mut self, s: f32) -> Result<()> {
+        GpuBackend::soak(self, s)
+    }
+
+    fn ledger(&self) -> Option<Result<crate::engine::WaterLedger>> {
+        GpuBackend::ledger(self)
+    }
+
     fn reset(&mut self, head: &Affine3A) {
         GpuBackend::reset(self, head)
     }

@@ -6,6 +6,7 @@
 
 mod encode;
 mod engine;
+mod held;
 mod kernels;
 mod readback;
 mod share;
@@ -19,6 +20,7 @@ use crate::groom::Groom;
 use crate::params::{Integrator, SimParams};
 use crate::plan::{has_bend, pass_list, Pass, WaterDomain};
 use glam::{Affine3A, Vec3};
+use held::HeldGpu;
 use kernels::HairKernels;
 use readback::Staging;
 use share::WaterShare;
@@ -74,6 +76,10 @@ pub struct GpuBackend {
     output: wgpu::ComputePipeline,
     output_bg: [wgpu::BindGroup; 2],
     cur: usize,
+    /// Held water (scenes with `SimParams::held_water` on).
+    held: Option<HeldGpu>,
+    /// Particles the host added since create or reset (held water's ledger).
+    particles_added: u64,
     water: Option<WaterGpu>,
     /// Host-shared device only, once the host asks for the water as Vulkan buffers.
     water_share: Option<WaterShare>,
@@ -203,12 +209,19 @@ impl GpuBackend {
                 Slot::ReadWrite,
             ],
         );
+        let mut held = params.held_water.enabled.then(|| {
+            let mut h = HeldGpu::new(d, &dev.queue, consts, &pts, groom.masses(), params.held_water);
+            h.bind(d, &params_buf, &points_buf, &state);
+            h
+        });
+        // With held water the hair kernels read the point records with the water's mass.
+        let hair_points = held.as_mut().map_or(&points_buf, |h| &h.points_wet);
         let mk_hair = |i: usize| {
             pl::bind(
                 d,
                 "hair",
                 &hair_layout,
-                &[&params_buf, &sub_buf, &points_buf, &state[i], &state[1 - i], &status],
+                &[&params_buf, &sub_buf, hair_points, &state[i], &state[1 - i], &status],
                 Some((1, sub_size)),
             )
         };
@@ -273,6 +286,8 @@ impl GpuBackend {
             output,
             output_bg,
             cur: 0,
+            held,
+            particles_added: 0,
             water: None,
             water_share: None,
             domain: WaterDomain::new(groom, params),
@@ -324,9 +339,11 @@ impl GpuBackend {
     pub fn dispatches(&self) -> Vec<&'static str> {
         let mut v = Vec::new();
         let wet = self.wet();
+        let (held_before, held_after) = self.held.as_ref().map(|h| h.dispatches()).unwrap_or_default();
         if self.water.as_ref().is_some_and(|w| w.pending > 0) {
             v.push("water_append");
         }
+        v.extend(held_before);
         if wet {
             v.extend_from_slice(&WATER_ENTRIES[1..8]);
         }
@@ -341,7 +358,11 @@ impl GpuBackend {
         }
         v.push(if k.implicit { "implicit_solve" } else { "hair_substep" });
         if wet {
-            v.extend_from_slice(&["water_integrate", "water_cull", "water_cull_finish"]);
+            v.push("water_integrate");
+        }
+        v.extend(held_after);
+        if wet {
+            v.extend_from_slice(&["water_cull", "water_cull_finish"]);
         }
         v
     }
@@ -364,6 +385,9 @@ impl GpuBackend {
                 (w.grid.size() + w.grid_count.size() + w.state.size() + w.dispatch.size()) as usize,
             ));
             v.push(("water_incoming", w.incoming.size() as usize));
+        }
+        if let Some(h) = &self.held {
+            v.push(("held_water", h.bytes()));
         }
         if let Some(ws) = &self.water_share {
             v.push(("water_shared", (ws.vertices.size() + ws.draw.size()) as usize));
@@ -399,6 +423,12 @@ impl GpuBackend {
             w.pending = 0;
             w.removed = 0;
         }
+        if let Some(h) = &self.held {
+            let mut enc = self.dev.device.create_command_encoder(&Default::default());
+            h.reset(&mut enc);
+            self.dev.submit(enc.finish(), false);
+        }
+        self.particles_added = 0;
         self.last = Status::default();
         for s in self.staging.iter_mut().chain(self.status_ring.iter_mut()) {
             if s.frame.take().is_some() {

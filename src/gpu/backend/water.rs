@@ -128,6 +128,7 @@ impl GpuBackend {
             .queue
             .write_buffer(&w.incoming, w.pending as u64 * 32, bytemuck::cast_slice(&recs));
         w.pending += n;
+        self.particles_added += n as u64;
         Ok(())
     }
 
