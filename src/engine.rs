@@ -149,14 +149,13 @@ pub fn not_shared(what: &str) -> crate::error::Error {
 }
 
 /// Why a scene's held water runs on the CPU, if it does: the GPU runs weight, limpness,
-/// soaking and drying; absorption, liquid bridges, flow and drip are CPU-only for now.
+/// soaking, flow, drip and drying; absorption and liquid bridges are CPU-only for now.
 #[cfg(feature = "gpu")]
 fn held_water_cpu_only(p: &SimParams) -> Option<String> {
     let hw = &p.held_water;
     let parts: Vec<&str> = [
         (hw.absorbs(), "absorption (absorb_rate)"),
         (hw.bridges(), "liquid bridges (bridge_tension)"),
-        (hw.flows(), "flow and drip (flow_mobility)"),
     ]
     .iter()
     .filter_map(|&(on, what)| on.then_some(what))

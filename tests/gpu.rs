@@ -708,3 +708,74 @@ fn held_water_soaks_weighs_and_dries_as_on_the_cpu() {
     g.reset().unwrap();
     assert_eq!(g.water_ledger().unwrap(), wethair::WaterLedger::default());
 }
+
+/// Flow and drip on the GPU (docs/WET_MODEL.md §6): a soaked groom's water runs down its
+/// strands and drips from where it can run no further, as on the CPU: about the same drops
+/// carrying about the same water, the ledger exact on the GPU at every check (drops that fall
+/// out of the domain booked as left), and the hair within the chaos bound of the CPU's.
+#[test]
+fn held_water_flows_and_drips_as_on_the_cpu() {
+    let _serial = serial();
+    let groom = paper_scene(2_000, 6).unwrap();
+    let mut params = SimParams::paper_scene_with_head();
+    params.held_water = wethair::HeldWater {
+        absorb_rate: 0.0,
+        bridge_tension: 0.0,
+        dry_time: 20.0,
+        ..wethair::HeldWater::ON
+    };
+    params.water.domain_radius = 0.35;
+    params.water.capacity = 20_000;
+    let Some(mut g) = gpu(&groom, params.clone()) else {
+        return;
+    };
+    let dispatched = g.gpu_dispatches();
+    for k in ["flow", "drip_count", "drip_scan", "drip_emit", "dry", "saturation_out"] {
+        assert!(dispatched.contains(&k), "{k} missing from {dispatched:?}");
+    }
+    let mut c = cpu(&groom, params.clone());
+    let mut nudged = cpu(&groom, params.clone());
+    nudged
+        .set_head_transform(glam::Mat4::from_translation(Vec3::splat(1e-7)))
+        .unwrap();
+    let len = groom.max_strand_length();
+    let mut dripped = false;
+    for f in 0..90 {
+        if f == 10 {
+            for s in [&mut g, &mut c, &mut nudged] {
+                s.soak(1.0).unwrap();
+            }
+        }
+        for s in [&mut g, &mut c, &mut nudged] {
+            s.step(1.0 / 60.0).unwrap();
+        }
+        if f % 10 == 9 && f > 10 {
+            let (lg, lc) = (g.water_ledger().unwrap(), c.water_ledger().unwrap());
+            assert!(lg.balanced(), "frame {f}: {lg:?}");
+            let shed = |l: &wethair::WaterLedger| (l.in_particles + l.left) as f64;
+            let (sg, sc) = (shed(&lg), shed(&lc));
+            eprintln!(
+                "frame {f}: shed GPU {sg:.4e} CPU {sc:.4e} quanta; particles {} vs {}; held {} vs {}",
+                g.stats().particles,
+                c.stats().particles,
+                lg.held,
+                lc.held
+            );
+            assert!((sg - sc).abs() <= 0.05 * sc.max(1e9), "frame {f}: shed {sg} vs {sc}");
+            assert!(
+                (lg.held as f64 - lc.held as f64).abs() <= 0.01 * lc.held as f64,
+                "frame {f}: held {} vs {}",
+                lg.held,
+                lc.held
+            );
+            dripped |= sg > 0.0;
+            let d = max_diff(&g.positions(), &c.positions());
+            let floor = max_diff(&nudged.positions(), &c.positions());
+            assert!(
+                d < (1e-3 * len).max(4.0 * floor),
+                "frame {f}: GPU {d} m from the CPU, floor {floor} m"
+            );
+        }
+    }
+    assert!(dripped, "a soaked groom drips");
+}

@@ -61,6 +61,14 @@ gpu_record! {
         pub dry_air_speed: f32,
         /// Bending stiffness of saturated hair over dry.
         pub wet_bend_ratio: f32,
+        /// 1 when each particle carries its own water (held water), else 0.
+        pub massive: u32,
+        /// A massive particle's drag per quantum of its water, N·s/m.
+        pub drag_per_quantum: f32,
+        /// Mobility of held water along a strand, 1/s (0: no flow).
+        pub flow_mobility: f32,
+        /// The smallest drop that leaves a point, quanta.
+        pub min_drop: u32,
     }
 }
 
@@ -91,11 +99,23 @@ gpu_record! {
 }
 
 gpu_record! {
-    /// Dynamic state of one hair point or particle (WGSL `State` / `Particle`): x (w = wetness)
-    /// and v.
+    /// Dynamic state of one hair point (WGSL `State`): x (w = wetness) and v.
     pub struct StateGpu {
-        /// Position; w is the wetness (hair) or unused (water).
+        /// Position; w is the wetness.
         pub x: [f32; 4],
+        /// Velocity; w unused.
+        pub v: [f32; 4],
+    }
+}
+
+gpu_record! {
+    /// One water particle (WGSL `Particle`): position, its water and velocity.
+    pub struct ParticleGpu {
+        /// Position, m.
+        pub x: [f32; 3],
+        /// With held water, the water it carries, quanta (0 in the paper's model, where every
+        /// particle weighs `particle_mass`).
+        pub mass: u32,
         /// Velocity; w unused.
         pub v: [f32; 4],
     }
@@ -180,8 +200,13 @@ pub mod status {
     pub const WATER_NONFINITE: u32 = 2;
 }
 
-/// Word offsets of the water state block (`water_state`, 4 words).
+/// Word offsets of the water state block (`water_state`, [`water_state::WORDS`] words; the
+/// first 4 ride along with status reads).
 pub mod water_state {
+    /// Words in the block.
+    pub const WORDS: u32 = 8;
+    /// Water of the particles removed since reset, quanta (held water; 64-bit: lo, hi).
+    pub const LEFT: u32 = 4;
     /// Particles held.
     pub const HELD: u32 = 0;
     /// Particles kept by the cull in progress.

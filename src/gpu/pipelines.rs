@@ -143,7 +143,7 @@ pub fn water_source(c: SceneConsts) -> String {
 
 /// The held-water module (scenes with held water only).
 pub fn held_source(c: SceneConsts) -> String {
-    format!("{}{HELD}", prelude(c))
+    format!("{}const P_MAX: u32 = {}u;\n{HELD}", prelude(c), c.max_points.max(2))
 }
 
 /// The vertex output module.

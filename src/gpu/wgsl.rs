@@ -3,7 +3,7 @@
 //! the top of each module ([`prelude`]). `tests/shaders.rs` reads the compiled modules back
 //! through naga and checks each struct's member offsets and size against the Rust record.
 
-use super::buffers::{self, grid_header as gh, ColliderGpu, Params, PointGpu, StateGpu};
+use super::buffers::{self, grid_header as gh, ColliderGpu, Params, ParticleGpu, PointGpu, StateGpu};
 
 /// A field type with a WGSL spelling.
 pub trait WgslType {
@@ -64,7 +64,7 @@ macro_rules! gpu_record {
 pub(crate) use gpu_record;
 
 /// The WGSL structs the host writes or reads, by WGSL name, with their Rust records'
-/// fields and sizes: `State` and `Particle` are both [`StateGpu`].
+/// fields and sizes.
 pub fn records() -> [(&'static str, &'static [Field], usize); 5] {
     fn rec<T: GpuRecord>(name: &'static str) -> (&'static str, &'static [Field], usize) {
         (name, T::FIELDS, std::mem::size_of::<T>())
@@ -73,7 +73,7 @@ pub fn records() -> [(&'static str, &'static [Field], usize); 5] {
         rec::<Params>("Params"),
         rec::<PointGpu>("Point"),
         rec::<StateGpu>("State"),
-        rec::<StateGpu>("Particle"),
+        rec::<ParticleGpu>("Particle"),
         rec::<ColliderGpu>("Collider"),
     ]
 }
@@ -111,6 +111,8 @@ pub fn constants() -> Vec<(&'static str, Const)> {
         ("WATER_HELD", U32(buffers::water_state::HELD)),
         ("WATER_KEPT", U32(buffers::water_state::KEPT)),
         ("WATER_REMOVED", U32(buffers::water_state::REMOVED)),
+        ("WATER_LEFT", U32(buffers::water_state::LEFT)),
+        ("WATER_STATE_WORDS", U32(buffers::water_state::WORDS)),
         ("NO_ATTRIBUTE", U32(buffers::NO_ATTRIBUTE)),
         ("HELD_ADDED", U32(buffers::held_ledger::ADDED)),
         ("HELD_EVAPORATED", U32(buffers::held_ledger::EVAPORATED)),

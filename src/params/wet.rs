@@ -13,7 +13,8 @@ use glam::Vec3;
 /// at a first-order rate that grows with the air speed past it. Water is counted in whole
 /// quanta ([`wet::WATER_QUANTUM`]) so the ledger balances exactly. Off (`enabled: false`), a
 /// simulation runs the paper's model: particles only pull (eq. 2). The GPU backend runs weight,
-/// limpness, soaking and drying; with absorption, bridges or flow on it refuses (AUTO: CPU).
+/// limpness, soaking, flow, drip and drying; with absorption or bridges on it refuses (AUTO:
+/// CPU).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HeldWater {
     /// Whether points hold water (off: no buffer, no pass).

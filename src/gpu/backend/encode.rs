@@ -54,6 +54,15 @@ impl GpuBackend {
             dry_time: p.held_water.dry_time,
             dry_air_speed: p.held_water.dry_air_speed,
             wet_bend_ratio: p.held_water.wet_bend_ratio,
+            massive: p.held_water.enabled as u32,
+            drag_per_quantum: (p.water.drag as f64 * crate::physics::wet::WATER_QUANTUM / p.water.particle_mass as f64)
+                as f32,
+            flow_mobility: if p.held_water.flows() {
+                p.held_water.flow_mobility
+            } else {
+                0.0
+            },
+            min_drop: crate::physics::wet::to_quanta(p.held_water.drip_mass as f64).max(1),
         };
         self.dev
             .queue
@@ -96,6 +105,9 @@ impl GpuBackend {
         let mut enc = self.dev.device.create_command_encoder(&Default::default());
         // The step's speed maximum starts again; failure flags stay until reset.
         enc.clear_buffer(&self.status, 0, Some(4));
+        if let Some(h) = &self.held {
+            h.encode_start(&mut enc, &self.state[self.cur]);
+        }
         let wet = self.wet();
         {
             let desc = wgpu::ComputePassDescriptor {
@@ -155,7 +167,13 @@ impl GpuBackend {
                 self.cur = 1 - self.cur;
             }
             if let Some(h) = &self.held {
-                h.encode_after(&mut pass, self.cur, self.points); // passes dry, saturation
+                // Passes flow, drip, dry, then the saturation the vertices show.
+                let particles = self.water.as_ref().map_or(0, |w| w.cur);
+                h.encode_after(&mut pass, self.cur, particles, self.points);
+                if let (true, Some(w)) = (h.drips(), self.water.as_mut()) {
+                    // Each point sheds at most one drop a step; a status read makes it exact.
+                    w.bound = (w.bound + self.points).min(self.params.water.capacity);
+                }
             }
             if let (true, Some(w)) = (wet, self.water.as_mut()) {
                 // Pass water_cull.

@@ -11,10 +11,19 @@ use crate::error::{Error, Result};
 use crate::params::HeldWater;
 use crate::physics::wet;
 
-/// The held-water kernels, by entry point.
+/// The held-water kernels, by entry point (group 0 only).
 pub(super) const HELD_ENTRIES: [&str; 4] = ["wet_params", "soak", "dry", "saturation_out"];
+/// Pass drip's kernels (groups 0 and 1: they append particles).
+pub(super) const DRIP_ENTRIES: [&str; 3] = ["drip_count", "drip_scan", "drip_emit"];
+const WET_PARAMS: usize = 0;
+const SOAK: usize = 1;
+const DRY: usize = 2;
+const SATURATION: usize = 3;
 
-/// Held water's buffers and pipelines.
+/// Held water's buffers and pipelines. Three bind groups keep every kernel within eight
+/// storage buffers (wgpu's default per stage): 0, what all read (over state A or B); 1,
+/// wet_params, soak, dry and saturation_out's own; 2, flow and drip's (over particle buffer A or
+/// B).
 #[derive(Debug)]
 pub(super) struct HeldGpu {
     /// The point records with each point's water (what the hair kernels bind).
@@ -29,10 +38,19 @@ pub(super) struct HeldGpu {
     ledger: wgpu::Buffer,
     /// Soaking's per-point targets, quanta.
     soak_target: wgpu::Buffer,
-    /// Bind groups over state A and state B.
-    bg: Option<[wgpu::BindGroup; 2]>,
-    layout: wgpu::BindGroupLayout,
+    /// The state at the step's start (drip only; its size only with flow).
+    state0: Option<wgpu::Buffer>,
+    /// Drip's per-point drops, then per-workgroup offsets (drip only).
+    drip_scratch: Option<wgpu::Buffer>,
+    layouts: [wgpu::BindGroupLayout; 3],
+    /// Group 0 over state A and state B; group 1; group 2 over particle buffer A and B.
+    bg0: Option<[wgpu::BindGroup; 2]>,
+    bg1: Option<wgpu::BindGroup>,
+    bg2: Option<[wgpu::BindGroup; 2]>,
     pipes: Vec<wgpu::ComputePipeline>,
+    /// flow (when water flows) and drip's kernels (when it drips).
+    flow_pipe: Option<wgpu::ComputePipeline>,
+    drip_pipes: Vec<wgpu::ComputePipeline>,
     cfg: HeldWater,
 }
 
@@ -54,23 +72,25 @@ impl HeldGpu {
         q.write_buffer(&capacity_buf, 0, bytemuck::cast_slice(&capacity));
         let dry_mass = b::buffer(d, "held_dry_mass", n * 4, STORAGE);
         q.write_buffer(&dry_mass, 0, bytemuck::cast_slice(mass));
-        let layout = pl::layout(
-            d,
-            "held",
-            &[
-                Slot::Uniform,
-                Slot::Read,
-                Slot::ReadWrite,
-                Slot::ReadWrite,
-                Slot::Read,
-                Slot::Read,
-                Slot::ReadWrite,
-                Slot::ReadWrite,
-                Slot::Read,
-            ],
-        );
+        use Slot::*;
+        let layouts = [
+            pl::layout(d, "held", &[Uniform, Read, ReadWrite, Read, ReadWrite]),
+            pl::layout(d, "held own", &[ReadWrite, Read, ReadWrite, Read]),
+            pl::layout(d, "held flow drip", &[Read, ReadWrite, ReadWrite, ReadWrite]),
+        ];
         let module = pl::module(d, "held", &pl::held_source(consts));
-        let pipes = pl::pipelines(d, &module, &[&layout], &HELD_ENTRIES);
+        let own = [Some(&layouts[0]), Some(&layouts[1])];
+        let pipes = pl::pipelines_sparse(d, &module, &own, &HELD_ENTRIES);
+        let moving = [Some(&layouts[0]), None, Some(&layouts[2])];
+        let flow_pipe = cfg
+            .flows()
+            .then(|| pl::pipelines_sparse(d, &module, &moving, &["flow"]).remove(0));
+        let drip_pipes = if cfg.drips() {
+            pl::pipelines_sparse(d, &module, &moving, &DRIP_ENTRIES)
+        } else {
+            Vec::new()
+        };
+        let (gx, gy) = groups(n as u32);
         HeldGpu {
             points_wet,
             water: b::buffer(d, "held_water", n * 4, STORAGE),
@@ -79,15 +99,26 @@ impl HeldGpu {
             dry_mass,
             ledger: b::buffer(d, "held_ledger", hl::WORDS as u64 * 4, STORAGE),
             soak_target: b::buffer(d, "held_soak_target", n * 4, STORAGE),
-            bg: None,
-            layout,
+            // Without flow, drip reads no step-start state: a placeholder.
+            state0: cfg
+                .drips()
+                .then(|| b::buffer(d, "held_state0", if cfg.flows() { n * 32 } else { 16 }, STORAGE)),
+            drip_scratch: cfg
+                .drips()
+                .then(|| b::buffer(d, "held_drip", (n + gx as u64 * gy as u64) * 4, STORAGE)),
+            layouts,
+            bg0: None,
+            bg1: None,
+            bg2: None,
             pipes,
+            flow_pipe,
+            drip_pipes,
             cfg,
         }
     }
 
-    /// Makes the bind groups over the step parameters, the dry point records and the two
-    /// state buffers (once they exist).
+    /// Makes groups 0 and 1 over the step parameters, the dry point records and the two
+    /// state buffers.
     pub(super) fn bind(
         &mut self,
         d: &wgpu::Device,
@@ -99,55 +130,112 @@ impl HeldGpu {
             pl::bind(
                 d,
                 "held",
-                &self.layout,
-                &[
-                    params,
-                    points,
-                    &self.points_wet,
-                    &self.water,
-                    &self.capacity_buf,
-                    &self.dry_mass,
-                    &state[i],
-                    &self.ledger,
-                    &self.soak_target,
-                ],
+                &self.layouts[0],
+                &[params, points, &self.water, &self.capacity_buf, &state[i]],
                 None,
             )
         };
-        self.bg = Some([mk(0), mk(1)]);
+        self.bg0 = Some([mk(0), mk(1)]);
+        self.bg1 = Some(pl::bind(
+            d,
+            "held own",
+            &self.layouts[1],
+            &[&self.points_wet, &self.dry_mass, &self.ledger, &self.soak_target],
+            None,
+        ));
     }
 
+    /// Makes group 2 (flow and drip) over the particle buffers and the water state block;
+    /// without drip, nothing (flow always comes with drip: `HeldWater::drips`).
+    pub(super) fn bind_drip(&mut self, d: &wgpu::Device, particles: &[wgpu::Buffer; 2], water_state: &wgpu::Buffer) {
+        let (Some(s0), Some(scratch)) = (&self.state0, &self.drip_scratch) else {
+            return;
+        };
+        let mk = |i: usize| {
+            pl::bind(
+                d,
+                "held flow drip",
+                &self.layouts[2],
+                &[s0, scratch, &particles[i], water_state],
+                None,
+            )
+        };
+        self.bg2 = Some([mk(0), mk(1)]);
+    }
+
+    /// Whether a step may add particles (drops).
+    pub(super) fn drips(&self) -> bool {
+        self.cfg.drips()
+    }
+
+    /// Keeps the state at the step's start for flow (outside the compute pass).
+    pub(super) fn encode_start(&self, enc: &mut wgpu::CommandEncoder, state: &wgpu::Buffer) {
+        if let (true, Some(s0)) = (self.cfg.flows(), &self.state0) {
+            enc.copy_buffer_to_buffer(state, 0, s0, 0, Some(s0.size()));
+        }
+    }
+
+    /// Dispatches one of [`HELD_ENTRIES`] over every point.
     fn dispatch(&self, pass: &mut wgpu::ComputePass, entry: usize, cur: usize, points: u32) {
-        let bg = self.bg.as_ref().expect("bound at create");
         pass.set_pipeline(&self.pipes[entry]);
-        pass.set_bind_group(0, &bg[cur], &[]);
+        pass.set_bind_group(0, &self.bg0.as_ref().expect("bound at create")[cur], &[]);
+        pass.set_bind_group(1, self.bg1.as_ref().expect("bound at create"), &[]);
         let (gx, gy) = groups(points);
         pass.dispatch_workgroups(gx, gy, 1);
     }
 
     /// Pass wet_params, before the substeps.
     pub(super) fn encode_before(&self, pass: &mut wgpu::ComputePass, cur: usize, points: u32) {
-        self.dispatch(pass, 0, cur, points);
+        self.dispatch(pass, WET_PARAMS, cur, points);
     }
 
-    /// The once-per-step passes after the substeps (dry), then the saturation the vertices
-    /// show when the water can have changed; `cur` is the state buffer that holds the step's
-    /// result.
-    pub(super) fn encode_after(&self, pass: &mut wgpu::ComputePass, cur: usize, points: u32) {
-        if self.cfg.dries() {
-            self.dispatch(pass, 2, cur, points);
-            self.dispatch(pass, 3, cur, points);
+    /// The once-per-step passes after the substeps, in the plan's order (flow, drip, dry),
+    /// then the saturation the vertices show when the water can have changed. `cur` is the
+    /// state buffer that holds the step's result, `particles` the particle buffer that holds
+    /// the particles.
+    pub(super) fn encode_after(&self, pass: &mut wgpu::ComputePass, cur: usize, particles: usize, points: u32) {
+        let (gx, gy) = groups(points);
+        if let Some(bg2) = &self.bg2 {
+            pass.set_bind_group(0, &self.bg0.as_ref().expect("bound at create")[cur], &[]);
+            pass.set_bind_group(2, &bg2[particles], &[]);
+            for p in self.flow_pipe.iter().chain(&self.drip_pipes) {
+                pass.set_pipeline(p);
+                if std::ptr::eq(p, &self.drip_pipes[1]) {
+                    pass.dispatch_workgroups(1, 1, 1); // drip_scan: one workgroup
+                } else {
+                    pass.dispatch_workgroups(gx, gy, 1);
+                }
+            }
         }
+        if self.cfg.dries() {
+            self.dispatch(pass, DRY, cur, points);
+        }
+        if self.changes() {
+            self.dispatch(pass, SATURATION, cur, points);
+        }
+    }
+
+    /// Whether the step's passes can change the water (so the saturation is written again).
+    fn changes(&self) -> bool {
+        self.cfg.dries() || self.cfg.flows() || self.cfg.drips()
     }
 
     /// The entry points a step dispatches before its substeps and after them.
     pub(super) fn dispatches(&self) -> (Vec<&'static str>, Vec<&'static str>) {
-        let after = if self.cfg.dries() {
-            vec![HELD_ENTRIES[2], HELD_ENTRIES[3]]
-        } else {
-            Vec::new()
-        };
-        (vec![HELD_ENTRIES[0]], after)
+        let mut after = Vec::new();
+        if self.cfg.flows() {
+            after.push("flow");
+        }
+        if self.cfg.drips() {
+            after.extend_from_slice(&DRIP_ENTRIES);
+        }
+        if self.cfg.dries() {
+            after.push(HELD_ENTRIES[DRY]);
+        }
+        if self.changes() {
+            after.push(HELD_ENTRIES[SATURATION]);
+        }
+        (vec![HELD_ENTRIES[WET_PARAMS]], after)
     }
 
     /// Wets every point up to saturation `s` of its capacity (never down), booked as added;
@@ -169,7 +257,7 @@ impl HeldGpu {
         let mut enc = dev.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
-            self.dispatch(&mut pass, 1, cur, points);
+            self.dispatch(&mut pass, SOAK, cur, points);
         }
         enc.finish()
     }
@@ -208,7 +296,9 @@ impl HeldGpu {
             &self.ledger,
             &self.soak_target,
         ]
-        .iter()
+        .into_iter()
+        .chain(&self.state0)
+        .chain(&self.drip_scratch)
         .map(|b| b.size() as usize)
         .sum()
     }
@@ -227,21 +317,30 @@ impl GpuBackend {
         self.dev.check()
     }
 
-    /// Where the water is, in quanta (held water only; blocking). Particles carry
-    /// `particle_mass` each and keep it (the GPU does not absorb yet), so the particles' side
-    /// is their counts: in flight now, and the rest of those added as left.
+    /// Where the water is, in quanta (held water only; blocking): the hair's counts, each
+    /// particle's water (those waiting to join included), and what left with culled and
+    /// cleared particles.
     pub fn ledger(&self) -> Option<Result<WaterLedger>> {
         let h = self.held.as_ref()?;
         Some((|| {
-            let (st, _) = self.peek_status()?;
             let bytes = self.read_buffers(&h.ledger_parts(self.points), None)?;
             let mut l = HeldGpu::ledger_from(&bytes, self.points);
             let q = wet::to_quanta(self.params.water.particle_mass as f64) as u64;
-            let now = st.particles as u64 + self.water.as_ref().map_or(0, |w| w.pending as u64);
             l.added += self.particles_added * q;
-            l.in_particles = now * q;
-            l.left = (self.particles_added - now) * q;
+            l.left = self.left_cleared;
+            if let Some(w) = &self.water {
+                l.in_particles = self.particle_water()? + w.pending as u64 * q;
+                let st = self.read_buffers(&[(&w.state, w.state.size())], None)?;
+                let words: &[u32] = bytemuck::cast_slice(&st[..w.state.size() as usize]);
+                let at = b::water_state::LEFT as usize;
+                l.left += words[at] as u64 | (words[at + 1] as u64) << 32;
+            }
             Ok(l)
         })())
+    }
+
+    /// The water in the particles held now, quanta (blocking).
+    pub(super) fn particle_water(&self) -> Result<u64> {
+        Ok(self.read_water()?.iter().map(|p| p.mass as u64).sum())
     }
 }

@@ -80,6 +80,8 @@ pub struct GpuBackend {
     held: Option<HeldGpu>,
     /// Particles the host added since create or reset (held water's ledger).
     particles_added: u64,
+    /// Water of the particles the host cleared since create or reset, quanta.
+    left_cleared: u64,
     water: Option<WaterGpu>,
     /// Host-shared device only, once the host asks for the water as Vulkan buffers.
     water_share: Option<WaterShare>,
@@ -288,6 +290,7 @@ impl GpuBackend {
             cur: 0,
             held,
             particles_added: 0,
+            left_cleared: 0,
             water: None,
             water_share: None,
             domain: WaterDomain::new(groom, params),
@@ -305,6 +308,13 @@ impl GpuBackend {
         // The vertex output reads its layout (stride, attribute offsets) from the step
         // parameters: write them now, so vertices read before the first step are the rest
         // pose and not zeros (the step rewrites them with its own time step).
+        if be.held.as_ref().is_some_and(|h| h.drips()) {
+            // Drops are made in the step: the particle buffers come now, as on the CPU.
+            let w = be.create_water()?;
+            let d = &be.dev.device;
+            be.held.as_mut().expect("checked").bind_drip(d, &w.particles, &w.state);
+            be.water = Some(w);
+        }
         be.write_params(1.0 / 60.0, 0, head);
         be.reset(head);
         be.dev.wait()?;
@@ -416,9 +426,11 @@ impl GpuBackend {
             .queue
             .write_buffer(&self.status, 0, bytemuck::cast_slice(&[0u32, 0, u32::MAX, 0])); // no failed point
         if let Some(w) = &mut self.water {
-            self.dev
-                .queue
-                .write_buffer(&w.state, 0, bytemuck::cast_slice(&[0u32; 4]));
+            self.dev.queue.write_buffer(
+                &w.state,
+                0,
+                bytemuck::cast_slice(&[0u32; b::water_state::WORDS as usize]),
+            );
             w.bound = 0;
             w.pending = 0;
             w.removed = 0;
@@ -429,6 +441,7 @@ impl GpuBackend {
             self.dev.submit(enc.finish(), false);
         }
         self.particles_added = 0;
+        self.left_cleared = 0;
         self.last = Status::default();
         for s in self.staging.iter_mut().chain(self.status_ring.iter_mut()) {
             if s.frame.take().is_some() {

@@ -2,7 +2,9 @@
 //! first `add_water`), pass water_grid's encoding, adding and clearing particles, and the
 //! blocking reads tests use (particles, grid counts).
 
-use super::super::buffers::{self as b, grid_header as gh, groups, StateGpu, GRID_COUNT_HEADER, SCAN_BLOCK, STORAGE};
+use super::super::buffers::{
+    self as b, grid_header as gh, groups, ParticleGpu, GRID_COUNT_HEADER, SCAN_BLOCK, STORAGE,
+};
 use super::super::pipelines::{self as pl, Slot};
 use super::kernels::HairKernels;
 use super::GpuBackend;
@@ -116,11 +118,18 @@ impl GpuBackend {
                 w.bound, w.pending
             )));
         }
-        let recs: Vec<StateGpu> = pos
+        // With held water each particle carries `particle_mass` of water, in quanta.
+        let mass = if self.params.held_water.enabled {
+            crate::physics::wet::to_quanta(self.params.water.particle_mass as f64)
+        } else {
+            0
+        };
+        let recs: Vec<ParticleGpu> = pos
             .iter()
             .enumerate()
-            .map(|(i, p)| StateGpu {
-                x: p.extend(0.0).to_array(),
+            .map(|(i, p)| ParticleGpu {
+                x: p.to_array(),
+                mass,
                 v: vel.get(i).copied().unwrap_or(Vec3::ZERO).extend(0.0).to_array(),
             })
             .collect();
@@ -132,8 +141,14 @@ impl GpuBackend {
         Ok(())
     }
 
-    /// Removes every particle.
+    /// Removes every particle (with held water, their water is booked as left).
     pub fn clear_water(&mut self) {
+        if self.held.is_some() && self.water.is_some() {
+            // A blocking read, as the host rarely clears: what the particles carried leaves.
+            let q = crate::physics::wet::to_quanta(self.params.water.particle_mass as f64) as u64;
+            let pending = self.water.as_ref().map_or(0, |w| w.pending as u64);
+            self.left_cleared += self.particle_water().unwrap_or(0) + pending * q;
+        }
         if let Some(w) = &mut self.water {
             self.dev
                 .queue
@@ -169,7 +184,7 @@ impl GpuBackend {
             (gh::START as u64 + MAX_CELLS as u64 + 1 + block_sums) * 4,
             STORAGE,
         );
-        let state = b::buffer(d, "water_state", 16, STORAGE);
+        let state = b::buffer(d, "water_state", b::water_state::WORDS as u64 * 4, STORAGE);
         let dispatch = b::buffer(d, "grid_dispatch", 16, STORAGE | wgpu::BufferUsages::INDIRECT);
         // Particles added in one frame; the whole capacity at most.
         let incoming = b::buffer(d, "water_incoming", cap * 32, STORAGE);
@@ -252,7 +267,7 @@ impl GpuBackend {
     }
 
     /// Every particle (blocking; order is the GPU's).
-    pub fn read_water(&self) -> Result<Vec<StateGpu>> {
+    pub fn read_water(&self) -> Result<Vec<ParticleGpu>> {
         let (st, _) = self.peek_status()?;
         let Some(w) = &self.water else { return Ok(Vec::new()) };
         let n = st.particles as u64;

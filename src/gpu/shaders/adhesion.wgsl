@@ -87,8 +87,19 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
     let react = vec3<f32>(bitcast<f32>(atomicLoad(&water_force[4u * k])),
                           bitcast<f32>(atomicLoad(&water_force[4u * k + 1u])),
                           bitcast<f32>(atomicLoad(&water_force[4u * k + 2u])));
-    let f = P.water_drag * (P.wind.xyz - p.v.xyz) + react;
-    var v = p.v.xyz + P.h * (f * P.particle_inv_mass + P.g.xyz);
+    var drag = P.water_drag;
+    var inv_m = P.particle_inv_mass;
+    if (P.massive != 0u) {
+        // A held-water particle weighs its own water and its drag scales with it, so drops of
+        // any size fall alike; an empty one (removed at the step's end) only falls.
+        drag = f32(p.mass) * P.drag_per_quantum;
+        inv_m = 0.0;
+        if (p.mass != 0u) {
+            inv_m = 1.0 / (f32(p.mass) * WATER_QUANTUM);
+        }
+    }
+    let f = drag * (P.wind.xyz - p.v.xyz) + react;
+    var v = p.v.xyz + P.h * (f * inv_m + P.g.xyz);
     var x = p.x.xyz + P.h * v;
     for (var c = 0u; c < N_COLLIDERS; c++) {
         collide(&x, &v, S.colliders[c], P.friction);
@@ -96,5 +107,5 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
     if (non_finite(dot(v, v) + x.x + x.y + x.z)) {
         atomicOr(&status[STATUS_FLAGS], FLAG_WATER_NONFINITE);
     }
-    sorted[k] = Particle(vec4<f32>(x, 0.0), vec4<f32>(v, 0.0));
+    sorted[k] = Particle(x, p.mass, vec4<f32>(v, 0.0));
 }

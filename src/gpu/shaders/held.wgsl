@@ -1,19 +1,32 @@
-// Held water on the GPU (cpu/held.rs, physics/wet.rs; docs/WET_MODEL.md §1, §3, §4, §7): each
-// point's water in whole quanta, the step's point records with the water's mass and limpness
-// (wet_params), soaking, drying, and the saturation the vertices show. Every amount moved is a
+// Held water on the GPU (cpu/held.rs, physics/wet.rs; docs/WET_MODEL.md §1, §3, §4, §6, §7):
+// each point's water in whole quanta, the step's point records with the water's mass and
+// limpness (wet_params), soaking, flow along the strands, drip, drying, and the saturation the
+// vertices show. Every amount moved is a
 // whole number of quanta; totals go to the ledger block with integer atomics, so the ledger is
 // exact whatever order the invocations run in.
 
+// Group 0, every held-water kernel: the step's parameters, the dry point records, the water,
+// capacities, and the state that holds the step's result.
 @group(0) @binding(0) var<uniform> P: Params;
 @group(0) @binding(1) var<storage, read> points: array<Point>;
-@group(0) @binding(2) var<storage, read_write> points_wet: array<Point>;
-@group(0) @binding(3) var<storage, read_write> held: array<u32>;
-@group(0) @binding(4) var<storage, read> capacity: array<u32>;
-@group(0) @binding(5) var<storage, read> dry_mass: array<f32>;
-@group(0) @binding(6) var<storage, read_write> state: array<State>;
-// 64-bit counts as (lo, hi) pairs: [HELD_ADDED] soaked in, [HELD_EVAPORATED] dried off.
-@group(0) @binding(7) var<storage, read_write> ledger: array<atomic<u32>, HELD_LEDGER_WORDS>;
-@group(0) @binding(8) var<storage, read> soak_target: array<u32>;
+@group(0) @binding(2) var<storage, read_write> held: array<u32>;
+@group(0) @binding(3) var<storage, read> capacity: array<u32>;
+@group(0) @binding(4) var<storage, read_write> state: array<State>;
+// Group 1, wet_params, soak, dry and saturation_out: the point records the hair kernels read,
+// dry masses, the ledger (64-bit counts as (lo, hi) pairs: [HELD_ADDED] soaked in,
+// [HELD_EVAPORATED] dried off), soaking's per-point targets.
+@group(1) @binding(0) var<storage, read_write> points_wet: array<Point>;
+@group(1) @binding(1) var<storage, read> dry_mass: array<f32>;
+@group(1) @binding(2) var<storage, read_write> ledger: array<atomic<u32>, HELD_LEDGER_WORDS>;
+@group(1) @binding(3) var<storage, read> soak_target: array<u32>;
+// Group 2, flow and drip: each point's state at the step's start (for its acceleration over
+// the step); drip's scratch (per point the drop it sheds, quanta, then per drip_count
+// workgroup its drops and, after drip_scan, the particle slot of its first); the particles
+// (drops go after the live ones) and the water state block.
+@group(2) @binding(0) var<storage, read> state0: array<State>;
+@group(2) @binding(1) var<storage, read_write> drip_scratch: array<u32>;
+@group(2) @binding(2) var<storage, read_write> particles: array<Particle>;
+@group(2) @binding(3) var<storage, read_write> water_state: array<atomic<u32>, WATER_STATE_WORDS>;
 
 // This workgroup's share of a ledger count, (lo, hi): summed here first so one invocation per
 // workgroup touches the ledger.
@@ -143,6 +156,201 @@ fn dry(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3
         }
     }
     part_flush(lid, HELD_EVAPORATED);
+}
+
+// Gravity less point i's acceleration over the step (gravity alone without flow, as on the
+// CPU, which keeps no step-start velocities then).
+fn g_eff(i: u32) -> vec3<f32> {
+    if (P.flow_mobility > 0.0) {
+        return P.g.xyz - (state[i].v.xyz - state0[i].v.xyz) / P.dt;
+    }
+    return P.g.xyz;
+}
+
+// wet::runs_toward's weight: how far along t the effective gravity points, over |g| (0 when
+// it points away).
+fn along(ge: vec3<f32>, t: vec3<f32>, g_len: f32) -> f32 {
+    let a = dot(ge, t);
+    if (a > 0.0) {
+        return a / g_len;
+    }
+    return 0.0;
+}
+
+fn unit_or_zero(d: vec3<f32>) -> vec3<f32> {
+    let l = length(d);
+    if (l > 0.0) {
+        return d / l;
+    }
+    return vec3<f32>(0.0);
+}
+
+// Pass flow (wet::flow_strand), once per step: one invocation per strand (its first point's)
+// moves the strand's water along its segments toward where the effective gravity points:
+// each end of a segment sends floor(dt mobility held along) across it, computed from the
+// water at the step's start; a point asked for more than it holds sends all of it, shared in
+// proportion. Every transfer is one integer from one point to its neighbour.
+@compute @workgroup_size(WG)
+fn flow(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+        @builtin(local_invocation_index) lid: u32) {
+    let first = linear_id(wid, nwg, lid);
+    if (first >= P.points || points[first].first != first) {
+        return;
+    }
+    let last = points[first].last;
+    let g_len = length(P.g.xyz);
+    if (last == first || g_len <= 0.0) {
+        return;
+    }
+    let n = last - first + 1u;
+    // to_next[k]: point first+k to first+k+1; to_prev[k]: point first+k to first+k-1.
+    var to_next: array<u32, P_MAX>;
+    var to_prev: array<u32, P_MAX>;
+    let rate = P.dt * P.flow_mobility;
+    to_prev[0] = 0u;
+    to_next[n - 1u] = 0u;
+    var any = held[first];
+    for (var k = 0u; k + 1u < n; k++) {
+        let i = first + k;
+        let qa = held[i];
+        let qb = held[i + 1u];
+        any = any | qb;
+        let t = unit_or_zero(state[i + 1u].x.xyz - state[i].x.xyz);
+        to_next[k] = min(u32(floor(rate * along(g_eff(i), t, g_len) * f32(qa))), qa);
+        to_prev[k + 1u] = min(u32(floor(rate * along(g_eff(i + 1u), -t, g_len) * f32(qb))), qb);
+    }
+    if (any == 0u) {
+        return;
+    }
+    for (var k = 0u; k < n; k++) {
+        let start = held[first + k];
+        let out = f32(to_prev[k]) + f32(to_next[k]);
+        if (out > f32(start)) {
+            let share = f32(start) / out;
+            to_prev[k] = min(u32(floor(f32(to_prev[k]) * share)), start);
+            to_next[k] = min(u32(floor(f32(to_next[k]) * share)), start - to_prev[k]);
+        }
+    }
+    for (var k = 0u; k < n; k++) {
+        var q = held[first + k] - to_prev[k] - to_next[k];
+        if (k > 0u) {
+            q += to_next[k - 1u];
+        }
+        if (k + 1u < n) {
+            q += to_prev[k + 1u];
+        }
+        held[first + k] = q;
+    }
+}
+
+// wet::drip: the excess over capacity once it reaches the smallest drop.
+fn drip_excess(q: u32, c: u32) -> u32 {
+    if (q <= c) {
+        return 0u;
+    }
+    let e = q - c;
+    if (e >= P.min_drop) {
+        return e;
+    }
+    return 0u;
+}
+
+// Whether water at point i runs on to a neighbour under effective gravity ge.
+fn runs_on(i: u32, pt: Point, ge: vec3<f32>) -> bool {
+    let x = state[i].x.xyz;
+    return (i > pt.first && dot(ge, state[i - 1u].x.xyz - x) > 0.0)
+        || (i < pt.last && dot(ge, state[i + 1u].x.xyz - x) > 0.0);
+}
+
+var<workgroup> shed: array<u32, WG>;
+
+// Pass drip, part 1 (cpu/held.rs `drip`): each point's drop (its excess, where the water
+// cannot run on), and each workgroup's count of drops.
+@compute @workgroup_size(WG)
+fn drip_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+              @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    var q = 0u;
+    if (i < P.points) {
+        let pt = points[i];
+        let e = drip_excess(held[i], capacity[i]);
+        if (e > 0u && !(P.flow_mobility > 0.0 && runs_on(i, pt, g_eff(i)))) {
+            q = e;
+        }
+        drip_scratch[i] = q;
+    }
+    shed[lid] = select(0u, 1u, q > 0u);
+    workgroupBarrier();
+    if (lid == 0u) {
+        var n = 0u;
+        for (var k = 0u; k < WG; k++) {
+            n += shed[k];
+        }
+        drip_scratch[P.points + wid.y * nwg.x + wid.x] = n;
+    }
+}
+
+// Pass drip, part 2 (one workgroup): each drip_count workgroup's first particle slot, in point
+// order after the live particles (so drops are numbered as the CPU numbers them); the count
+// grows by the drops that fit.
+@compute @workgroup_size(WG)
+fn drip_scan(@builtin(local_invocation_index) lid: u32) {
+    let n = (P.points + WG - 1u) / WG;
+    let chunk = (n + WG - 1u) / WG;
+    let a = min(lid * chunk, n);
+    let b = min(a + chunk, n);
+    var sum = 0u;
+    for (var k = a; k < b; k++) {
+        sum += drip_scratch[P.points + k];
+    }
+    shed[lid] = sum;
+    workgroupBarrier();
+    if (lid == 0u) {
+        var run = atomicLoad(&water_state[WATER_HELD]);
+        for (var k = 0u; k < WG; k++) {
+            let t = shed[k];
+            shed[k] = run;
+            run += t;
+        }
+        atomicStore(&water_state[WATER_HELD], min(run, P.capacity));
+    }
+    workgroupBarrier();
+    var run = shed[lid];
+    for (var k = a; k < b; k++) {
+        let t = drip_scratch[P.points + k];
+        drip_scratch[P.points + k] = run;
+        run += t;
+    }
+}
+
+// Pass drip, part 3: each drop becomes a particle with its point's velocity, r_max below the
+// point along the effective gravity (just out of its pull); when the water is full the excess
+// waits on the hair.
+@compute @workgroup_size(WG)
+fn drip_emit(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+             @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    var q = 0u;
+    if (i < P.points) {
+        q = drip_scratch[i];
+    }
+    shed[lid] = select(0u, 1u, q > 0u);
+    workgroupBarrier();
+    if (q == 0u) {
+        return;
+    }
+    var before = 0u;
+    for (var k = 0u; k < lid; k++) {
+        before += shed[k];
+    }
+    let slot = drip_scratch[P.points + wid.y * nwg.x + wid.x] + before;
+    if (slot >= P.capacity) {
+        return;
+    }
+    let s = state[i];
+    let x = s.x.xyz + P.r_max * unit_or_zero(g_eff(i));
+    particles[slot] = Particle(x, q, vec4<f32>(s.v.xyz, 0.0));
+    held[i] -= q;
 }
 
 // Pass saturation (cpu/held.rs `saturation_into`), after the step's held-water passes: the

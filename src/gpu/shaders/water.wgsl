@@ -10,8 +10,9 @@
 // [0..3) max of ~key(lo), [3..6) max of key(hi), [GRID_COUNT_HEADER + c] particles in cell c.
 @group(0) @binding(4) var<storage, read_write> grid_count: array<atomic<u32>>;
 @group(0) @binding(5) var<storage, read_write> grid: array<u32>;
-// [WATER_HELD] particles, [WATER_KEPT] kept by the cull, [WATER_REMOVED] removed since reset.
-@group(0) @binding(6) var<storage, read_write> water_state: array<atomic<u32>, 4>;
+// [WATER_HELD] particles, [WATER_KEPT] kept by the cull, [WATER_REMOVED] removed since reset,
+// [WATER_LEFT] (lo, hi) their water in quanta (held water).
+@group(0) @binding(6) var<storage, read_write> water_state: array<atomic<u32>, WATER_STATE_WORDS>;
 @group(0) @binding(7) var<storage, read> incoming: array<Particle>;
 // The prefix sum's indirect dispatch size: bound only for grid_setup, as a buffer cannot be
 // storage and indirect in one dispatch.
@@ -216,7 +217,8 @@ fn grid_scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
 }
 
 // Pass water_cull (once per step): particles farther than the domain radius from its centre
-// are dropped; the rest are compacted into the other buffer.
+// are dropped (with held water, so are those the hair emptied, and the water of those that
+// leave is booked as left); the rest are compacted into the other buffer.
 @compute @workgroup_size(WG)
 fn water_cull(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
               @builtin(local_invocation_index) lid: u32) {
@@ -226,8 +228,13 @@ fn water_cull(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
     }
     let p = cur[i];
     let d = p.x.xyz - P.domain_center.xyz;
-    if (dot(d, d) > P.domain_r2) {
+    let empty = P.massive != 0u && p.mass == 0u;
+    if (dot(d, d) > P.domain_r2 || empty) {
         atomicAdd(&water_state[WATER_REMOVED], 1u);
+        let old = atomicAdd(&water_state[WATER_LEFT], p.mass);
+        if (old + p.mass < old) {
+            atomicAdd(&water_state[WATER_LEFT + 1u], 1u);
+        }
         return;
     }
     other[atomicAdd(&water_state[WATER_KEPT], 1u)] = p;
