@@ -388,9 +388,8 @@ typedef struct WetHairMaterial {
   float bend_damping;
 } WetHairMaterial;
 
-// The full wet model (docs/WET_MODEL.md). The GPU backend runs weight, limpness, soaking,
-// flow, drip and drying; with absorption or bridges on (rates above 0), a GPU desc is refused
-// and AUTO runs on the CPU. Off (`enabled` 0, the default) a simulation runs the paper's model.
+// The full wet model (docs/WET_MODEL.md). The GPU backend runs all of it but the liquid
+// bridges: with `bridge_tension` above 0 a GPU desc is refused and AUTO runs on the CPU. Off (`enabled` 0, the default) a simulation runs the paper's model.
 // Rates of 0 switch their part off; no part costs anything while off.
 typedef struct WetHairHeldWater {
   // 1: hair points hold water (weight, limpness, absorption, bridges, flow, drip, drying);

@@ -149,17 +149,14 @@ pub fn not_shared(what: &str) -> crate::error::Error {
 }
 
 /// Why a scene's held water runs on the CPU, if it does: the GPU runs weight, limpness,
-/// soaking, flow, drip and drying; absorption and liquid bridges are CPU-only for now.
+/// soaking, absorption, flow, drip and drying; liquid bridges are CPU-only for now.
 #[cfg(feature = "gpu")]
 fn held_water_cpu_only(p: &SimParams) -> Option<String> {
     let hw = &p.held_water;
-    let parts: Vec<&str> = [
-        (hw.absorbs(), "absorption (absorb_rate)"),
-        (hw.bridges(), "liquid bridges (bridge_tension)"),
-    ]
-    .iter()
-    .filter_map(|&(on, what)| on.then_some(what))
-    .collect();
+    let parts: Vec<&str> = [(hw.bridges(), "liquid bridges (bridge_tension)")]
+        .iter()
+        .filter_map(|&(on, what)| on.then_some(what))
+        .collect();
     (!parts.is_empty()).then(|| {
         format!(
             "held water's {} run on the CPU backend only for now (set them to 0 for the GPU)",

@@ -779,3 +779,74 @@ fn held_water_flows_and_drips_as_on_the_cpu() {
     }
     assert!(dripped, "a soaked groom drips");
 }
+
+/// Absorption on the GPU (docs/WET_MODEL.md §2): particles on the hair give it their water as
+/// on the CPU. After 5 frames (before contact chaos) the hair is where the CPU's is; over a
+/// second the hair holds about the CPU's water, the particles keep about the rest, the wet
+/// groom clumps alike, and the GPU's ledger is exact throughout (grants are integers taken by
+/// compare-and-swap from what each particle has left, so a particle never gives more than it
+/// holds).
+#[test]
+fn held_water_absorbs_as_on_the_cpu() {
+    let _serial = serial();
+    let groom = paper_scene(4_000, 6).unwrap();
+    let mut params = SimParams::paper_scene_with_head();
+    params.held_water = wethair::HeldWater {
+        bridge_tension: 0.0,
+        ..wethair::HeldWater::ON
+    };
+    let Some(mut g) = gpu(&groom, params.clone()) else {
+        return;
+    };
+    let mut c = cpu(&groom, params.clone());
+    let mut nudged = cpu(&groom, params);
+    let water = on_hair(&c.positions(), 1000, &mut Lcg(3));
+    g.add_water(&water, &[]).unwrap();
+    c.add_water(&water, &[]).unwrap();
+    let w2: Vec<Vec3> = water.iter().map(|p| *p + Vec3::splat(1e-7)).collect();
+    nudged.add_water(&w2, &[]).unwrap();
+    let dispatched = g.gpu_dispatches();
+    for k in ["absorb", "absorb_finish"] {
+        assert!(dispatched.contains(&k), "{k} missing from {dispatched:?}");
+    }
+    let len = groom.max_strand_length();
+    for f in 0..60 {
+        for s in [&mut g, &mut c, &mut nudged] {
+            s.step(1.0 / 60.0).unwrap();
+        }
+        if f == 4 {
+            let d = max_diff(&g.positions(), &c.positions());
+            eprintln!("absorb parity after 5 frames: {d} m");
+            assert!(d < 1e-3 * len, "after 5 frames: {d} m (strand {len} m)");
+        }
+        if f % 10 == 9 {
+            let (lg, lc, ln) = (
+                g.water_ledger().unwrap(),
+                c.water_ledger().unwrap(),
+                nudged.water_ledger().unwrap(),
+            );
+            assert!(lg.balanced(), "frame {f}: {lg:?}");
+            eprintln!(
+                "frame {f}: held GPU {} CPU {} nudged {}; in particles {} / {} / {}",
+                lg.held, lc.held, ln.held, lg.in_particles, lc.in_particles, ln.in_particles
+            );
+            assert!(lc.held > 0, "the CPU's hair absorbs");
+            let tol = (0.02 * lc.held as f64).max(2.0 * (ln.held as f64 - lc.held as f64).abs());
+            assert!(
+                (lg.held as f64 - lc.held as f64).abs() <= tol,
+                "frame {f}: held GPU {} CPU {} (nudged {})",
+                lg.held,
+                lc.held,
+                ln.held
+            );
+        }
+    }
+    let (sg, sc) = (g.stats(), c.stats());
+    eprintln!("absorb: clumping GPU {} CPU {}", sg.clumping, sc.clumping);
+    assert!(
+        (sg.clumping - sc.clumping).abs() < 0.05 * sc.clumping,
+        "clumping {} vs {}",
+        sg.clumping,
+        sc.clumping
+    );
+}

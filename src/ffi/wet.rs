@@ -11,9 +11,8 @@ use glam::Vec3;
 /// counted in whole nanograms so that the ledger balances exactly.
 pub const WETHAIR_WATER_QUANTUM_KG: f64 = crate::physics::wet::WATER_QUANTUM;
 
-/// The full wet model (docs/WET_MODEL.md). The GPU backend runs weight, limpness, soaking,
-/// flow, drip and drying; with absorption or bridges on (rates above 0), a GPU desc is refused
-/// and AUTO runs on the CPU. Off (`enabled` 0, the default) a simulation runs the paper's model.
+/// The full wet model (docs/WET_MODEL.md). The GPU backend runs all of it but the liquid
+/// bridges: with `bridge_tension` above 0 a GPU desc is refused and AUTO runs on the CPU. Off (`enabled` 0, the default) a simulation runs the paper's model.
 /// Rates of 0 switch their part off; no part costs anything while off.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]

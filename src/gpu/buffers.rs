@@ -69,6 +69,14 @@ gpu_record! {
         pub flow_mobility: f32,
         /// The smallest drop that leaves a point, quanta.
         pub min_drop: u32,
+        /// 1 when hair points draw in the particles they reach (absorption), else 0.
+        pub absorbs: u32,
+        /// The fraction of a particle one point may ask for in a substep, `1 - e^(-rate h)`.
+        pub absorb_take: f32,
+        /// Eq. 2's strength per quantum a particle holds, N (with absorption).
+        pub strength_per_quantum: f32,
+        /// A particle left with fewer quanta goes whole to the point that asked it for most.
+        pub absorb_last: u32,
     }
 }
 
@@ -224,6 +232,23 @@ pub mod held_ledger {
     pub const EVAPORATED: u32 = 2;
     /// Words in the block.
     pub const WORDS: u32 = 4;
+}
+
+/// Word offsets of one particle's record in the absorption scratch (`absorb`, per grid slot,
+/// [`absorb_words::WORDS`] words): all zero at a substep's start (zero at creation, and
+/// `absorb_finish` clears each record it has used).
+pub mod absorb_words {
+    /// The demands on the particle summed, quanta (64-bit: lo, hi).
+    pub const TOTAL: u32 = 0;
+    /// The largest demand.
+    pub const BEST: u32 = 2;
+    /// `!i` for the lowest point index `i` that made the largest demand (0: none), kept by
+    /// an atomic max.
+    pub const POINT: u32 = 3;
+    /// What the particle has given this substep, quanta.
+    pub const GIVEN: u32 = 4;
+    /// Words per particle.
+    pub const WORDS: u32 = 5;
 }
 
 /// An attribute offset meaning "not written" (`Params::pos_off` and friends).

@@ -14,6 +14,7 @@ const OUTPUT: &str = include_str!("shaders/output.wgsl");
 const WATER_OUTPUT: &str = include_str!("shaders/water_output.wgsl");
 const IMPLICIT: &str = include_str!("shaders/implicit.wgsl");
 const HELD: &str = include_str!("shaders/held.wgsl");
+const ABSORB: &str = include_str!("shaders/absorb.wgsl");
 
 /// Compile-time constants of one scene's shaders.
 #[derive(Clone, Copy, Debug)]
@@ -61,7 +62,7 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
             Pass::StretchSprings => "    stretch_springs(i, pt, x, v, &f);\n",
             Pass::BendSprings => "    bend_springs(i, pt, x, v, &f);\n",
             Pass::Adhesion => {
-                "    var near = 0.0;\n    f += adhesion(x, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n"
+                "    var near = 0.0;\n    f += adhesion(x, wet, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n"
             }
             Pass::Integrate => "    integrate(pt, &x, &v, f);\n",
             Pass::Collide => {
@@ -94,9 +95,9 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
     )
 }
 
-/// Eq. 2 and the grid queries it makes (wet scenes only).
+/// Eq. 2, absorption's demand, and the grid queries they make (wet scenes only).
 fn adhesion() -> String {
-    format!("{GRID}\n{ADHESION}")
+    format!("{GRID}\n{ABSORB}\n{ADHESION}")
 }
 
 /// Implicit Euler's hair module: `hair_forces` (drag, adhesion, wetting; per point, only when
@@ -121,7 +122,7 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
         }
         if wet {
             body.push_str(
-                "    var near = 0.0;\n    f += adhesion(x, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n",
+                "    var near = 0.0;\n    f += adhesion(x, wet, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n",
             );
         }
         out.push_str(&format!(
@@ -143,7 +144,11 @@ pub fn water_source(c: SceneConsts) -> String {
 
 /// The held-water module (scenes with held water only).
 pub fn held_source(c: SceneConsts) -> String {
-    format!("{}const P_MAX: u32 = {}u;\n{HELD}", prelude(c), c.max_points.max(2))
+    format!(
+        "{}const P_MAX: u32 = {}u;\n{HELD}\n{GRID}\n{ABSORB}",
+        prelude(c),
+        c.max_points.max(2)
+    )
 }
 
 /// The vertex output module.

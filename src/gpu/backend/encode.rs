@@ -63,6 +63,12 @@ impl GpuBackend {
                 0.0
             },
             min_drop: crate::physics::wet::to_quanta(p.held_water.drip_mass as f64).max(1),
+            absorbs: p.held_water.absorbs() as u32,
+            absorb_take: -(-p.held_water.absorb_rate * h).exp_m1(), // as wet::absorb_demand
+            strength_per_quantum: (p.water.adhesion as f64 * crate::physics::wet::WATER_QUANTUM
+                / p.water.particle_mass as f64) as f32,
+            absorb_last: (crate::physics::wet::to_quanta(p.water.particle_mass as f64) as f64
+                * crate::physics::wet::ABSORB_LAST_FRACTION) as u32,
         };
         self.dev
             .queue
@@ -147,6 +153,12 @@ impl GpuBackend {
                         self.points,
                         self.strands,
                     );
+                    if let Some(h) = self.held.as_ref().filter(|h| !h.absorb_dispatches().is_empty()) {
+                        // Pass absorb: the particles give the hair what it asked for (its own
+                        // bind groups; water_integrate's go back after it).
+                        h.encode_absorb(&mut pass, self.cur, 1 - w.cur, self.points, w.bound);
+                        pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
+                    }
                     if let Some(p) = &k.water {
                         pass.set_pipeline(p);
                         pass.set_bind_group(1, &w.hair_bg[w.cur], &[]);

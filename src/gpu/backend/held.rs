@@ -15,6 +15,8 @@ use crate::physics::wet;
 pub(super) const HELD_ENTRIES: [&str; 4] = ["wet_params", "soak", "dry", "saturation_out"];
 /// Pass drip's kernels (groups 0 and 1: they append particles).
 pub(super) const DRIP_ENTRIES: [&str; 3] = ["drip_count", "drip_scan", "drip_emit"];
+/// Pass absorb's kernels (groups 0 and 3), per substep.
+pub(super) const ABSORB_ENTRIES: [&str; 2] = ["absorb", "absorb_finish"];
 const WET_PARAMS: usize = 0;
 const SOAK: usize = 1;
 const DRY: usize = 2;
@@ -42,11 +44,14 @@ pub(super) struct HeldGpu {
     state0: Option<wgpu::Buffer>,
     /// Drip's per-point drops, then per-workgroup offsets (drip only).
     drip_scratch: Option<wgpu::Buffer>,
-    layouts: [wgpu::BindGroupLayout; 3],
+    layouts: [wgpu::BindGroupLayout; 4],
     /// Group 0 over state A and state B; group 1; group 2 over particle buffer A and B.
     bg0: Option<[wgpu::BindGroup; 2]>,
     bg1: Option<wgpu::BindGroup>,
     bg2: Option<[wgpu::BindGroup; 2]>,
+    /// Group 3 by [sorted particle buffer][output state buffer] (absorption only).
+    bg3: Option<[[wgpu::BindGroup; 2]; 2]>,
+    absorb_pipes: Vec<wgpu::ComputePipeline>,
     pipes: Vec<wgpu::ComputePipeline>,
     /// flow (when water flows) and drip's kernels (when it drips).
     flow_pipe: Option<wgpu::ComputePipeline>,
@@ -77,6 +82,7 @@ impl HeldGpu {
             pl::layout(d, "held", &[Uniform, Read, ReadWrite, Read, ReadWrite]),
             pl::layout(d, "held own", &[ReadWrite, Read, ReadWrite, Read]),
             pl::layout(d, "held flow drip", &[Read, ReadWrite, ReadWrite, ReadWrite]),
+            pl::layout(d, "held absorb", &[ReadWrite, Read, ReadWrite, ReadWrite]),
         ];
         let module = pl::module(d, "held", &pl::held_source(consts));
         let own = [Some(&layouts[0]), Some(&layouts[1])];
@@ -87,6 +93,12 @@ impl HeldGpu {
             .then(|| pl::pipelines_sparse(d, &module, &moving, &["flow"]).remove(0));
         let drip_pipes = if cfg.drips() {
             pl::pipelines_sparse(d, &module, &moving, &DRIP_ENTRIES)
+        } else {
+            Vec::new()
+        };
+        let absorbing = [Some(&layouts[0]), None, None, Some(&layouts[3])];
+        let absorb_pipes = if cfg.absorbs() {
+            pl::pipelines_sparse(d, &module, &absorbing, &ABSORB_ENTRIES)
         } else {
             Vec::new()
         };
@@ -110,6 +122,8 @@ impl HeldGpu {
             bg0: None,
             bg1: None,
             bg2: None,
+            bg3: None,
+            absorb_pipes,
             pipes,
             flow_pipe,
             drip_pipes,
@@ -161,6 +175,61 @@ impl HeldGpu {
             )
         };
         self.bg2 = Some([mk(0), mk(1)]);
+    }
+
+    /// Makes group 3 (absorption) over the particle buffers, the grid, absorption's scratch
+    /// and the state buffers; without absorption, nothing.
+    pub(super) fn bind_absorb(
+        &mut self,
+        d: &wgpu::Device,
+        particles: &[wgpu::Buffer; 2],
+        grid: &wgpu::Buffer,
+        scratch: &wgpu::Buffer,
+        state: &[wgpu::Buffer; 2],
+    ) {
+        if !self.cfg.absorbs() {
+            return;
+        }
+        let mk = |p: usize, o: usize| {
+            pl::bind(
+                d,
+                "held absorb",
+                &self.layouts[3],
+                &[&particles[p], grid, scratch, &state[o]],
+                None,
+            )
+        };
+        self.bg3 = Some([[mk(0, 0), mk(0, 1)], [mk(1, 0), mk(1, 1)]]);
+    }
+
+    /// Pass absorb, after a substep's hair kernel: `cur` the substep's input state, `sorted`
+    /// the particle buffer in grid order; `particles` bounds the particles held.
+    pub(super) fn encode_absorb(
+        &self,
+        pass: &mut wgpu::ComputePass,
+        cur: usize,
+        sorted: usize,
+        points: u32,
+        particles: u32,
+    ) {
+        let Some(bg3) = &self.bg3 else { return };
+        pass.set_bind_group(0, &self.bg0.as_ref().expect("bound at create")[cur], &[]);
+        pass.set_bind_group(3, &bg3[sorted][1 - cur], &[]);
+        pass.set_pipeline(&self.absorb_pipes[0]);
+        let (gx, gy) = groups(points);
+        pass.dispatch_workgroups(gx, gy, 1);
+        pass.set_pipeline(&self.absorb_pipes[1]);
+        let (gx, gy) = groups(particles.max(1));
+        pass.dispatch_workgroups(gx, gy, 1);
+    }
+
+    /// The entry points pass absorb dispatches each substep (none without absorption).
+    pub(super) fn absorb_dispatches(&self) -> &'static [&'static str] {
+        if self.cfg.absorbs() {
+            &ABSORB_ENTRIES
+        } else {
+            &[]
+        }
     }
 
     /// Whether a step may add particles (drops).
@@ -217,7 +286,7 @@ impl HeldGpu {
 
     /// Whether the step's passes can change the water (so the saturation is written again).
     fn changes(&self) -> bool {
-        self.cfg.dries() || self.cfg.flows() || self.cfg.drips()
+        self.cfg.dries() || self.cfg.flows() || self.cfg.drips() || self.cfg.absorbs()
     }
 
     /// The entry points a step dispatches before its substeps and after them.

@@ -312,7 +312,9 @@ impl GpuBackend {
             // Drops are made in the step: the particle buffers come now, as on the CPU.
             let w = be.create_water()?;
             let d = &be.dev.device;
-            be.held.as_mut().expect("checked").bind_drip(d, &w.particles, &w.state);
+            let h = be.held.as_mut().expect("checked");
+            h.bind_drip(d, &w.particles, &w.state);
+            h.bind_absorb(d, &w.particles, &w.grid, &w.absorb, &be.state);
             be.water = Some(w);
         }
         be.write_params(1.0 / 60.0, 0, head);
@@ -368,6 +370,7 @@ impl GpuBackend {
         }
         v.push(if k.implicit { "implicit_solve" } else { "hair_substep" });
         if wet {
+            v.extend_from_slice(self.held.as_ref().map_or(&[][..], |h| h.absorb_dispatches()));
             v.push("water_integrate");
         }
         v.extend(held_after);

@@ -23,6 +23,8 @@ pub(super) struct WaterGpu {
     pub(super) state: wgpu::Buffer,
     pub(super) dispatch: wgpu::Buffer,
     pub(super) incoming: wgpu::Buffer,
+    /// Absorption's per-particle scratch in grid order (`buffers::absorb_words`).
+    pub(super) absorb: wgpu::Buffer,
     /// Build bind groups: [cur = A, other = B], [cur = B, other = A].
     pub(super) build_bg: [wgpu::BindGroup; 2],
     /// The indirect-dispatch buffer as storage (grid_setup only).
@@ -188,6 +190,13 @@ impl GpuBackend {
         let dispatch = b::buffer(d, "grid_dispatch", 16, STORAGE | wgpu::BufferUsages::INDIRECT);
         // Particles added in one frame; the whole capacity at most.
         let incoming = b::buffer(d, "water_incoming", cap * 32, STORAGE);
+        // Absorption's per-particle scratch (a placeholder of 16 bytes without absorption).
+        let absorb_bytes = if self.params.held_water.absorbs() {
+            cap * b::absorb_words::WORDS as u64 * 4
+        } else {
+            16
+        };
+        let absorb = b::buffer(d, "water_absorb", absorb_bytes, STORAGE);
         let build_layout = pl::layout(
             d,
             "water build",
@@ -204,7 +213,11 @@ impl GpuBackend {
         );
         let dispatch_layout = pl::layout(d, "grid dispatch", &[Slot::ReadWrite]);
         let dispatch_bg = pl::bind(d, "grid dispatch", &dispatch_layout, &[&dispatch], None);
-        let hair_layout = pl::layout(d, "water hair", &[Slot::ReadWrite, Slot::ReadWrite, Slot::Read]);
+        let hair_layout = pl::layout(
+            d,
+            "water hair",
+            &[Slot::ReadWrite, Slot::ReadWrite, Slot::Read, Slot::ReadWrite],
+        );
         let mk_build = |i: usize| {
             pl::bind(
                 d,
@@ -223,7 +236,15 @@ impl GpuBackend {
                 None,
             )
         };
-        let mk_hair = |i: usize| pl::bind(d, "water hair", &hair_layout, &[&particles[1 - i], &force, &grid], None);
+        let mk_hair = |i: usize| {
+            pl::bind(
+                d,
+                "water hair",
+                &hair_layout,
+                &[&particles[1 - i], &force, &grid, &absorb],
+                None,
+            )
+        };
         let water_mod = pl::module(d, "water", &pl::water_source(self.consts));
         let pipes = WATER_ENTRIES
             .iter()
@@ -257,6 +278,7 @@ impl GpuBackend {
             state,
             dispatch,
             incoming,
+            absorb,
             pipes,
             wet_hair,
             cur: 0,

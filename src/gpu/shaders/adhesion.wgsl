@@ -5,15 +5,18 @@
 @group(1) @binding(0) var<storage, read_write> sorted: array<Particle>;
 @group(1) @binding(1) var<storage, read_write> water_force: array<atomic<u32>>;
 @group(1) @binding(2) var<storage, read> grid: array<u32>;
+// Absorption's per-particle scratch (buffers::absorb_words; a placeholder without absorption).
+@group(1) @binding(3) var<storage, read_write> absorb_scratch: array<atomic<u32>>;
 
-// Eq. 2's factor (physics/adhesion.rs `force_scale`): s g(d) / d within [MIN_DISTANCE, r_max], else 0.
-fn force_scale(d2: f32) -> f32 {
+// Eq. 2's factor (physics/adhesion.rs `force_scale`): s g(d) / d within [MIN_DISTANCE, r_max],
+// else 0, for a particle of strength s.
+fn force_scale(d2: f32, s: f32) -> f32 {
     if (d2 > P.r_max * P.r_max || d2 < MIN_DISTANCE * MIN_DISTANCE) {
         return 0.0;
     }
     let d = sqrt(d2);
     let u = (2.0 * d - P.r_min - P.r_max) / (P.r_min - P.r_max);
-    return P.adhesion * (1.0 - u * u) / d;
+    return s * (1.0 - u * u) / d;
 }
 
 fn atomic_add_f32(i: u32, v: f32) {
@@ -27,39 +30,47 @@ fn atomic_add_f32(i: u32, v: f32) {
     }
 }
 
-// Pass adhesion: returns the force on the hair point and sets `near` when a particle is
-// within r_max (for wetting).
-fn adhesion(x: vec3<f32>, near: ptr<function, f32>) -> vec3<f32> {
+// Absorption's ask (physics/absorb.rs `WetRow::demand`): the demand joins the particle's sum
+// (64-bit, by integer atomics: the same in any order) and its largest.
+fn ask(k: u32, demand: u32) {
+    let at = k * ABS_WORDS;
+    let old = atomicAdd(&absorb_scratch[at + ABS_TOTAL], demand);
+    if (old + demand < old) {
+        atomicAdd(&absorb_scratch[at + ABS_TOTAL + 1u], 1u);
+    }
+    atomicMax(&absorb_scratch[at + ABS_BEST], demand);
+}
+
+// Pass adhesion: returns the force on the hair point at x and sets `near` when a particle is
+// within r_max (for wetting). With absorption, a particle pulls with the water it still holds
+// and the point (at saturation `sat`) asks it for water.
+fn adhesion(x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f32> {
     var acc = vec3<f32>(0.0);
-    if (grid[G_COUNT] == 0u) {
-        return acc;
-    }
-    let lo = grid_lo();
-    let inv = bitcast<f32>(grid[G_INV]);
-    let dims = grid_dims();
     let r = P.r_max;
-    // Outside the particles' box grown by r_max no particle can be near (Grid::may_have_near
-    // on the CPU); without this test, clamping would send every far point to scan the
-    // boundary cells.
-    let hi = lo + vec3<f32>(dims) * bitcast<f32>(grid[G_CELL]);
-    if (any(x < lo - vec3<f32>(r)) || any(x > hi + vec3<f32>(r))) {
+    var span: Span;
+    if (!near_span(x, r, &span)) {
         return acc;
     }
-    let c0 = cell_of(x - vec3<f32>(r), lo, inv, dims);
-    let c1 = cell_of(x + vec3<f32>(r), lo, inv, dims);
-    for (var cx = c0.x; cx <= c1.x; cx++) {
-        for (var cy = c0.y; cy <= c1.y; cy++) {
-            let row = (cx * dims.y + cy) * dims.z;
-            let s = grid[G_START + u32(row + c0.z)];
-            let e = grid[G_START + u32(row + c1.z) + 1u];
-            for (var k = s; k < e; k++) {
+    for (var cx = span.c0.x; cx <= span.c1.x; cx++) {
+        for (var cy = span.c0.y; cy <= span.c1.y; cy++) {
+            let run = span_row(span, cx, cy);
+            for (var k = run.x; k < run.y; k++) {
                 let d = sorted[k].x.xyz - x;
                 let d2 = dot(d, d);
                 if (d2 > r * r) {
                     continue;
                 }
                 *near = 1.0;
-                let m = force_scale(d2);
+                var s = P.adhesion;
+                if (P.absorbs != 0u) {
+                    let q = sorted[k].mass;
+                    s = f32(q) * P.strength_per_quantum;
+                    let demand = absorb_demand(q, d2, sat);
+                    if (demand > 0u) {
+                        ask(k, demand);
+                    }
+                }
+                let m = force_scale(d2, s);
                 if (m == 0.0) {
                     continue;
                 }

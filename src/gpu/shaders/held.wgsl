@@ -9,7 +9,9 @@
 // capacities, and the state that holds the step's result.
 @group(0) @binding(0) var<uniform> P: Params;
 @group(0) @binding(1) var<storage, read> points: array<Point>;
-@group(0) @binding(2) var<storage, read_write> held: array<u32>;
+// Atomic because absorption's remainder goes to a point chosen by a particle (absorb_finish);
+// elsewhere each point's count is read and written by its own invocation.
+@group(0) @binding(2) var<storage, read_write> held: array<atomic<u32>>;
 @group(0) @binding(3) var<storage, read> capacity: array<u32>;
 @group(0) @binding(4) var<storage, read_write> state: array<State>;
 // Group 1, wet_params, soak, dry and saturation_out: the point records the hair kernels read,
@@ -27,6 +29,12 @@
 @group(2) @binding(1) var<storage, read_write> drip_scratch: array<u32>;
 @group(2) @binding(2) var<storage, read_write> particles: array<Particle>;
 @group(2) @binding(3) var<storage, read_write> water_state: array<atomic<u32>, WATER_STATE_WORDS>;
+// Group 3, absorb and absorb_finish: the particles in grid order, the grid, absorption's
+// per-particle scratch (buffers::absorb_words), and the substep's output state.
+@group(3) @binding(0) var<storage, read_write> sorted: array<Particle>;
+@group(3) @binding(1) var<storage, read> grid: array<u32>;
+@group(3) @binding(2) var<storage, read_write> absorb_scratch: array<atomic<u32>>;
+@group(3) @binding(3) var<storage, read_write> state_out: array<State>;
 
 // This workgroup's share of a ledger count, (lo, hi): summed here first so one invocation per
 // workgroup touches the ledger.
@@ -79,7 +87,7 @@ fn part_flush(lid: u32, at: u32) {
 
 // Writes point i's saturation, at most 1, as its wetness.
 fn show_saturation(i: u32) {
-    state[i].x.w = min(saturation(held[i], capacity[i]), 1.0);
+    state[i].x.w = min(saturation(atomicLoad(&held[i]), capacity[i]), 1.0);
 }
 
 // Pass wet_params (cpu/held.rs `refresh_params`), once per step before the substeps: each free
@@ -93,12 +101,12 @@ fn wet_params(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
         return;
     }
     var pt = points[i];
-    let q = held[i];
+    let q = atomicLoad(&held[i]);
     if (pt.inv_mass != 0.0 && q != 0u) {
         pt.inv_mass = 1.0 / (dry_mass[i] + f32(q) * WATER_QUANTUM);
     }
     if (P.wet_bend_ratio < 1.0 && i + 2u <= pt.last) {
-        let s = saturation(q, capacity[i]) + saturation(held[i + 2u], capacity[i + 2u]);
+        let s = saturation(q, capacity[i]) + saturation(atomicLoad(&held[i + 2u]), capacity[i + 2u]);
         if (s != 0.0) {
             pt.bend_k = pt.bend_k * bend_scale(0.5 * s);
         }
@@ -113,10 +121,10 @@ fn soak(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
         @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
     if (i < P.points) {
-        let q = held[i];
+        let q = atomicLoad(&held[i]);
         let t = soak_target[i];
         if (q < t) {
-            held[i] = t;
+            atomicStore(&held[i], t);
             part_add(t - q);
         }
         show_saturation(i);
@@ -146,12 +154,12 @@ fn dry(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3
        @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
     if (i < P.points) {
-        let q = held[i];
+        let q = atomicLoad(&held[i]);
         if (q > 0u) {
             let u = length(P.wind.xyz - state[i].v.xyz);
             let k = (1.0 + sqrt(u / P.dry_air_speed)) / P.dry_time;
             let e = evaporate(q, k, P.dt);
-            held[i] = q - e;
+            atomicStore(&held[i], q - e);
             part_add(e);
         }
     }
@@ -209,11 +217,11 @@ fn flow(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
     let rate = P.dt * P.flow_mobility;
     to_prev[0] = 0u;
     to_next[n - 1u] = 0u;
-    var any = held[first];
+    var any = atomicLoad(&held[first]);
     for (var k = 0u; k + 1u < n; k++) {
         let i = first + k;
-        let qa = held[i];
-        let qb = held[i + 1u];
+        let qa = atomicLoad(&held[i]);
+        let qb = atomicLoad(&held[i + 1u]);
         any = any | qb;
         let t = unit_or_zero(state[i + 1u].x.xyz - state[i].x.xyz);
         to_next[k] = min(u32(floor(rate * along(g_eff(i), t, g_len) * f32(qa))), qa);
@@ -223,7 +231,7 @@ fn flow(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
         return;
     }
     for (var k = 0u; k < n; k++) {
-        let start = held[first + k];
+        let start = atomicLoad(&held[first + k]);
         let out = f32(to_prev[k]) + f32(to_next[k]);
         if (out > f32(start)) {
             let share = f32(start) / out;
@@ -232,14 +240,14 @@ fn flow(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
         }
     }
     for (var k = 0u; k < n; k++) {
-        var q = held[first + k] - to_prev[k] - to_next[k];
+        var q = atomicLoad(&held[first + k]) - to_prev[k] - to_next[k];
         if (k > 0u) {
             q += to_next[k - 1u];
         }
         if (k + 1u < n) {
             q += to_prev[k + 1u];
         }
-        held[first + k] = q;
+        atomicStore(&held[first + k], q);
     }
 }
 
@@ -273,7 +281,7 @@ fn drip_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
     var q = 0u;
     if (i < P.points) {
         let pt = points[i];
-        let e = drip_excess(held[i], capacity[i]);
+        let e = drip_excess(atomicLoad(&held[i]), capacity[i]);
         if (e > 0u && !(P.flow_mobility > 0.0 && runs_on(i, pt, g_eff(i)))) {
             q = e;
         }
@@ -350,7 +358,114 @@ fn drip_emit(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg
     let s = state[i];
     let x = s.x.xyz + P.r_max * unit_or_zero(g_eff(i));
     particles[slot] = Particle(x, q, vec4<f32>(s.v.xyz, 0.0));
-    held[i] -= q;
+    atomicSub(&held[i], q);
+}
+
+// Takes up to `g` quanta from particle k, which holds `q`; returns what it took. While the
+// grants sum to at most the particle's water (they do: see absorb) nothing is clipped and the
+// order of takers does not matter.
+fn take_from(k: u32, q: u32, g: u32) -> u32 {
+    let at = k * ABS_WORDS + ABS_GIVEN;
+    var old = atomicLoad(&absorb_scratch[at]);
+    var taken = 0u;
+    loop {
+        let t = min(g, q - min(old, q));
+        if (t == 0u) {
+            break;
+        }
+        let r = atomicCompareExchangeWeak(&absorb_scratch[at], old, old + t);
+        if (r.exchanged) {
+            taken = t;
+            break;
+        }
+        old = r.old_value;
+    }
+    return taken;
+}
+
+// Pass absorb (cpu/water.rs `Water::absorb`; docs/WET_MODEL.md §2), per hair point after the
+// substep's hair kernel: each demand it made in adhesion (the same function of the same
+// inputs: its position and saturation at the substep's start) is granted in full while the
+// particle's demands sum to at most its water, else its share, rounded down after a margin
+// that keeps f32 rounding from granting more than the exact share. The point takes its grants
+// and shows its new saturation; the lowest index among the largest demanders is noted for the
+// remainder.
+@compute @workgroup_size(WG)
+fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+          @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    if (i >= P.points) {
+        return;
+    }
+    let s = state[i];
+    let x = s.x.xyz;
+    let sat = s.x.w;
+    var span: Span;
+    if (sat >= 1.0 || !near_span(x, P.r_max, &span)) {
+        return;
+    }
+    let r2 = P.r_max * P.r_max;
+    var got = 0u;
+    for (var cx = span.c0.x; cx <= span.c1.x; cx++) {
+        for (var cy = span.c0.y; cy <= span.c1.y; cy++) {
+            let run = span_row(span, cx, cy);
+            for (var k = run.x; k < run.y; k++) {
+                let d = sorted[k].x.xyz - x;
+                let d2 = dot(d, d);
+                if (d2 > r2) {
+                    continue;
+                }
+                let q = sorted[k].mass;
+                let demand = absorb_demand(q, d2, sat);
+                if (demand == 0u) {
+                    continue;
+                }
+                let at = k * ABS_WORDS;
+                let lo = atomicLoad(&absorb_scratch[at + ABS_TOTAL]);
+                let hi = atomicLoad(&absorb_scratch[at + ABS_TOTAL + 1u]);
+                var g = demand;
+                if (hi != 0u || lo > q) {
+                    let total = f32(hi) * 4294967296.0 + f32(lo);
+                    g = u32(floor(f32(demand) * (f32(q) / total) * (1.0 - 4.0e-7)));
+                }
+                got += take_from(k, q, g);
+                if (demand == atomicLoad(&absorb_scratch[at + ABS_BEST])) {
+                    atomicMax(&absorb_scratch[at + ABS_POINT], ~i);
+                }
+            }
+        }
+    }
+    if (got > 0u) {
+        let q = atomicAdd(&held[i], got) + got;
+        state_out[i].x.w = min(saturation(q, capacity[i]), 1.0);
+    }
+}
+
+// Pass absorb, part 2, per particle: a particle left with less than absorb_last quanta goes
+// whole to its largest demander (absorption is exponential and would never finish); the
+// particle keeps what is left (an emptied one is removed at the step's end), and its scratch
+// record is cleared.
+@compute @workgroup_size(WG)
+fn absorb_finish(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+                 @builtin(local_invocation_index) lid: u32) {
+    let k = linear_id(wid, nwg, lid);
+    if (k >= grid[G_COUNT]) {
+        return;
+    }
+    let at = k * ABS_WORDS;
+    let q = sorted[k].mass;
+    var left = q - min(atomicLoad(&absorb_scratch[at + ABS_GIVEN]), q);
+    let best = atomicLoad(&absorb_scratch[at + ABS_BEST]);
+    let point = ~atomicLoad(&absorb_scratch[at + ABS_POINT]);
+    if (best > 0u && left > 0u && left < P.absorb_last && point < P.points) {
+        atomicAdd(&held[point], left);
+        left = 0u;
+    }
+    sorted[k].mass = left;
+    // The record is clear for the next substep.
+    for (var w = 0u; w < ABS_WORDS; w++) {
+        atomicStore(&absorb_scratch[at + w], 0u);
+    }
 }
 
 // Pass saturation (cpu/held.rs `saturation_into`), after the step's held-water passes: the

@@ -1,0 +1,18 @@
+// Absorption's demand (physics/wet.rs `absorb_weight`, `absorb_demand`; docs/WET_MODEL.md §2),
+// shared by the wet hair module, which asks (in adhesion), and the held-water module, which
+// grants (in absorb): both compute each demand from the same inputs with this one function.
+
+// 1 within r_min of the particle, falling linearly to 0 at r_max.
+fn absorb_weight(d: f32) -> f32 {
+    return clamp((P.r_max - d) / (P.r_max - P.r_min), 0.0, 1.0);
+}
+
+// What a hair point at saturation `sat` and squared distance `d2` asks of a particle holding
+// `q` quanta in a substep: floor(take q weight (1 - sat)); nothing from an empty particle or
+// for a full point.
+fn absorb_demand(q: u32, d2: f32, sat: f32) -> u32 {
+    if (q == 0u || sat >= 1.0) {
+        return 0u;
+    }
+    return u32(floor(P.absorb_take * f32(q) * absorb_weight(sqrt(d2)) * max(1.0 - sat, 0.0)));
+}
