@@ -1,6 +1,7 @@
 //! GPU and CPU backends side by side, one run: ms/frame on the paper scene (10,000 × 6, head
 //! collider) dry and with 1,000 particles, and on a large scene (100,000 × 32, 100,000
-//! particles). Every row names its device.
+//! particles), with the paper's model and with held water (the full wet model less the
+//! liquid bridges, which the GPU does not run yet). Every row names its device.
 //!
 //! A GPU step returns once submitted, so a row times `frames` steps and one blocking vertex
 //! read at the end (which waits for all of them) and divides by `frames`: throughput, the
@@ -14,7 +15,7 @@
 use std::time::Instant;
 use wethair::groom::{paper_scene, Groom};
 use wethair::scenes::{on_hair, Lcg};
-use wethair::{Backend, Integrator, SimParams, Simulation};
+use wethair::{Backend, HeldWater, Integrator, SimParams, Simulation};
 
 /// ms/frame (throughput) and the device, or the reason there is no row.
 fn run(
@@ -22,6 +23,7 @@ fn run(
     backend: Backend,
     integrator: Integrator,
     particles: usize,
+    held: bool,
     frames: usize,
 ) -> Result<(f64, String, String, String), String> {
     let mut params = SimParams {
@@ -29,6 +31,12 @@ fn run(
         integrator,
         ..SimParams::paper_scene_with_head()
     };
+    if held {
+        params.held_water = HeldWater {
+            bridge_tension: 0.0,
+            ..HeldWater::ON
+        };
+    }
     params.water.capacity = params.water.capacity.max(particles as u32);
     let mut sim = Simulation::new(groom, params).map_err(|e| e.to_string())?;
     if particles > 0 {
@@ -81,28 +89,43 @@ fn main() {
     );
     println!();
     println!(
-        "| scene | water particles | integrator | backend | device | ms/frame | GPU timestamps ms/step (median) | frames | dispatches (GPU) or passes (CPU) per step |"
+        "| scene | water particles | model | integrator | backend | device | ms/frame | GPU timestamps ms/step (median) | frames | dispatches (GPU) or passes (CPU) per step |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     let se = Integrator::SYMPLECTIC_EULER;
     // The large scene dry, with a little water and with the target's 100,000 particles, so
     // the rows say what the hair costs and what the water adds.
-    let rows: [(&str, &Groom, Integrator, usize, usize); 6] = [
-        ("paper 10000x6", &paper, se, 0, paper_frames),
-        ("paper 10000x6", &paper, se, 1000, paper_frames),
-        ("paper 10000x6", &paper, Integrator::IMPLICIT_EULER, 0, paper_frames),
-        ("large 100000x32", &big, se, 0, big_frames),
-        ("large 100000x32", &big, se, 1000, big_frames),
-        ("large 100000x32", &big, se, 100_000, big_frames),
+    // (scene, groom, integrator, particles, held water, frames)
+    let rows: [(&str, &Groom, Integrator, usize, bool, usize); 8] = [
+        ("paper 10000x6", &paper, se, 0, false, paper_frames),
+        ("paper 10000x6", &paper, se, 1000, false, paper_frames),
+        ("paper 10000x6", &paper, se, 1000, true, paper_frames),
+        (
+            "paper 10000x6",
+            &paper,
+            Integrator::IMPLICIT_EULER,
+            0,
+            false,
+            paper_frames,
+        ),
+        ("large 100000x32", &big, se, 0, false, big_frames),
+        ("large 100000x32", &big, se, 1000, false, big_frames),
+        ("large 100000x32", &big, se, 100_000, false, big_frames),
+        ("large 100000x32", &big, se, 100_000, true, big_frames),
     ];
-    for (name, groom, integrator, particles, frames) in rows {
+    for (name, groom, integrator, particles, held, frames) in rows {
+        let model = if held { "held water, no bridges" } else { "paper" };
         for backend in [Backend::GPU, Backend::CPU] {
             let i = format!("{integrator:?}");
-            match run(groom, backend, integrator, particles, frames) {
+            match run(groom, backend, integrator, particles, held, frames) {
                 Ok((ms, gpu_ms, device, what)) => {
-                    println!("| {name} | {particles} | {i} | {backend:?} | {device} | {ms:.2} | {gpu_ms} | {frames} | {what} |")
+                    println!(
+                        "| {name} | {particles} | {model} | {i} | {backend:?} | {device} | {ms:.2} | {gpu_ms} | {frames} | {what} |"
+                    )
                 }
-                Err(e) => println!("| {name} | {particles} | {i} | {backend:?} | none: {e} | - | - | - | - |"),
+                Err(e) => {
+                    println!("| {name} | {particles} | {model} | {i} | {backend:?} | none: {e} | - | - | - | - |")
+                }
             }
         }
     }
