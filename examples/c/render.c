@@ -43,7 +43,8 @@ static int run_strip(const char *out, const WetHairGroom *groom, uint32_t backen
     desc.groom = groom;
     desc.colliders = &head;
     desc.collider_count = 1;
-    /* Held water runs on the CPU backend (its GPU passes are to come): AUTO picks it. */
+    /* The strip's model has liquid bridges, which run on the CPU backend only (the GPU runs
+     * the rest of the wet model): AUTO picks the CPU and says why. */
     desc.backend = backend == WETHAIR_BACKEND_GPU ? WETHAIR_BACKEND_AUTO : backend;
     WetHairSim *dry = NULL, *wet = NULL;
     wh_check(wethair_sim_create(&desc, &dry), "wethair_sim_create");
