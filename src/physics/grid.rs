@@ -9,6 +9,7 @@
 //! clamping is monotonic, so a neighbour's cell always lies in the clamped query range. Cells
 //! adjacent in z are adjacent in memory, so a query walks one contiguous run per (x, y).
 
+use super::counting_sort::CountingSort;
 use glam::{IVec3, Vec3};
 
 /// Most cells a grid uses; a larger box gets larger cells instead.
@@ -23,10 +24,8 @@ pub struct Grid {
     lo: Vec3,
     hi: Vec3,
     dims: IVec3,
-    /// Cell `c` holds `sorted[start[c]..start[c + 1]]`.
-    start: Vec<u32>,
-    cursor: Vec<u32>,
-    sorted: Vec<u32>,
+    /// The points by cell: cell `c` holds `order.sorted[order.start[c]..order.start[c + 1]]`.
+    order: CountingSort,
     cell_of_point: Vec<u32>,
     /// Per cell: 1 when a point lies in this cell or one of its 26 neighbours (u32, so eight
     /// lanes can look theirs up with one gather).
@@ -44,9 +43,7 @@ impl Grid {
             lo: Vec3::ZERO,
             hi: Vec3::ZERO,
             dims: IVec3::ONE,
-            start: Vec::with_capacity(MAX_CELLS + 1),
-            cursor: Vec::with_capacity(MAX_CELLS),
-            sorted: Vec::with_capacity(capacity),
+            order: CountingSort::with_capacity(MAX_CELLS, capacity),
             cell_of_point: Vec::with_capacity(capacity),
             near: Vec::with_capacity(MAX_CELLS),
         }
@@ -110,17 +107,12 @@ impl Grid {
         let dims = dims.as_ivec3();
         (self.lo, self.hi, self.cell, self.inv_cell, self.dims) = (lo, hi, cell, 1.0 / cell, dims);
         let cells = dims.element_product() as usize;
-        self.start.clear();
-        self.start.resize(cells + 1, 0);
         self.cell_of_point.clear();
         for &p in points {
             let c = self.index(self.cell_of(p)) as u32;
             self.cell_of_point.push(c);
-            self.start[c as usize + 1] += 1;
         }
-        for c in 0..cells {
-            self.start[c + 1] += self.start[c];
-        }
+        self.order.sort(&self.cell_of_point, cells);
         self.near.clear();
         self.near.resize(cells, 0);
         // Mark each point's 3x3x3 neighbourhood (work per point, not per cell).
@@ -133,15 +125,6 @@ impl Grid {
                     self.near[first..=last].fill(1);
                 }
             }
-        }
-        self.cursor.clear();
-        self.cursor.extend_from_slice(&self.start[..cells]);
-        self.sorted.clear();
-        self.sorted.resize(points.len(), 0);
-        for (i, &c) in self.cell_of_point.iter().enumerate() {
-            let slot = &mut self.cursor[c as usize];
-            self.sorted[*slot as usize] = i as u32;
-            *slot += 1;
         }
     }
 
@@ -183,18 +166,17 @@ impl Grid {
 
     /// Bytes allocated.
     pub fn bytes(&self) -> usize {
-        4 * (self.start.capacity() + self.cursor.capacity() + self.sorted.capacity() + self.cell_of_point.capacity())
-            + 4 * self.near.capacity()
+        self.order.bytes() + 4 * self.cell_of_point.capacity() + 4 * self.near.capacity()
     }
 
     /// Number of points in the grid.
     pub fn len(&self) -> usize {
-        self.sorted.len()
+        self.order.sorted.len()
     }
 
     /// Whether the grid holds no point.
     pub fn is_empty(&self) -> bool {
-        self.sorted.is_empty()
+        self.order.sorted.is_empty()
     }
 
     /// Writes into `out` the runs `(start, end)` of sorted slots whose cells overlap the box
@@ -203,7 +185,7 @@ impl Grid {
     /// caller's instruction set (a closure would be compiled without AVX2 and called per run).
     #[inline(always)]
     pub fn runs_in_box(&self, qlo: Vec3, qhi: Vec3, out: &mut [(u32, u32)]) -> Option<usize> {
-        if !(qlo.cmple(self.hi).all() && qhi.cmpge(self.lo).all()) || self.sorted.is_empty() {
+        if !(qlo.cmple(self.hi).all() && qhi.cmpge(self.lo).all()) || self.order.sorted.is_empty() {
             return Some(0);
         }
         let a = self.cell_of(qlo);
@@ -216,7 +198,7 @@ impl Grid {
         for cx in a.x..=b.x {
             let mut first = self.index(IVec3::new(cx, a.y, a.z));
             for _ in a.y..=b.y {
-                let (s, e) = (self.start[first], self.start[first + span + 1]);
+                let (s, e) = (self.order.start[first], self.order.start[first + span + 1]);
                 out[n] = (s, e);
                 n += (s < e) as usize;
                 first += self.dims.z as usize;
@@ -236,17 +218,17 @@ impl Grid {
             .runs_in_box(p - r, p + r, &mut runs)
             .expect("r <= cell: a cube spans at most 4 x 4 columns");
         for &(s, e) in &runs[..n] {
-            self.sorted[s as usize..e as usize].iter().for_each(|&i| f(i));
+            self.order.sorted[s as usize..e as usize].iter().for_each(|&i| f(i));
         }
     }
 
     /// Point index at each sorted slot (points grouped by cell).
     pub fn sorted(&self) -> &[u32] {
-        &self.sorted
+        &self.order.sorted
     }
 
     /// Number of points per cell (tests and GPU parity).
     pub fn cell_counts(&self) -> Vec<u32> {
-        self.start.windows(2).map(|w| w[1] - w[0]).collect()
+        self.order.start.windows(2).map(|w| w[1] - w[0]).collect()
     }
 }

@@ -7,6 +7,7 @@
 //! Built by a counting sort over buckets (count, prefix sum, scatter in point order), so a
 //! bucket lists its points in index order and queries are deterministic.
 
+use super::counting_sort::CountingSort;
 use glam::{IVec3, Vec3};
 
 /// A hashed grid over a set of points.
@@ -15,9 +16,8 @@ pub struct HashGrid {
     cell: f32,
     inv_cell: f32,
     mask: u32,
-    /// Bucket `b` holds `sorted[start[b]..start[b + 1]]`.
-    start: Vec<u32>,
-    sorted: Vec<u32>,
+    /// The points by bucket: bucket `b` holds `order.sorted[order.start[b]..order.start[b + 1]]`.
+    order: CountingSort,
     /// Each point's cell (a bucket also holds other cells' points that hash alike).
     coord: Vec<IVec3>,
     /// `coord` and the positions in bucket order, so a query reads each bucket contiguously.
@@ -33,8 +33,7 @@ impl HashGrid {
             cell,
             inv_cell: 1.0 / cell,
             mask: 0,
-            start: Vec::new(),
-            sorted: Vec::new(),
+            order: CountingSort::default(),
             coord: Vec::new(),
             sorted_coord: Vec::new(),
             sorted_pos: Vec::new(),
@@ -66,8 +65,6 @@ impl HashGrid {
     pub fn build(&mut self, points: &[Vec3]) {
         let buckets = (2 * points.len()).next_power_of_two().max(64);
         self.mask = buckets as u32 - 1;
-        self.start.clear();
-        self.start.resize(buckets + 1, 0);
         self.coord.clear();
         self.bucket.clear();
         for &p in points {
@@ -75,28 +72,14 @@ impl HashGrid {
             let b = self.bucket_of(c);
             self.coord.push(c);
             self.bucket.push(b);
-            self.start[b as usize + 1] += 1;
         }
-        for b in 0..buckets {
-            self.start[b + 1] += self.start[b];
-        }
-        self.sorted.clear();
-        self.sorted.resize(points.len(), 0);
-        // Scatter in point order through a cursor per bucket (start, shifted back after).
-        for (i, &b) in self.bucket.iter().enumerate() {
-            let at = &mut self.start[b as usize];
-            self.sorted[*at as usize] = i as u32;
-            *at += 1;
-        }
-        for b in (1..=buckets).rev() {
-            self.start[b] = self.start[b - 1];
-        }
-        self.start[0] = 0;
+        self.order.sort(&self.bucket, buckets);
         self.sorted_coord.clear();
         self.sorted_coord
-            .extend(self.sorted.iter().map(|&i| self.coord[i as usize]));
+            .extend(self.order.sorted.iter().map(|&i| self.coord[i as usize]));
         self.sorted_pos.clear();
-        self.sorted_pos.extend(self.sorted.iter().map(|&i| points[i as usize]));
+        self.sorted_pos
+            .extend(self.order.sorted.iter().map(|&i| points[i as usize]));
     }
 
     /// Calls `f(j, d2)` with every point `j` within `r <= cell` of `p` (squared distance `d2 <
@@ -120,14 +103,14 @@ impl HashGrid {
         mut f: impl FnMut(&mut S, u32, f32),
     ) {
         debug_assert!(r <= self.cell);
-        if self.sorted.is_empty() {
+        if self.order.sorted.is_empty() {
             return;
         }
         let mut visit = |s: &mut S, c: IVec3| {
             let b = self.bucket_of(c) as usize;
-            let run = self.start[b] as usize..self.start[b + 1] as usize;
+            let run = self.order.start[b] as usize..self.order.start[b + 1] as usize;
             let (idx, coord, pos) = (
-                &self.sorted[run.clone()],
+                &self.order.sorted[run.clone()],
                 &self.sorted_coord[run.clone()],
                 &self.sorted_pos[run],
             );
@@ -164,7 +147,8 @@ impl HashGrid {
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        4 * (self.start.capacity() + self.sorted.capacity() + self.bucket.capacity())
+        self.order.bytes()
+            + 4 * self.bucket.capacity()
             + 12 * (self.coord.capacity() + self.sorted_coord.capacity() + self.sorted_pos.capacity())
     }
 }

@@ -6,6 +6,7 @@ pub mod absorb;
 pub mod adhesion;
 pub mod clumping;
 pub mod collide;
+pub mod counting_sort;
 pub mod grid;
 pub mod hash_grid;
 pub mod head;
