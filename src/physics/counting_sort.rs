@@ -40,9 +40,7 @@ impl CountingSort {
             self.sorted[*at as usize] = i as u32;
             *at += 1;
         }
-        for k in (1..=n_keys).rev() {
-            self.start[k] = self.start[k - 1];
-        }
+        self.start.copy_within(0..n_keys, 1);
         self.start[0] = 0;
     }
 
