@@ -1,7 +1,7 @@
 //! GPU and CPU backends side by side, one run: ms/frame on the paper scene (10,000 × 6, head
 //! collider) dry and with 1,000 particles, and on a large scene (100,000 × 32, 100,000
-//! particles), with the paper's model and with held water (the full wet model less the
-//! liquid bridges, which the GPU does not run yet). Every row names its device.
+//! particles), with the paper's model and with the full wet model (held water with liquid
+//! bridges, absorption, flow, drip and drying). Every row names its device.
 //!
 //! A GPU step returns once submitted, so a row times `frames` steps and one blocking vertex
 //! read at the end (which waits for all of them) and divides by `frames`: throughput, the
@@ -32,10 +32,7 @@ fn run(
         ..SimParams::paper_scene_with_head()
     };
     if held {
-        params.held_water = HeldWater {
-            bridge_tension: 0.0,
-            ..HeldWater::ON
-        };
+        params.held_water = HeldWater::ON;
     }
     params.water.capacity = params.water.capacity.max(particles as u32);
     let mut sim = Simulation::new(groom, params).map_err(|e| e.to_string())?;
@@ -114,7 +111,7 @@ fn main() {
         ("large 100000x32", &big, se, 100_000, true, big_frames),
     ];
     for (name, groom, integrator, particles, held, frames) in rows {
-        let model = if held { "held water, no bridges" } else { "paper" };
+        let model = if held { "full wet model" } else { "paper" };
         for backend in [Backend::GPU, Backend::CPU] {
             let i = format!("{integrator:?}");
             match run(groom, backend, integrator, particles, held, frames) {

@@ -148,23 +148,6 @@ pub fn not_shared(what: &str) -> crate::error::Error {
     ))
 }
 
-/// Why a scene's held water runs on the CPU, if it does: the GPU runs weight, limpness,
-/// soaking, absorption, flow, drip and drying; liquid bridges are CPU-only for now.
-#[cfg(feature = "gpu")]
-fn held_water_cpu_only(p: &SimParams) -> Option<String> {
-    let hw = &p.held_water;
-    let parts: Vec<&str> = [(hw.bridges(), "liquid bridges (bridge_tension)")]
-        .iter()
-        .filter_map(|&(on, what)| on.then_some(what))
-        .collect();
-    (!parts.is_empty()).then(|| {
-        format!(
-            "held water's {} run on the CPU backend only for now (set them to 0 for the GPU)",
-            parts.join(", ")
-        )
-    })
-}
-
 /// A backend for `groom` under `p`, as `p.backend` asks (see [`Backend`]), at rest under
 /// `head`.
 pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn Engine>, BackendInfo)> {
@@ -192,18 +175,12 @@ pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn 
         match p.backend {
             Backend::CPU => cpu(String::new()),
             Backend::GPU => {
-                if let Some(why) = held_water_cpu_only(p) {
-                    return Err(crate::error::Error::Unsupported(why));
-                }
                 let dev = crate::gpu::GpuDevice::open(true)?;
                 create_gpu(dev, groom, p, integrator, head)
             }
             Backend::AUTO => {
                 if integrator == Integrator::XPBD {
                     return cpu(format!("{integrator:?} runs on the CPU backend only"));
-                }
-                if let Some(why) = held_water_cpu_only(p) {
-                    return cpu(why);
                 }
                 match crate::gpu::GpuDevice::open(false) {
                     Err(e) => cpu(e.to_string()),
@@ -226,9 +203,6 @@ pub fn create_gpu(
     integrator: Integrator,
     head: &Affine3A,
 ) -> Result<(Box<dyn Engine>, BackendInfo)> {
-    if let Some(why) = held_water_cpu_only(p) {
-        return Err(crate::error::Error::Unsupported(why));
-    }
     let device = dev.adapter_name();
     let g = crate::gpu::GpuBackend::new(dev, groom, p, integrator, head)?;
     let info = BackendInfo {

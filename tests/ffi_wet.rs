@@ -128,10 +128,6 @@ fn bad_wet_values_are_refused_by_name_and_write_nothing() {
         set(&mut d);
         refused(d, WETHAIR_ERROR_INVALID_ARGUMENT, name);
     }
-    // Held water runs on the CPU backend only for now: a GPU desc is refused by name.
-    let mut d = wet_desc(g);
-    d.backend = wethair::Backend::GPU as u32;
-    refused(d, WETHAIR_ERROR_UNSUPPORTED, "held water");
     // A live simulation refuses a bad wind and a bad soak, and keeps going.
     let mut s = null_mut();
     assert_eq!(unsafe { wethair_sim_create(&wet_desc(g), &mut s) }, WETHAIR_OK);

@@ -68,10 +68,13 @@ fn consts(bend: bool, colliders: u32) -> wethair::gpu::pipelines::SceneConsts {
     }
 }
 
-/// Every module a scene can compile: dry and wet hair for each GPU integrator, water, vertex
-/// output and shared water, for a scene with and without bend springs and colliders.
+/// Every module a scene can compile: dry and wet hair for each GPU integrator (and wet hair
+/// with liquid bridges), water, vertex output, shared water, held water and the bridges, for
+/// a scene with and without bend springs and colliders.
 fn all_modules() -> Vec<(String, String)> {
-    use wethair::gpu::pipelines::{hair_source, held_source, output_source, water_output_source, water_source};
+    use wethair::gpu::pipelines::{
+        bridges_source, hair_source, held_source, output_source, water_output_source, water_source,
+    };
     use wethair::plan::{pass_list, Pass};
     use wethair::{Integrator, Shape, SimParams};
     let mut out = Vec::new();
@@ -93,7 +96,16 @@ fn all_modules() -> Vec<(String, String)> {
                 let name = format!("hair {integrator:?} wet={wet} bend={bend} colliders={colliders}");
                 out.push((name, hair_source(c, &passes)));
             }
+            let bridged = SimParams {
+                held_water: wethair::HeldWater::ON,
+                ..p.clone()
+            };
+            let passes: Vec<Pass> = pass_list(&bridged, integrator, bend, true);
+            assert!(passes.contains(&Pass::Cohesion));
+            let name = format!("hair {integrator:?} bridges bend={bend} colliders={colliders}");
+            out.push((name, hair_source(c, &passes)));
         }
+        out.push((format!("bridges bend={bend}"), bridges_source(c, 2048)));
         out.push((format!("water bend={bend}"), water_source(c)));
         out.push((format!("output bend={bend}"), output_source(c)));
         out.push((format!("water output bend={bend}"), water_output_source(c)));
@@ -155,7 +167,7 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
             "{name}: collider stride"
         );
     }
-    assert_eq!(checked, 5 * 16, "every record in every module");
+    assert_eq!(checked, 5 * 22, "every record in every module");
 }
 
 /// The generated constants are the Rust values, as each module compiles them (naga evaluates

@@ -43,9 +43,7 @@ static int run_strip(const char *out, const WetHairGroom *groom, uint32_t backen
     desc.groom = groom;
     desc.colliders = &head;
     desc.collider_count = 1;
-    /* The strip's model has liquid bridges, which run on the CPU backend only (the GPU runs
-     * the rest of the wet model): AUTO picks the CPU and says why. */
-    desc.backend = backend == WETHAIR_BACKEND_GPU ? WETHAIR_BACKEND_AUTO : backend;
+    desc.backend = backend;
     WetHairSim *dry = NULL, *wet = NULL;
     wh_check(wethair_sim_create(&desc, &dry), "wethair_sim_create");
     /* The paper scene's points weigh 1 g each (a wisp of some 8,000 hairs; 50 kg of hair in

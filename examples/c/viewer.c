@@ -22,8 +22,8 @@
  *   spray on|off, yaw DEG, pitch DEG, move DX DY DZ (m), dry, reset, backend cpu|gpu|auto,
  *   integrator symplectic|implicit, pause, resume, step, screenshot FILE (.png or .ppm; the
  *   frame drawn next), resize WxH (the window), stats, rain on|off, wind on|off, soak, quit
- * --wet-model runs the full wet model (held water, liquid bridges, drip, drying in 20 s; on the
- *   CPU backend for now) and shows the water ledger.
+ * --wet-model runs the full wet model (held water, liquid bridges, drip, drying in 20 s; on
+ *   either backend) and shows the water ledger.
  * In script mode the spray aims from the camera at the head, the frame step is a fixed 1/60 s
  * and every frame is stepped (no dropped frames), so runs repeat. */
 #include <GLFW/glfw3.h>

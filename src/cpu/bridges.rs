@@ -12,16 +12,7 @@ use crate::physics::wet;
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// The most bridges one point holds: a fibre in a bundle of parallel fibres touches at most six
-/// others (hexagonal packing), and a point keeps a pair only when each is among the other's
-/// six nearest. This bounds the passes' cost by the points, not by how dense a clump gets.
-pub const MAX_BRIDGES: usize = 6;
-
-/// Each step searches the points whose index is the step's number modulo this (and every point
-/// that had no neighbour): a point's nearest are at most this many steps (133 ms at 60 Hz)
-/// old. Bridges form and break over tenths of a second; the search is the model's dearest
-/// part (8 turns cost 15 % less than 4 on the bench's paper scene).
-pub const SEARCH_TURNS: u32 = 8;
+pub use crate::physics::wet::{BRIDGE_SEARCH_TURNS as SEARCH_TURNS, MAX_BRIDGES};
 
 /// Points searched per parallel task.
 const CHUNK: usize = 512;
@@ -63,6 +54,9 @@ pub struct Bridges {
     pub force: Vec<L3>,
     /// Each point's length of hair, m, per row (half of each adjacent segment).
     length: Vec<[f32; W]>,
+    /// Per point index: its host point index (the search turn and the nearest's tie-break,
+    /// shared with the GPU, which numbers points as the host does).
+    host: Vec<u32>,
     kappa: f32,
     d_b: f32,
 }
@@ -72,9 +66,13 @@ impl Bridges {
     pub fn new(lay: &Layout, kappa: f32, d_b: f32) -> Bridges {
         let n_rows = lay.blocks * lay.rows;
         let mut length = vec![[0.0f32; W]; n_rows];
+        let mut host = vec![u32::MAX; n_rows * W];
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
             let n = lay.strand_points(s);
+            for i in 0..n {
+                host[(b * lay.rows + i) * W + l] = lay.strand_first[s] + i as u32;
+            }
             for i in 0..n.saturating_sub(1) {
                 let (r0, r1) = (b * lay.rows + i, b * lay.rows + i + 1);
                 let seg = (lay.rest_local[r1].get(l) - lay.rest_local[r0].get(l)).length();
@@ -102,6 +100,7 @@ impl Bridges {
             step: 0,
             force: vec![L3::ZERO; n_rows],
             length,
+            host,
             kappa,
             d_b,
         }
@@ -179,18 +178,19 @@ impl Bridges {
         self.grid.build(&self.pos);
         self.turn.clear();
         for (i, &p) in self.point.iter().enumerate() {
-            if p % SEARCH_TURNS == turn || self.n_nearest[p as usize] == 0 {
+            if wet::bridge_search_turn(self.host[p as usize], turn) || self.n_nearest[p as usize] == 0 {
                 self.turn.push(i as u32);
             }
         }
         self.found.clear();
         self.found.resize(self.turn.len(), ([0; MAX_BRIDGES], 0));
         let (grid, point, strand, pos, turns) = (&self.grid, &self.point, &self.strand, &self.pos, &self.turn);
-        let d_b = self.d_b;
+        let (d_b, host) = (self.d_b, &self.host[..]);
         let search = |k0: usize, out: &mut [([u32; MAX_BRIDGES], u8)]| {
             for (k, (near, n)) in out.iter_mut().enumerate() {
                 let i = turns[k0 + k] as usize;
-                *n = nearest_of(grid, pos[i], point, strand, strand[i], d_b, near) as u8;
+                let c = Candidates { point, strand, host };
+                *n = nearest_of(grid, pos[i], &c, strand[i], d_b, near) as u8;
             }
         };
         let found = &mut self.found;
@@ -299,26 +299,28 @@ impl Bridges {
             + 8 * self.sat_len.capacity()
             + std::mem::size_of::<L3>() * self.force.capacity()
             + 4 * W * self.length.capacity()
+            + 4 * self.host.capacity()
     }
 }
 
+/// What a search reads of the wet points: by grid entry, the point index and strand; by point
+/// index, the host point index.
+struct Candidates<'a> {
+    point: &'a [u32],
+    strand: &'a [u32],
+    host: &'a [u32],
+}
+
 /// The up to [`MAX_BRIDGES`] points nearest `x` within `reach` whose strand is not `own`,
-/// nearest first with ties by point index (a strict order, so the set does not depend on the
-/// order the grid visits them), written to `out` as point indices sorted ascending; returns
-/// how many. `point` maps the grid's entries to point indices.
-fn nearest_of(
-    grid: &HashGrid,
-    x: Vec3,
-    point: &[u32],
-    strand: &[u32],
-    own: u32,
-    reach: f32,
-    out: &mut [u32; MAX_BRIDGES],
-) -> usize {
+/// nearest first with ties by host point index (a strict order, so the set does not depend on
+/// the order the grid visits them, and both backends find the same), written to `out` as point
+/// indices sorted ascending; returns how many.
+fn nearest_of(grid: &HashGrid, x: Vec3, c: &Candidates, own: u32, reach: f32, out: &mut [u32; MAX_BRIDGES]) -> usize {
+    let (point, strand, host) = (c.point, c.strand, c.host);
     // The few nearest so far, nearest first: squared distances, indices, count.
     let mut best = ([f32::INFINITY; MAX_BRIDGES], [0u32; MAX_BRIDGES], 0usize);
     let closer = |d: &[f32; MAX_BRIDGES], out: &[u32; MAX_BRIDGES], k: usize, d2: f32, q: u32| {
-        d2 < d[k] || (d2 == d[k] && q < out[k])
+        d2 < d[k] || (d2 == d[k] && host[q as usize] < host[out[k] as usize])
     };
     // Once full, nothing farther than the last matters.
     let bound = |b: &([f32; MAX_BRIDGES], [u32; MAX_BRIDGES], usize)| b.0[MAX_BRIDGES - 1];

@@ -77,6 +77,14 @@ gpu_record! {
         pub strength_per_quantum: f32,
         /// A particle left with fewer quanta goes whole to the point that asked it for most.
         pub absorb_last: u32,
+        /// Liquid bridges: their length `d_b`, m (0 without bridges).
+        pub bridge_length: f32,
+        /// Liquid bridges: their tension `kappa`, N/m.
+        pub bridge_tension: f32,
+        /// Liquid bridges: this step's search turn (`wet::bridge_search_turn`).
+        pub bridge_turn: u32,
+        /// Unused: rounds the record to WGSL's 16-byte uniform size.
+        pub pad: u32,
     }
 }
 
@@ -232,6 +240,23 @@ pub mod held_ledger {
     pub const EVAPORATED: u32 = 2;
     /// Words in the block.
     pub const WORDS: u32 = 4;
+}
+
+/// Word offsets of one point's record in the liquid bridges' buffer (`bridge`,
+/// [`bridge_words::WORDS`] words per point; docs/WET_MODEL.md §5).
+pub mod bridge_words {
+    use crate::physics::wet::MAX_BRIDGES;
+    /// Its nearest wet points of other strands at its last search, host point indices
+    /// ascending.
+    pub const NEAREST: u32 = 0;
+    /// How many of `NEAREST` are set (0: not wet, or none found).
+    pub const COUNT: u32 = MAX_BRIDGES as u32;
+    /// Bit k set when `NEAREST[k]` is a bridge this step (each among the other's nearest).
+    pub const MUTUAL: u32 = COUNT + 1;
+    /// Each bridge's coefficient, N/m (f32 bits; by `NEAREST`'s slot).
+    pub const COEF: u32 = MUTUAL + 1;
+    /// Words per point.
+    pub const WORDS: u32 = COEF + MAX_BRIDGES as u32;
 }
 
 /// Word offsets of one particle's record in the absorption scratch (`absorb`, per grid slot,

@@ -15,6 +15,9 @@ const WATER_OUTPUT: &str = include_str!("shaders/water_output.wgsl");
 const IMPLICIT: &str = include_str!("shaders/implicit.wgsl");
 const HELD: &str = include_str!("shaders/held.wgsl");
 const ABSORB: &str = include_str!("shaders/absorb.wgsl");
+const SCAN: &str = include_str!("shaders/scan.wgsl");
+const BRIDGES: &str = include_str!("shaders/bridges.wgsl");
+const COHESION: &str = include_str!("shaders/cohesion.wgsl");
 
 /// Compile-time constants of one scene's shaders.
 #[derive(Clone, Copy, Debug)]
@@ -44,10 +47,24 @@ fn prelude(c: SceneConsts) -> String {
     )
 }
 
-/// Whether implicit Euler needs the `hair_forces` kernel (drag or adhesion present).
+/// Whether implicit Euler needs the `hair_forces` kernel (drag, adhesion or cohesion present).
 pub fn has_forces(passes: &[Pass]) -> bool {
-    passes.iter().any(|p| matches!(p, Pass::Drag | Pass::Adhesion))
+    passes
+        .iter()
+        .any(|p| matches!(p, Pass::Drag | Pass::Adhesion | Pass::Cohesion))
 }
+
+/// Pass cohesion's kernel and the line that adds its parked pull (scenes with bridges only).
+fn cohesion(passes: &[Pass]) -> &'static str {
+    if passes.contains(&Pass::Cohesion) {
+        COHESION
+    } else {
+        ""
+    }
+}
+
+/// Adds the pull pass cohesion parked in this point's output velocity.
+const ADD_COHESION: &str = "    f += state_out[i].v.xyz;\n";
 
 /// The hair module: the substep kernel for `passes` (and water_integrate when wet).
 pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
@@ -64,6 +81,7 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
             Pass::Adhesion => {
                 "    var near = 0.0;\n    f += adhesion(x, wet, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n"
             }
+            Pass::Cohesion => ADD_COHESION,
             Pass::Integrate => "    integrate(pt, &x, &v, f);\n",
             Pass::Collide => {
                 "    if (pt.inv_mass > 0.0) {\n        for (var c = 0u; c < N_COLLIDERS; c++) {\n            \
@@ -75,7 +93,6 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
             | Pass::WaterCull
             | Pass::Dry
             | Pass::HairGrid
-            | Pass::Cohesion
             | Pass::Absorb
             | Pass::Flow
             | Pass::Drip
@@ -84,7 +101,7 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
         });
     }
     format!(
-        "{}{HAIR}\n{}\n// Passes of this scene, in the CPU's order.\n@compute @workgroup_size(WG)\n\
+        "{}{HAIR}\n{}{}\n// Passes of this scene, in the CPU's order.\n@compute @workgroup_size(WG)\n\
          fn hair_substep(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,\n\
          \x20               @builtin(local_invocation_index) lid: u32) {{\n    let i = linear_id(wid, nwg, lid);\n\
          \x20   if (i >= P.points) {{\n        return;\n    }}\n    let pt = points[i];\n    let s = state_in[i];\n\
@@ -92,6 +109,7 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
          {body}    check(i, x, v);\n    state_out[i] = State(vec4<f32>(x, wet), vec4<f32>(v, 0.0));\n}}\n",
         prelude(c),
         if wet { adhesion() } else { String::new() },
+        cohesion(passes),
     )
 }
 
@@ -107,10 +125,11 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
     let wet = passes.contains(&Pass::Adhesion);
     let forces = has_forces(passes);
     let mut out = format!(
-        "{}{HAIR}\n{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
+        "{}{HAIR}\n{}{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
          const COLLIDE: bool = {};\n{IMPLICIT}\n",
         prelude(c),
         if wet { adhesion() } else { String::new() },
+        cohesion(passes),
         c.max_points.max(2),
         c.iterations.max(1),
         passes.contains(&Pass::Collide),
@@ -124,6 +143,9 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
             body.push_str(
                 "    var near = 0.0;\n    f += adhesion(x, wet, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n",
             );
+        }
+        if passes.contains(&Pass::Cohesion) {
+            body.push_str(ADD_COHESION);
         }
         out.push_str(&format!(
             "// Explicit forces of this scene, in the CPU's order, parked in state_out.\n@compute @workgroup_size(WG)\n\
@@ -139,7 +161,7 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
 
 /// The water module (grid build, append, cull).
 pub fn water_source(c: SceneConsts) -> String {
-    format!("{}{GRID}\n{WATER}", prelude(c))
+    format!("{}{GRID}\n{SCAN}\n{WATER}", prelude(c))
 }
 
 /// The held-water module (scenes with held water only).
@@ -148,6 +170,16 @@ pub fn held_source(c: SceneConsts) -> String {
         "{}const P_MAX: u32 = {}u;\n{HELD}\n{GRID}\n{ABSORB}",
         prelude(c),
         c.max_points.max(2)
+    )
+}
+
+/// The liquid bridges' module (pass hair_grid; scenes with bridges only) over a hashed grid of
+/// `buckets` buckets (a power of two, a multiple of the scan block).
+pub fn bridges_source(c: SceneConsts, buckets: u32) -> String {
+    format!(
+        "{}const BRIDGE_BUCKETS: u32 = {buckets}u;\nconst BRIDGE_BLOCKS: u32 = {}u;\n{SCAN}\n{ABSORB}\n{BRIDGES}",
+        prelude(c),
+        buckets / super::buffers::SCAN_BLOCK,
     )
 }
 

@@ -69,6 +69,14 @@ impl GpuBackend {
                 / p.water.particle_mass as f64) as f32,
             absorb_last: (crate::physics::wet::to_quanta(p.water.particle_mass as f64) as f64
                 * crate::physics::wet::ABSORB_LAST_FRACTION) as u32,
+            bridge_length: if p.held_water.bridges() {
+                p.held_water.bridge_length_for(&p.water)
+            } else {
+                0.0
+            },
+            bridge_tension: p.held_water.bridge_tension,
+            bridge_turn: self.bridges.as_ref().map_or(0, |b| b.turn()),
+            pad: 0,
         };
         self.dev
             .queue
@@ -128,6 +136,10 @@ impl GpuBackend {
             if let Some(h) = &self.held {
                 h.encode_before(&mut pass, self.cur, self.points); // pass wet_params
             }
+            if let Some(br) = &mut self.bridges {
+                br.encode(&mut pass, self.cur, self.points); // pass hair_grid
+            }
+            let bridges = self.bridges.as_ref().map(|b| &b.cohesion_bg);
             if let Some(w) = self.water.as_mut().filter(|w| w.pending > 0) {
                 pass.set_pipeline(&w.pipes[0]);
                 pass.set_bind_group(0, &w.build_bg[w.cur], &[]);
@@ -150,6 +162,7 @@ impl GpuBackend {
                         &off,
                         Some(&w.hair_bg[w.cur]),
                         self.strands_bg.as_ref(),
+                        bridges,
                         self.points,
                         self.strands,
                     );
@@ -172,6 +185,7 @@ impl GpuBackend {
                         &off,
                         None,
                         self.strands_bg.as_ref(),
+                        bridges,
                         self.points,
                         self.strands,
                     );

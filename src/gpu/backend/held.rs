@@ -232,6 +232,14 @@ impl HeldGpu {
         }
     }
 
+    /// What the liquid bridges read: each point's water and capacity.
+    pub(super) fn bridge_inputs(&self) -> super::bridges::HeldBuffers<'_> {
+        super::bridges::HeldBuffers {
+            water: &self.water,
+            capacity: &self.capacity_buf,
+        }
+    }
+
     /// Whether a step may add particles (drops).
     pub(super) fn drips(&self) -> bool {
         self.cfg.drips()

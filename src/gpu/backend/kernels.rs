@@ -16,11 +16,15 @@ pub(super) struct HairKernels {
     pub(super) implicit: bool,
     /// water_integrate (wet only).
     pub(super) water: Option<wgpu::ComputePipeline>,
+    /// cohesion (scenes with liquid bridges only): parks each point's pull for the kernels
+    /// after it.
+    pub(super) cohesion: Option<wgpu::ComputePipeline>,
 }
 
 impl HairKernels {
     /// Compiles the hair module for `passes`. `water`: the water group's layout when wet;
-    /// `strands`: the strand table's layout for implicit Euler.
+    /// `strands`: the strand table's layout for implicit Euler; `bridges`: the bridge records'
+    /// layout when the scene has liquid bridges.
     pub(super) fn new(
         d: &wgpu::Device,
         consts: SceneConsts,
@@ -28,6 +32,7 @@ impl HairKernels {
         hair: &wgpu::BindGroupLayout,
         water: Option<&wgpu::BindGroupLayout>,
         strands: Option<&wgpu::BindGroupLayout>,
+        bridges: Option<&wgpu::BindGroupLayout>,
     ) -> HairKernels {
         let implicit = passes.contains(&Pass::ImplicitSolve);
         let module = pl::module(d, "hair", &pl::hair_source(consts, passes));
@@ -44,10 +49,14 @@ impl HairKernels {
             },
             implicit,
             water: water.map(|_| one(&main, "water_integrate")),
+            cohesion: bridges
+                .filter(|_| passes.contains(&Pass::Cohesion))
+                .map(|l| one(&[Some(hair), None, None, Some(l)], "cohesion")),
         }
     }
 
-    /// Encodes one substep's hair kernels (not water_integrate).
+    /// Encodes one substep's hair kernels (not water_integrate); `bridges` is the bridge
+    /// records' group when the scene has them.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn encode(
         &self,
@@ -56,11 +65,17 @@ impl HairKernels {
         off: &[u32],
         water: Option<&wgpu::BindGroup>,
         strands: Option<&wgpu::BindGroup>,
+        bridges: Option<&wgpu::BindGroup>,
         points: u32,
         n_strands: u32,
     ) {
         let (px, py) = groups(points);
         pass.set_bind_group(0, hair, off);
+        if let (Some(p), Some(bg)) = (&self.cohesion, bridges) {
+            pass.set_pipeline(p);
+            pass.set_bind_group(3, bg, &[]);
+            pass.dispatch_workgroups(px, py, 1);
+        }
         if let Some(f) = &self.forces {
             pass.set_pipeline(f);
             if let Some(w) = water {

@@ -4,6 +4,7 @@
 //! state here, `kernels` (hair kernels from the pass list), `water`, `encode` (the step's
 //! command buffers), `share` (the host's Vulkan), `readback`, and `engine` (the seam).
 
+mod bridges;
 mod encode;
 mod engine;
 mod held;
@@ -19,6 +20,7 @@ use crate::error::{Error, Result};
 use crate::groom::Groom;
 use crate::params::{Integrator, SimParams};
 use crate::plan::{has_bend, pass_list, Pass, WaterDomain};
+use bridges::BridgesGpu;
 use glam::{Affine3A, Vec3};
 use held::HeldGpu;
 use kernels::HairKernels;
@@ -78,6 +80,8 @@ pub struct GpuBackend {
     cur: usize,
     /// Held water (scenes with `SimParams::held_water` on).
     held: Option<HeldGpu>,
+    /// Liquid bridges (scenes with held water and `bridge_tension > 0`).
+    bridges: Option<BridgesGpu>,
     /// Particles the host added since create or reset (held water's ledger).
     particles_added: u64,
     /// Water of the particles the host cleared since create or reset, quanta.
@@ -211,13 +215,17 @@ impl GpuBackend {
                 Slot::ReadWrite,
             ],
         );
-        let mut held = params.held_water.enabled.then(|| {
+        let held = params.held_water.enabled.then(|| {
             let mut h = HeldGpu::new(d, &dev.queue, consts, &pts, groom.masses(), params.held_water);
             h.bind(d, &params_buf, &points_buf, &state);
             h
         });
         // With held water the hair kernels read the point records with the water's mass.
-        let hair_points = held.as_mut().map_or(&points_buf, |h| &h.points_wet);
+        let hair_points = held.as_ref().map_or(&points_buf, |h| &h.points_wet);
+        let bridges = held
+            .as_ref()
+            .filter(|_| params.held_water.bridges())
+            .map(|h| BridgesGpu::new(d, consts, points, &params_buf, &h.points_wet, h.bridge_inputs(), &state));
         let mk_hair = |i: usize| {
             pl::bind(
                 d,
@@ -259,6 +267,7 @@ impl GpuBackend {
             &hair_layout,
             None,
             strand_table.as_ref().map(|s| &s.0),
+            bridges.as_ref().map(|b| &b.cohesion_layout),
         );
         let out_mod = pl::module(d, "output", &pl::output_source(consts));
         let output = pl::pipelines(d, &out_mod, &[&out_layout], &["write_vertices"]).remove(0);
@@ -289,6 +298,7 @@ impl GpuBackend {
             output_bg,
             cur: 0,
             held,
+            bridges,
             particles_added: 0,
             left_cleared: 0,
             water: None,
@@ -356,6 +366,9 @@ impl GpuBackend {
             v.push("water_append");
         }
         v.extend(held_before);
+        if self.bridges.is_some() {
+            v.extend_from_slice(&bridges::BRIDGE_ENTRIES);
+        }
         if wet {
             v.extend_from_slice(&WATER_ENTRIES[1..8]);
         }
@@ -365,6 +378,9 @@ impl GpuBackend {
             None
         }
         .unwrap_or(&self.dry_hair);
+        if k.cohesion.is_some() {
+            v.push("cohesion");
+        }
         if k.forces.is_some() {
             v.push("hair_forces");
         }
@@ -401,6 +417,9 @@ impl GpuBackend {
         }
         if let Some(h) = &self.held {
             v.push(("held_water", h.bytes()));
+        }
+        if let Some(br) = &self.bridges {
+            v.push(("bridges", br.bytes()));
         }
         if let Some(ws) = &self.water_share {
             v.push(("water_shared", (ws.vertices.size() + ws.draw.size()) as usize));
@@ -441,6 +460,9 @@ impl GpuBackend {
         if let Some(h) = &self.held {
             let mut enc = self.dev.device.create_command_encoder(&Default::default());
             h.reset(&mut enc);
+            if let Some(br) = &mut self.bridges {
+                br.reset(&mut enc);
+            }
             self.dev.submit(enc.finish(), false);
         }
         self.particles_added = 0;

@@ -265,6 +265,7 @@ impl GpuBackend {
             &self.hair_layout,
             Some(&hair_layout),
             self.strands_layout.as_ref(),
+            self.bridges.as_ref().map(|b| &b.cohesion_layout),
         );
         self.dev.check()?;
         Ok(WaterGpu {

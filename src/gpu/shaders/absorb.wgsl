@@ -1,6 +1,15 @@
-// Absorption's demand (physics/wet.rs `absorb_weight`, `absorb_demand`; docs/WET_MODEL.md §2),
+// Held water's laws that several modules use: the saturation (held water, liquid bridges) and
+// absorption's demand (physics/wet.rs `absorb_weight`, `absorb_demand`; docs/WET_MODEL.md §2),
 // shared by the wet hair module, which asks (in adhesion), and the held-water module, which
 // grants (in absorb): both compute each demand from the same inputs with this one function.
+
+// wet::saturation: held over capacity (0 where a point holds nothing).
+fn saturation(q: u32, c: u32) -> f32 {
+    if (c > 0u) {
+        return f32(q) / f32(c);
+    }
+    return 0.0;
+}
 
 // 1 within r_min of the particle, falling linearly to 0 at r_max.
 fn absorb_weight(d: f32) -> f32 {

@@ -41,14 +41,6 @@
 var<workgroup> part_lo: atomic<u32>;
 var<workgroup> part_hi: atomic<u32>;
 
-// wet::saturation: held over capacity (0 where a point holds nothing).
-fn saturation(q: u32, c: u32) -> f32 {
-    if (c > 0u) {
-        return f32(q) / f32(c);
-    }
-    return 0.0;
-}
-
 // wet::bend_scale: 1 dry, wet_bend_ratio saturated, linear between.
 fn bend_scale(s: f32) -> f32 {
     return 1.0 - (1.0 - P.wet_bend_ratio) * clamp(s, 0.0, 1.0);

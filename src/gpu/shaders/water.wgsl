@@ -123,24 +123,6 @@ fn grid_count_cells(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgrou
     atomicAdd(&grid_count[GRID_COUNT_HEADER + cell_index(cur[i].x.xyz)], 1u);
 }
 
-var<workgroup> scan: array<u32, 256>;
-
-// Inclusive prefix sum of one value per invocation over the workgroup (Hillis-Steele) into
-// `scan`; every invocation of the workgroup must call it.
-fn scan_inclusive(lid: u32, v: u32) {
-    scan[lid] = v;
-    workgroupBarrier();
-    for (var off = 1u; off < 256u; off <<= 1u) {
-        var add = 0u;
-        if (lid >= off) {
-            add = scan[lid - off];
-        }
-        workgroupBarrier();
-        scan[lid] += add;
-        workgroupBarrier();
-    }
-}
-
 // Pass water_grid, part 4a: exclusive prefix sum of the counts within blocks of 1,024 cells.
 @compute @workgroup_size(256)
 fn grid_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
