@@ -325,6 +325,11 @@ fn nearest_of(grid: &HashGrid, x: Vec3, c: &Candidates, own: u32, reach: f32, ou
     // Once full, nothing farther than the last matters.
     let bound = |b: &([f32; MAX_BRIDGES], [u32; MAX_BRIDGES], usize)| b.0[MAX_BRIDGES - 1];
     grid.for_each_near_by(x, reach, &mut best, bound, |(d, out, n), j, d2| {
+        // Farther than the few kept: most candidates in a clump end here, before the two
+        // lookups below (a tie still needs the index).
+        if *n == MAX_BRIDGES && d2 > d[MAX_BRIDGES - 1] {
+            return;
+        }
         if strand[j as usize] == own {
             return;
         }

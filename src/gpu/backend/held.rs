@@ -394,23 +394,35 @@ impl GpuBackend {
         self.dev.check()
     }
 
-    /// Where the water is, in quanta (held water only; blocking): the hair's counts, each
-    /// particle's water (those waiting to join included), and what left with culled and
+    /// Where the water is, in quanta (held water only; one blocking read): the hair's counts,
+    /// each particle's water (those waiting to join included), and what left with culled and
     /// cleared particles.
     pub fn ledger(&self) -> Option<Result<WaterLedger>> {
         let h = self.held.as_ref()?;
         Some((|| {
-            let bytes = self.read_buffers(&h.ledger_parts(self.points), None)?;
+            let hair = h.ledger_parts(self.points);
+            let hair_bytes: u64 = hair.iter().map(|p| p.1).sum();
+            let mut parts = hair.to_vec();
+            // The water's state block and every particle slot that may be live (the host's
+            // bound), read with the hair's counts in one copy.
+            if let Some(w) = &self.water {
+                parts.push((&w.state, w.state.size()));
+                parts.push((&w.particles[w.cur], w.bound as u64 * 32));
+            }
+            let bytes = self.read_buffers(&parts, None)?;
             let mut l = HeldGpu::ledger_from(&bytes, self.points);
             let q = wet::to_quanta(self.params.water.particle_mass as f64) as u64;
             l.added += self.particles_added * q;
             l.left = self.left_cleared;
             if let Some(w) = &self.water {
-                l.in_particles = self.particle_water()? + w.pending as u64 * q;
-                let st = self.read_buffers(&[(&w.state, w.state.size())], None)?;
-                let words: &[u32] = bytemuck::cast_slice(&st[..w.state.size() as usize]);
-                let at = b::water_state::LEFT as usize;
-                l.left += words[at] as u64 | (words[at + 1] as u64) << 32;
+                let at = hair_bytes as usize;
+                let words: &[u32] = bytemuck::cast_slice(&bytes[at..at + w.state.size() as usize]);
+                let left = b::water_state::LEFT as usize;
+                l.left += words[left] as u64 | (words[left + 1] as u64) << 32;
+                let live = words[b::water_state::HELD as usize].min(w.bound) as usize;
+                let at = at + w.state.size() as usize;
+                let particles: Vec<b::ParticleGpu> = bytemuck::pod_collect_to_vec(&bytes[at..at + live * 32]);
+                l.in_particles = particles.iter().map(|p| p.mass as u64).sum::<u64>() + w.pending as u64 * q;
             }
             Ok(l)
         })())
