@@ -986,3 +986,29 @@ fn liquid_bridges_clump_as_on_the_cpu() {
         assert_eq!(g.positions(), again.positions(), "two GPU runs differ");
     }
 }
+
+/// A groom whose point records outgrow one storage binding of the device (lavapipe allows
+/// 128 MiB: 2.8 million points of 48 bytes) is refused at creation with a capacity error that
+/// names the buffer and the limit, not a validation error from inside wgpu; AUTO then runs it
+/// on the CPU and says why.
+#[test]
+fn a_groom_beyond_the_device_binding_limit_is_refused_by_name() {
+    let _serial = serial();
+    let Some(probe) = gpu(&paper_scene(16, 4).unwrap(), SimParams::paper()) else {
+        return;
+    };
+    let software = probe.backend_info().device.contains("llvmpipe");
+    drop(probe);
+    let groom = paper_scene(90_000, 32).unwrap(); // 2.88 million points: 138 MB of records
+    match Simulation::new(
+        &groom,
+        SimParams {
+            backend: Backend::GPU,
+            ..SimParams::paper()
+        },
+    ) {
+        Err(Error::Capacity(m)) => assert!(m.contains("point records") && m.contains("per buffer"), "{m}"),
+        Err(e) => panic!("{e}"),
+        Ok(_) => assert!(!software, "lavapipe allows 128 MiB per binding"),
+    }
+}

@@ -144,9 +144,29 @@ impl GpuBackend {
         let strands = groom.strand_count() as u32;
         let state_bytes = points as u64 * 32;
         let stride = params.attributes.stride() as u64;
-        if state_bytes > dev.limits.max_storage_buffer_binding_size {
+        // The largest per-point buffer must fit one binding (wgpu refuses the bind group
+        // otherwise, with a validation error instead of a reason).
+        let per_point = [
+            ("point records", std::mem::size_of::<PointGpu>() as u64),
+            ("state", 32),
+            ("vertices", stride * 4),
+            (
+                "bridge records",
+                if params.held_water.bridges() {
+                    b::bridge_words::WORDS as u64 * 4
+                } else {
+                    0
+                },
+            ),
+        ];
+        let (what, bytes) = per_point
+            .iter()
+            .map(|&(what, b)| (what, b * points as u64))
+            .max_by_key(|p| p.1)
+            .expect("four buffers");
+        if bytes > dev.limits.max_storage_buffer_binding_size {
             return Err(Error::Capacity(format!(
-                "{points} points need {state_bytes} bytes of state; {} allows {} per buffer",
+                "{points} points need {bytes} bytes of {what}; {} allows {} per buffer (the CPU backend has no such limit)",
                 dev.info.name, dev.limits.max_storage_buffer_binding_size
             )));
         }
