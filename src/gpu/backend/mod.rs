@@ -164,6 +164,15 @@ impl GpuBackend {
             .map(|&(what, b)| (what, b * points as u64))
             .max_by_key(|p| p.1)
             .expect("four buffers");
+        // The bridges' bucket table is scanned one workgroup per block of buckets, in one
+        // dispatch row.
+        let bucket_blocks = (2 * points as u64).next_power_of_two() / b::SCAN_BLOCK as u64;
+        if params.held_water.bridges() && bucket_blocks > dev.limits.max_compute_workgroups_per_dimension as u64 {
+            return Err(Error::Capacity(format!(
+                "liquid bridges on the GPU take up to {} points (this groom has {points}); the CPU backend has no such limit",
+                dev.limits.max_compute_workgroups_per_dimension as u64 * b::SCAN_BLOCK as u64 / 2
+            )));
+        }
         if bytes > dev.limits.max_storage_buffer_binding_size {
             return Err(Error::Capacity(format!(
                 "{points} points need {bytes} bytes of {what}; {} allows {} per buffer (the CPU backend has no such limit)",
