@@ -7,6 +7,8 @@
 //! `tests/data`, a long-strand paper scene) and gives each one's cost against symplectic Euler.
 //!
 //! Run: `cargo bench --bench frame` (full, about a minute), or `-- --quick` (fewer frames).
+//! Name sections to run only those: `-- --quick wet copy` (sections: `frames`, `integrators`,
+//! `wet`, `copy`).
 
 use std::time::Instant;
 use wethair::groom::{paper_scene, Groom};
@@ -69,10 +71,33 @@ fn run_with(
     (median(times), mean, passes.join(" "), mib, held)
 }
 
+/// Whether section `name` runs: every section when none is named on the command line.
+fn section(name: &str) -> bool {
+    const SECTIONS: [&str; 4] = ["frames", "integrators", "wet", "copy"];
+    let named: Vec<String> = std::env::args().filter(|a| SECTIONS.contains(&a.as_str())).collect();
+    named.is_empty() || named.iter().any(|a| a == name)
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
     let (frames, warmup) = if quick { (60, 5) } else { (200, 10) };
+    if section("frames") {
+        frame_rows(cores, frames, warmup, quick);
+    }
+    if section("integrators") {
+        integrator_costs(cores, quick);
+    }
+    if section("wet") {
+        wet_model_costs(cores, quick);
+    }
+    if section("copy") {
+        copy_path_cost(cores, quick);
+    }
+}
+
+/// The main table: the paper scene dry and wet at 1 and all threads, and the big scene dry.
+fn frame_rows(cores: u32, frames: usize, warmup: usize, quick: bool) {
     let paper = paper_scene(10_000, 6).expect("paper scene");
     let mut rows = vec![];
     for threads in [1, cores] {
@@ -135,9 +160,6 @@ fn main() {
             row.scene, row.threads
         );
     }
-    integrator_costs(cores, quick);
-    wet_model_costs(cores, quick);
-    copy_path_cost(cores, quick);
 }
 
 /// The wet model's cost (issue 14): the paper scene with 1,000 particles on its hair, and a
