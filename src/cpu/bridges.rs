@@ -5,17 +5,19 @@
 //! Exists only when bridges are on.
 
 use super::layout::{Layout, StateRow};
-use super::pool::Pool;
+use super::pool::{for_chunks, Pool};
 use crate::physics::hash_grid::HashGrid;
 use crate::physics::lanes::{L3, W};
 use crate::physics::wet;
 use glam::Vec3;
-use rayon::prelude::*;
 
 pub use crate::physics::wet::{BRIDGE_SEARCH_TURNS as SEARCH_TURNS, MAX_BRIDGES};
 
 /// Points searched per parallel task.
 const CHUNK: usize = 512;
+
+/// Rows per parallel task of the cohesion pass.
+const ROWS_PER_TASK: usize = 256;
 
 /// Pairs found this step and the force they give.
 #[derive(Debug)]
@@ -29,25 +31,21 @@ pub struct Bridges {
     strand: Vec<u32>,
     /// Their saturation (at most 1) and length of hair, m.
     sat_len: Vec<(f32, f32)>,
-    /// Per point index: its place in `point`, or `u32::MAX` when it is not wet.
-    local: Vec<u32>,
-    /// Per point index: its nearest wet points of other strands (point indices, sorted) as of
-    /// its last search, and how many.
-    nearest: Vec<[u32; MAX_BRIDGES]>,
-    n_nearest: Vec<u8>,
+    /// Per point index: its nearest wet points of other strands as of its last search, and
+    /// its place in `point` this step (one cache line, read together by the mutual test).
+    near: Vec<Near>,
     /// This step's searches: places in `point`, and what each found.
     turn: Vec<u32>,
     found: Vec<([u32; MAX_BRIDGES], u8)>,
-    /// The mutual pairs: neighbours of `point[i]` are `nbr[first[i]..first[i + 1]]` (places
-    /// in `point`), each with its spring coefficient, N/m (the same for both directions).
-    first: Vec<u32>,
-    nbr: Vec<u32>,
-    coef: Vec<f32>,
-    /// Scratch: what stiffness each wet point may still take, its position at the substep's
-    /// start and its gathered force.
+    /// Per wet point: its mutual pairs (places in `point`, in its nearest's order), each with
+    /// its spring coefficient, N/m (the same for both directions).
+    pairs: Vec<Pairs>,
+    /// How many pairs (counting each direction) were found this step.
+    n_pairs: usize,
+    /// Scratch: what stiffness each wet point may still take, and its position at the
+    /// substep's start.
     room: Vec<f32>,
     xs: Vec<Vec3>,
-    gathered: Vec<Vec3>,
     /// Steps since the last reset (whose turn it is).
     step: u32,
     /// Force per row, N (zero where no bridge acts).
@@ -86,17 +84,13 @@ impl Bridges {
             pos: Vec::new(),
             strand: Vec::new(),
             sat_len: Vec::new(),
-            local: vec![u32::MAX; n_rows * W],
-            nearest: vec![[0; MAX_BRIDGES]; n_rows * W],
-            n_nearest: vec![0; n_rows * W],
+            near: vec![Near::NONE; n_rows * W],
             turn: Vec::new(),
             found: Vec::new(),
-            first: Vec::new(),
-            nbr: Vec::new(),
-            coef: Vec::new(),
+            pairs: Vec::new(),
+            n_pairs: 0,
             room: Vec::new(),
             xs: Vec::new(),
-            gathered: Vec::new(),
             step: 0,
             force: vec![L3::ZERO; n_rows],
             length,
@@ -108,13 +102,13 @@ impl Bridges {
 
     /// Whether any pair was found this step (else the cohesion pass is skipped).
     pub fn active(&self) -> bool {
-        !self.nbr.is_empty()
+        self.n_pairs > 0
     }
 
     /// No pair, and the search turns start over (a reset simulation replays like a new one).
     pub fn reset(&mut self) {
         self.forget_points();
-        self.n_nearest.iter_mut().for_each(|n| *n = 0);
+        self.near.iter_mut().for_each(|n| *n = Near::NONE);
         self.step = 0;
     }
 
@@ -123,15 +117,14 @@ impl Bridges {
     fn forget_points(&mut self) {
         for &p in &self.point {
             self.force[p as usize / W] = L3::ZERO;
-            self.local[p as usize] = u32::MAX;
+            self.near[p as usize].local = u32::MAX;
         }
         self.point.clear();
         self.pos.clear();
         self.strand.clear();
         self.sat_len.clear();
-        self.first.clear();
-        self.nbr.clear();
-        self.coef.clear();
+        self.pairs.clear();
+        self.n_pairs = 0;
     }
 
     /// Pass `hair_grid`: searches this step's turn of wet free points (and every wet point with
@@ -148,7 +141,7 @@ impl Bridges {
         state: &[StateRow],
         held: &[[u32; W]],
         capacity: &[[u32; W]],
-        inv_mass: impl Fn(usize, usize) -> f32,
+        inv_mass: impl Fn(usize, usize) -> f32 + Sync,
         h: f32,
         pool: Option<&Pool>,
     ) {
@@ -159,14 +152,14 @@ impl Bridges {
             for l in 0..W {
                 let p = r * W + l;
                 if w[l] > 0 && lay.real_lanes[r] & (1 << l) != 0 && inv_mass(r, l) > 0.0 {
-                    self.local[p] = self.point.len() as u32;
+                    self.near[p].local = self.point.len() as u32;
                     self.point.push(p as u32);
                     self.pos.push(row.x.get(l));
                     self.strand.push(((r / lay.rows) * W + l) as u32);
                     self.sat_len
                         .push((wet::saturation(w[l], capacity[r][l]).min(1.0), self.length[r][l]));
                 } else {
-                    self.n_nearest[p] = 0;
+                    self.near[p].n = 0;
                 }
             }
         }
@@ -178,7 +171,7 @@ impl Bridges {
         self.grid.build(&self.pos);
         self.turn.clear();
         for (i, &p) in self.point.iter().enumerate() {
-            if wet::bridge_search_turn(self.host[p as usize], turn) || self.n_nearest[p as usize] == 0 {
+            if wet::bridge_search_turn(self.host[p as usize], turn) || self.near[p as usize].n == 0 {
                 self.turn.push(i as u32);
             }
         }
@@ -193,54 +186,58 @@ impl Bridges {
                 *n = nearest_of(grid, pos[i], &c, strand[i], d_b, near) as u8;
             }
         };
-        let found = &mut self.found;
-        match pool {
-            Some(pool) => pool.install(|| {
-                found
-                    .par_chunks_mut(CHUNK)
-                    .enumerate()
-                    .for_each(|(c, out)| search(c * CHUNK, out))
-            }),
-            None => search(0, found),
-        }
+        for_chunks(pool, &mut self.found, CHUNK, search);
         for (&i, (near, n)) in self.turn.iter().zip(&self.found) {
-            let p = self.point[i as usize] as usize;
-            self.nearest[p] = *near;
-            self.n_nearest[p] = *n;
+            let p = &mut self.near[self.point[i as usize] as usize];
+            p.q = *near;
+            p.n = *n as u32;
         }
-        // Keep a pair only when each is among the other's nearest and both are wet: the
-        // bridges are symmetric, so each pair's two forces are exact negatives.
-        self.first.push(0);
-        for &p in &self.point {
-            let p = p as usize;
-            for &q in &self.nearest[p][..self.n_nearest[p] as usize] {
-                let (q, j) = (q as usize, self.local[q as usize]);
-                if j != u32::MAX
-                    && self.nearest[q][..self.n_nearest[q] as usize]
-                        .binary_search(&(p as u32))
-                        .is_ok()
-                {
-                    self.nbr.push(j);
+        // Keep a pair only when each is among the other's nearest and both are wet (a dry
+        // point has no nearest): the bridges are symmetric, so each pair's two forces are
+        // exact negatives. Point by point in parallel; each keeps its nearest's order.
+        let near = &self.near[..];
+        self.pairs.clear();
+        self.pairs.resize(self.point.len(), Pairs::NONE);
+        let mutual = |i0: usize, out: &mut [Pairs]| {
+            for (k, out) in out.iter_mut().enumerate() {
+                let p = point[i0 + k];
+                let me = &near[p as usize];
+                for &q in &me.q[..me.n as usize] {
+                    let other = &near[q as usize];
+                    if other.q[..other.n as usize].contains(&p) {
+                        out.j[out.n as usize] = other.local;
+                        out.n += 1;
+                    }
                 }
             }
-            self.first.push(self.nbr.len() as u32);
-        }
+        };
+        for_chunks(pool, &mut self.pairs, CHUNK, mutual);
+        self.n_pairs = self.pairs.iter().map(|p| p.n as usize).sum();
         // What each point may take: m / (4 h^2 n).
         self.room.clear();
-        self.room.extend((0..self.point.len()).map(|i| {
-            let p = self.point[i] as usize;
-            let n = (self.first[i + 1] - self.first[i]).max(1) as f32;
-            1.0 / (inv_mass(p / W, p % W) * 4.0 * h * h * n)
-        }));
-        let (room, sl) = (&self.room, &self.sat_len);
-        for i in 0..self.point.len() {
-            for k in self.first[i] as usize..self.first[i + 1] as usize {
-                let j = self.nbr[k] as usize;
-                let l = 0.5 * (sl[i].1 + sl[j].1);
-                let stiff = wet::bridge_stiffness(self.kappa, l, sl[i].0, sl[j].0, self.d_b);
-                self.coef.push(stiff.min(room[i].min(room[j])));
+        self.room.resize(self.point.len(), 0.0);
+        let pairs = &self.pairs;
+        let room = |i0: usize, out: &mut [f32]| {
+            for (k, out) in out.iter_mut().enumerate() {
+                let p = point[i0 + k] as usize;
+                let n = pairs[i0 + k].n.max(1) as f32;
+                *out = 1.0 / (inv_mass(p / W, p % W) * 4.0 * h * h * n);
             }
-        }
+        };
+        for_chunks(pool, &mut self.room, CHUNK, room);
+        let (room, sl, kappa, d_b) = (&self.room, &self.sat_len, self.kappa, self.d_b);
+        let coef = |i0: usize, out: &mut [Pairs]| {
+            for (k, out) in out.iter_mut().enumerate() {
+                let i = i0 + k;
+                for m in 0..out.n as usize {
+                    let j = out.j[m] as usize;
+                    let l = 0.5 * (sl[i].1 + sl[j].1);
+                    let stiff = wet::bridge_stiffness(kappa, l, sl[i].0, sl[j].0, d_b);
+                    out.c[m] = stiff.min(room[i].min(room[j]));
+                }
+            }
+        };
+        for_chunks(pool, &mut self.pairs, CHUNK, coef);
     }
 
     /// Pass `cohesion`: each wet point's pull toward its bridged neighbours at the substep's
@@ -249,58 +246,84 @@ impl Bridges {
     pub fn gather(&mut self, state: &[StateRow], pool: Option<&Pool>) {
         // The wet points' positions, packed: the pairs then read neighbours from cache.
         self.xs.clear();
-        self.xs
-            .extend(self.point.iter().map(|&p| state[p as usize / W].x.get(p as usize % W)));
-        self.gathered.clear();
-        self.gathered.resize(self.point.len(), Vec3::ZERO);
-        let (xs, first, nbr, coef, d_b) = (&self.xs, &self.first, &self.nbr, &self.coef, self.d_b);
-        let pull = |i0: usize, out: &mut [Vec3]| {
-            for (k, f) in out.iter_mut().enumerate() {
-                let i = i0 + k;
-                let xi = xs[i];
-                let mut sum = Vec3::ZERO;
-                for m in first[i] as usize..first[i + 1] as usize {
-                    let d = xs[nbr[m] as usize] - xi;
-                    sum += d * wet::bridge_scale(coef[m], d.length(), d_b);
-                }
-                *f = sum;
+        self.xs.resize(self.point.len(), Vec3::ZERO);
+        let point = &self.point;
+        let pack = |i0: usize, out: &mut [Vec3]| {
+            for (k, x) in out.iter_mut().enumerate() {
+                let p = point[i0 + k] as usize;
+                *x = state[p / W].x.get(p % W);
             }
         };
-        let gathered = &mut self.gathered;
-        match pool {
-            Some(pool) => pool.install(|| {
-                gathered
-                    .par_chunks_mut(4 * CHUNK)
-                    .enumerate()
-                    .for_each(|(c, out)| pull(c * 4 * CHUNK, out))
-            }),
-            None => pull(0, gathered),
-        }
-        for (&p, f) in self.point.iter().zip(&self.gathered) {
-            self.force[p as usize / W].set(p as usize % W, *f);
-        }
+        for_chunks(pool, &mut self.xs, 4 * CHUNK, pack);
+        // Row by row in parallel: each task writes the forces of its rows' wet points (the
+        // wet points are in index order, so a run of rows holds a run of them).
+        let (xs, pairs, d_b) = (&self.xs, &self.pairs, self.d_b);
+        let pull = |r0: usize, rows: &mut [L3]| {
+            let lo = point.partition_point(|&p| (p as usize) < r0 * W);
+            let hi = lo + point[lo..].partition_point(|&p| (p as usize) < (r0 + rows.len()) * W);
+            for i in lo..hi {
+                let (xi, pr) = (xs[i], &pairs[i]);
+                let mut sum = Vec3::ZERO;
+                for m in 0..pr.n as usize {
+                    let d = xs[pr.j[m] as usize] - xi;
+                    sum += d * wet::bridge_scale(pr.c[m], d.length(), d_b);
+                }
+                let p = point[i] as usize;
+                rows[p / W - r0].set(p % W, sum);
+            }
+        };
+        for_chunks(pool, &mut self.force, ROWS_PER_TASK, pull);
     }
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         self.grid.bytes()
-            + 4 * (self.point.capacity()
-                + self.strand.capacity()
-                + self.local.capacity()
-                + MAX_BRIDGES * self.nearest.capacity()
-                + self.turn.capacity()
-                + self.first.capacity()
-                + self.nbr.capacity()
-                + self.coef.capacity()
-                + self.room.capacity())
-            + self.n_nearest.capacity()
+            + 4 * (self.point.capacity() + self.strand.capacity() + self.turn.capacity() + self.room.capacity())
+            + std::mem::size_of::<Near>() * self.near.capacity()
+            + std::mem::size_of::<Pairs>() * self.pairs.capacity()
             + (4 * MAX_BRIDGES + 1) * self.found.capacity()
-            + 12 * (self.pos.capacity() + self.xs.capacity() + self.gathered.capacity())
+            + 12 * (self.pos.capacity() + self.xs.capacity())
             + 8 * self.sat_len.capacity()
             + std::mem::size_of::<L3>() * self.force.capacity()
             + 4 * W * self.length.capacity()
             + 4 * self.host.capacity()
     }
+}
+
+/// A point's nearest wet points of other strands (point indices, sorted ascending, `n` of
+/// them) and its place among this step's wet points (`u32::MAX` when it is not wet): 32
+/// bytes, so the mutual test reads each point's in one cache line.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(32))]
+struct Near {
+    q: [u32; MAX_BRIDGES],
+    n: u32,
+    local: u32,
+}
+
+impl Near {
+    const NONE: Near = Near {
+        q: [0; MAX_BRIDGES],
+        n: 0,
+        local: u32::MAX,
+    };
+}
+
+/// A wet point's mutual pairs: the other points' places among the wet points and each
+/// bridge's coefficient, N/m, `n` of them.
+#[derive(Debug, Clone, Copy)]
+struct Pairs {
+    j: [u32; MAX_BRIDGES],
+    c: [f32; MAX_BRIDGES],
+    n: u32,
+}
+
+impl Pairs {
+    const NONE: Pairs = Pairs {
+        j: [0; MAX_BRIDGES],
+        c: [0.0; MAX_BRIDGES],
+        n: 0,
+    };
 }
 
 /// What a search reads of the wet points: by grid entry, the point index and strand; by point

@@ -4,12 +4,17 @@
 //! held water switched on.
 
 use super::layout::{Layout, ParamRow, StateRow};
+use super::pool::{for_chunks, Pool};
 use super::water::Water;
 use crate::engine::WaterLedger;
 use crate::params::HeldWater;
 use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::wet;
 use glam::Vec3;
+use rayon::prelude::*;
+
+/// Blocks per parallel task of the per-point passes.
+const BLOCKS_PER_TASK: usize = 32;
 
 /// The held water of every point, per row of 8 lanes.
 #[derive(Debug)]
@@ -30,11 +35,17 @@ pub struct Held {
     /// Velocities at the step's start (flow reads each point's acceleration over the step;
     /// empty unless water flows).
     v0: Vec<L3>,
-    /// Scratch of the flow pass: one strand's water, positions and accelerations.
-    strand_water: Vec<u32>,
-    strand_x: Vec<Vec3>,
-    strand_a: Vec<Vec3>,
-    flow_scratch: wet::FlowScratch,
+    /// Scratch of the flow pass, one per task (empty unless water flows).
+    flow_tasks: Vec<FlowTask>,
+}
+
+/// What one task of the flow pass works in: one strand's water, positions and accelerations.
+#[derive(Debug, Default)]
+struct FlowTask {
+    water: Vec<u32>,
+    x: Vec<Vec3>,
+    a: Vec<Vec3>,
+    scratch: wet::FlowScratch,
 }
 
 impl Held {
@@ -53,7 +64,7 @@ impl Held {
             }
         }
         let flows = cfg.flows();
-        let longest = if flows { lay.rows } else { 0 };
+        let tasks = if flows { lay.blocks.div_ceil(BLOCKS_PER_TASK) } else { 0 };
         Held {
             water: vec![[0; W]; n_rows],
             capacity,
@@ -63,10 +74,14 @@ impl Held {
             evaporated: 0,
             cfg,
             v0: if flows { vec![L3::ZERO; n_rows] } else { Vec::new() },
-            strand_water: Vec::with_capacity(longest),
-            strand_x: Vec::with_capacity(longest),
-            strand_a: Vec::with_capacity(longest),
-            flow_scratch: wet::FlowScratch::default(),
+            flow_tasks: (0..tasks)
+                .map(|_| FlowTask {
+                    water: Vec::with_capacity(lay.rows),
+                    x: Vec::with_capacity(lay.rows),
+                    a: Vec::with_capacity(lay.rows),
+                    scratch: wet::FlowScratch::default(),
+                })
+                .collect(),
         }
     }
 
@@ -74,35 +89,37 @@ impl Held {
     /// mass to `1 / (dry + water)` (soaked hair is heavier, §3) and, when limp, scales each
     /// bend spring's stiffness by `wet::bend_scale` of the mean saturation of its two ends
     /// (§4). A dry point and a dry spring keep the layout's values bit for bit.
-    pub fn refresh_params(&mut self, lay: &Layout) {
+    pub fn refresh_params(&mut self, lay: &Layout, pool: Option<&Pool>) {
         let limp = self.cfg.limp();
-        for b in 0..lay.blocks {
-            for i in 0..lay.rows {
-                let r = b * lay.rows + i;
-                let row = &mut self.params[r];
+        let (water, capacity, dry_mass) = (&self.water, &self.capacity, &self.dry_mass);
+        let (rows, ratio) = (lay.rows, self.cfg.wet_bend_ratio);
+        let refresh = |r0: usize, out: &mut [ParamRow]| {
+            for (k, row) in out.iter_mut().enumerate() {
+                let (r, i) = (r0 + k, (r0 + k) % rows);
                 for l in 0..W {
                     let dry_inv = lay.params[r].inv_mass[l];
-                    let q = self.water[r][l];
+                    let q = water[r][l];
                     row.inv_mass[l] = if dry_inv == 0.0 || q == 0 {
                         dry_inv
                     } else {
-                        (1.0 / (self.dry_mass[r][l] as f64 + wet::to_kg(q))) as f32
+                        (1.0 / (dry_mass[r][l] as f64 + wet::to_kg(q))) as f32
                     };
                 }
-                if limp && i + 2 < lay.rows {
+                if limp && i + 2 < rows {
                     for l in 0..W {
-                        let s_a = wet::saturation(self.water[r][l], self.capacity[r][l]);
-                        let s_b = wet::saturation(self.water[r + 2][l], self.capacity[r + 2][l]);
+                        let s_a = wet::saturation(water[r][l], capacity[r][l]);
+                        let s_b = wet::saturation(water[r + 2][l], capacity[r + 2][l]);
                         let k = lay.params[r].bend.k[l];
                         row.bend.k[l] = if s_a + s_b == 0.0 {
                             k
                         } else {
-                            k * wet::bend_scale(0.5 * (s_a + s_b), self.cfg.wet_bend_ratio)
+                            k * wet::bend_scale(0.5 * (s_a + s_b), ratio)
                         };
                     }
                 }
             }
-        }
+        };
+        for_chunks(pool, &mut self.params, rows * BLOCKS_PER_TASK, refresh);
     }
 
     /// Wets every point up to saturation `s` (in [0, 1]) of its capacity; never removes
@@ -128,30 +145,54 @@ impl Held {
 
     /// Pass `flow` (§6): held water runs along each strand toward where gravity minus the
     /// point's acceleration over the step points (`wet::flow_strand`, strand by strand).
-    pub fn flow(&mut self, lay: &Layout, state: &[StateRow], g: Vec3, dt: f32) {
+    pub fn flow(&mut self, lay: &Layout, state: &[StateRow], g: Vec3, dt: f32, pool: Option<&Pool>) {
         if self.v0.is_empty() {
             return;
         }
-        for s in 0..lay.strands {
-            let (b, l) = lay.lane_of(s);
-            let rows = b * lay.rows..b * lay.rows + lay.strand_points(s);
-            self.strand_water.clear();
-            self.strand_x.clear();
-            self.strand_a.clear();
-            for r in rows.clone() {
-                self.strand_water.push(self.water[r][l]);
-                self.strand_x.push(state[r].x.get(l));
-                self.strand_a.push((state[r].v.get(l) - self.v0[r].get(l)) / dt);
+        let (v0, mob, rows) = (&self.v0, self.cfg.flow_mobility, lay.rows);
+        // One task per run of blocks; each strand is independent of the others.
+        let run = |r0: usize, water: &mut [[u32; W]], t: &mut FlowTask| {
+            for b in 0..water.len() / rows {
+                for l in 0..W {
+                    let s = lay.strand_of_slot[(r0 / rows + b) * W + l] as usize;
+                    if s >= lay.strands {
+                        continue;
+                    }
+                    let local = b * rows..b * rows + lay.strand_points(s);
+                    if water[local.clone()].iter().all(|w| w[l] == 0) {
+                        continue;
+                    }
+                    t.water.clear();
+                    t.x.clear();
+                    t.a.clear();
+                    for k in local.clone() {
+                        let r = r0 + k;
+                        t.water.push(water[k][l]);
+                        t.x.push(state[r].x.get(l));
+                        t.a.push((state[r].v.get(l) - v0[r].get(l)) / dt);
+                    }
+                    wet::flow_strand(&mut t.water, &t.x, &t.a, g, mob, dt, &mut t.scratch);
+                    for (k, &q) in local.zip(&t.water) {
+                        water[k][l] = q;
+                    }
+                }
             }
-            if self.strand_water.iter().all(|&q| q == 0) {
-                continue;
-            }
-            let (x, a) = (&self.strand_x, &self.strand_a);
-            let mob = self.cfg.flow_mobility;
-            wet::flow_strand(&mut self.strand_water, x, a, g, mob, dt, &mut self.flow_scratch);
-            for (r, &q) in rows.zip(&self.strand_water) {
-                self.water[r][l] = q;
-            }
+        };
+        let size = rows * BLOCKS_PER_TASK;
+        let (water, tasks) = (&mut self.water, &mut self.flow_tasks);
+        match pool {
+            Some(pool) => pool.install(|| {
+                water
+                    .par_chunks_mut(size)
+                    .zip(tasks.par_iter_mut())
+                    .enumerate()
+                    .for_each(|(c, (w, t))| run(c * size, w, t))
+            }),
+            None => water
+                .chunks_mut(size)
+                .zip(tasks.iter_mut())
+                .enumerate()
+                .for_each(|(c, (w, t))| run(c * size, w, t)),
         }
     }
 
@@ -206,22 +247,39 @@ impl Held {
     /// Pass `dry`: each point loses `held (1 - e^(-k dt))` to the nearest quantum, with
     /// `k = (1 / dry_time) (1 + sqrt(|u| / dry_air_speed))` and `u = wind - v` the air
     /// speed past the point. Order-free: integers per point.
-    pub fn dry(&mut self, state: &[StateRow], wind: Vec3, dt: f32) {
+    pub fn dry(&mut self, state: &[StateRow], wind: Vec3, dt: f32, pool: Option<&Pool>) {
         if self.cfg.dry_time <= 0.0 {
             return;
         }
-        for (w, r) in self.water.iter_mut().zip(state) {
-            for l in 0..W {
-                if w[l] == 0 {
-                    continue;
+        let (tau, u_ref) = (self.cfg.dry_time, self.cfg.dry_air_speed);
+        // What a run of rows loses (a sum of integers: the same in any order).
+        let dry = |r0: usize, water: &mut [[u32; W]]| -> u64 {
+            let mut lost = 0;
+            for (w, r) in water.iter_mut().zip(&state[r0..]) {
+                for l in 0..W {
+                    if w[l] == 0 {
+                        continue;
+                    }
+                    let u = (wind - r.v.get(l)).length();
+                    let e = wet::evaporate(w[l], wet::evaporation_rate(u, tau, u_ref), dt);
+                    w[l] -= e;
+                    lost += e as u64;
                 }
-                let u = (wind - r.v.get(l)).length();
-                let k = wet::evaporation_rate(u, self.cfg.dry_time, self.cfg.dry_air_speed);
-                let e = wet::evaporate(w[l], k, dt);
-                w[l] -= e;
-                self.evaporated += e as u64;
             }
-        }
+            lost
+        };
+        const ROWS: usize = 1024;
+        let water = &mut self.water;
+        self.evaporated += match pool {
+            Some(pool) => pool.install(|| {
+                water
+                    .par_chunks_mut(ROWS)
+                    .enumerate()
+                    .map(|(c, w)| dry(c * ROWS, w))
+                    .sum::<u64>()
+            }),
+            None => dry(0, water),
+        };
     }
 
     /// Writes each point's saturation, at most 1, as its wetness.
@@ -248,7 +306,7 @@ impl Held {
         self.water.iter_mut().for_each(|w| *w = [0; W]);
         self.added = 0;
         self.evaporated = 0;
-        self.refresh_params(lay);
+        self.refresh_params(lay, None);
     }
 
     /// The ledger's hair side, in quanta: added by soaking, held, evaporated (the particles'

@@ -3,6 +3,7 @@
 //! simulation, and leak checkers see no thread left running.
 
 use crate::error::{Error, Result};
+use rayon::prelude::*;
 use std::sync::{Arc, Condvar, Mutex};
 
 /// A rayon pool whose drop joins its threads.
@@ -49,5 +50,19 @@ impl Drop for Pool {
         while *n > 0 {
             n = cv.wait(n).unwrap_or_else(|e| e.into_inner());
         }
+    }
+}
+
+/// Runs `f(first, chunk)` over `items` in chunks of `size`, on the pool when there is one.
+/// Each chunk is written by one task, so the result does not depend on the thread count.
+pub fn for_chunks<T: Send>(pool: Option<&Pool>, items: &mut [T], size: usize, f: impl Fn(usize, &mut [T]) + Sync) {
+    match pool {
+        Some(pool) => pool.install(|| {
+            items
+                .par_chunks_mut(size)
+                .enumerate()
+                .for_each(|(c, out)| f(c * size, out))
+        }),
+        None => f(0, items),
     }
 }

@@ -281,7 +281,7 @@ impl CpuBackend {
         let wet = self.water.as_ref().is_some_and(|w| !w.is_empty());
         let axial = self.params.damping_model == DampingModel::AXIAL;
         if let Some(held) = &mut self.held {
-            held.refresh_params(&self.lay); // wet_params: masses and limpness from the water
+            held.refresh_params(&self.lay, self.pool.as_ref()); // wet_params: masses and limpness from the water
             held.keep_velocities(&self.state);
             if let Some(br) = &mut self.bridges {
                 let inv_mass = |r: usize, l: usize| held.inv_mass(r, l);
@@ -346,7 +346,7 @@ impl CpuBackend {
             self.run_blocks(0..n_sub, h, false, false, axial);
         }
         if let Some(held) = &mut self.held {
-            held.flow(&self.lay, &self.state, self.params.gravity, dt); // pass flow
+            held.flow(&self.lay, &self.state, self.params.gravity, dt, self.pool.as_ref()); // pass flow
             if self.params.held_water.drips() {
                 let cap = self.params.water.capacity as usize;
                 let water = self.water.as_mut().expect("allocated at create when water can drip");
@@ -354,7 +354,7 @@ impl CpuBackend {
                 let reach = self.params.water.r_max;
                 held.drip(&self.lay, &self.state, g, dt, reach, water, cap); // pass drip
             }
-            held.dry(&self.state, self.wind, dt); // pass dry
+            held.dry(&self.state, self.wind, dt, self.pool.as_ref()); // pass dry
             held.saturation_into(&mut self.wet);
         }
         if wet {
