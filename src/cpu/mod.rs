@@ -2,6 +2,7 @@
 //! pipeline. It is also the reference the GPU backend is tested against.
 
 pub mod bridges;
+pub mod cohesion;
 pub mod denormals;
 mod engine;
 pub mod held;

@@ -306,7 +306,10 @@ impl CpuBackend {
                 }
                 if bridging {
                     let pool = self.pool.as_ref();
-                    self.bridges.as_mut().expect("bridging").gather(&self.state, pool);
+                    self.bridges
+                        .as_mut()
+                        .expect("bridging")
+                        .gather(&self.state, pool, self.avx2);
                     // pass cohesion
                 }
                 self.run_blocks(s..s + 1, h, wet, bridging, axial);
