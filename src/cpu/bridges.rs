@@ -206,13 +206,23 @@ impl Bridges {
             for (k, out) in out.iter_mut().enumerate() {
                 let p = point[i0 + k];
                 let me = &near[p as usize];
-                for &q in &me.q[..me.n as usize] {
-                    let other = &near[q as usize];
-                    if other.q[..other.n as usize].contains(&p) {
-                        out.j[out.n as usize] = other.local;
-                        out.n += 1;
+                // Branch-free over all six slots (a slot past a count holds a valid index):
+                // the counts vary point to point, and mispredicted exits cost more than the
+                // few extra compares, and kept the next points' loads from starting early.
+                let (mut j, mut n) = ([0u32; MAX_BRIDGES], 0usize);
+                for m in 0..MAX_BRIDGES {
+                    let other = &near[me.q[m] as usize];
+                    let mut has = false;
+                    for t in 0..MAX_BRIDGES {
+                        has |= (t < other.n as usize) & (other.q[t] == p);
                     }
+                    let hit = (m < me.n as usize) & has;
+                    let slot = n.min(MAX_BRIDGES - 1);
+                    j[slot] = if hit { other.local } else { j[slot] };
+                    n += hit as usize;
                 }
+                out.j = j;
+                out.n = n as u32;
             }
         };
         for_chunks(pool, &mut self.pairs, CHUNK, mutual);
