@@ -11,6 +11,7 @@ use crate::physics::hash_grid::HashGrid;
 use crate::physics::lanes::{L3, W};
 use crate::physics::wet;
 use glam::Vec3;
+use rayon::prelude::*;
 
 pub use crate::physics::wet::{BRIDGE_SEARCH_TURNS as SEARCH_TURNS, MAX_BRIDGES};
 
@@ -43,6 +44,8 @@ pub struct Bridges {
     pairs: Vec<Pairs>,
     /// How many pairs (counting each direction) were found this step.
     n_pairs: usize,
+    /// Scratch of the listing: each run of rows' first place among the wet points.
+    run_start: Vec<u32>,
     /// Scratch: what stiffness each wet point may still take, and its position at the
     /// substep's start.
     room: Vec<f32>,
@@ -93,6 +96,7 @@ impl Bridges {
             found: Vec::new(),
             pairs: Vec::new(),
             n_pairs: 0,
+            run_start: Vec::new(),
             room: Vec::new(),
             xs: Vec::new(),
             step: 0,
@@ -131,6 +135,115 @@ impl Bridges {
         self.n_pairs = 0;
     }
 
+    /// Lists this step's wet free points in index order with their positions, strands,
+    /// saturations and lengths, and their places in `near`; a point that is not wet forgets
+    /// its neighbours, and last step's forces are cleared. Pinned points (roots) take no part:
+    /// a bridge cannot move them, and the scalp is where hair is densest. In two passes over
+    /// runs of rows (count, then fill each run's own part of the lists), on the pool.
+    fn list_wet(
+        &mut self,
+        lay: &Layout,
+        state: &[StateRow],
+        held: &[[u32; W]],
+        capacity: &[[u32; W]],
+        inv_mass: &(impl Fn(usize, usize) -> f32 + Sync),
+        pool: Option<&Pool>,
+    ) {
+        let is_wet = |r: usize, l: usize| held[r][l] > 0 && lay.real_lanes[r] & (1 << l) != 0 && inv_mass(r, l) > 0.0;
+        let slots = ROWS_PER_TASK * W;
+        // Pass 1: forget last step's places and forces, count each run's wet points.
+        let mark = |c: usize, near: &mut [Near], force: &mut [L3], count: &mut u32| {
+            *count = 0;
+            for (k, nr) in near.iter_mut().enumerate() {
+                let (r, l) = (c * ROWS_PER_TASK + k / W, k % W);
+                if nr.local != u32::MAX {
+                    force[k / W].set(l, Vec3::ZERO);
+                    nr.local = u32::MAX;
+                }
+                if is_wet(r, l) {
+                    *count += 1;
+                } else {
+                    nr.n = 0;
+                }
+            }
+        };
+        let runs = self.near.len().div_ceil(slots);
+        self.run_start.clear();
+        self.run_start.resize(runs, 0);
+        let (near, force, counts) = (&mut self.near, &mut self.force, &mut self.run_start);
+        match pool {
+            Some(pool) => pool.install(|| {
+                near.par_chunks_mut(slots)
+                    .zip(force.par_chunks_mut(ROWS_PER_TASK))
+                    .zip(counts.par_iter_mut())
+                    .enumerate()
+                    .for_each(|(c, ((n, f), k))| mark(c, n, f, k))
+            }),
+            None => near
+                .chunks_mut(slots)
+                .zip(force.chunks_mut(ROWS_PER_TASK))
+                .zip(counts.iter_mut())
+                .enumerate()
+                .for_each(|(c, ((n, f), k))| mark(c, n, f, k)),
+        }
+        let mut total = 0;
+        for c in self.run_start.iter_mut() {
+            (*c, total) = (total, total + *c);
+        }
+        let total = total as usize;
+        self.point.resize(total, 0);
+        self.pos.resize(total, Vec3::ZERO);
+        self.strand.resize(total, 0);
+        self.sat_len.resize(total, (0.0, 0.0));
+        self.pairs.clear();
+        self.n_pairs = 0;
+        // Pass 2: each run fills its own part of the lists.
+        type Part<'a> = (&'a mut [u32], &'a mut [Vec3], &'a mut [u32], &'a mut [(f32, f32)]);
+        let mut parts: Vec<Part> = Vec::with_capacity(runs);
+        let mut rest: Part = (&mut self.point, &mut self.pos, &mut self.strand, &mut self.sat_len);
+        for c in 0..runs {
+            let end = self.run_start.get(c + 1).map_or(total, |&e| e as usize);
+            let len = end - self.run_start[c] as usize;
+            let (a0, b0) = std::mem::take(&mut rest.0).split_at_mut(len);
+            let (a1, b1) = std::mem::take(&mut rest.1).split_at_mut(len);
+            let (a2, b2) = std::mem::take(&mut rest.2).split_at_mut(len);
+            let (a3, b3) = std::mem::take(&mut rest.3).split_at_mut(len);
+            parts.push((a0, a1, a2, a3));
+            rest = (b0, b1, b2, b3);
+        }
+        let (length, start) = (&self.length, &self.run_start);
+        let fill = |c: usize, near: &mut [Near], part: Part| {
+            let (point, pos, strand, sat_len) = part;
+            let mut i = 0;
+            for (k, nr) in near.iter_mut().enumerate() {
+                let (r, l) = (c * ROWS_PER_TASK + k / W, k % W);
+                if !is_wet(r, l) {
+                    continue;
+                }
+                nr.local = start[c] + i as u32;
+                point[i] = (r * W + l) as u32;
+                pos[i] = state[r].x.get(l);
+                strand[i] = ((r / lay.rows) * W + l) as u32;
+                sat_len[i] = (wet::saturation(held[r][l], capacity[r][l]).min(1.0), length[r][l]);
+                i += 1;
+            }
+        };
+        let near = &mut self.near;
+        match pool {
+            Some(pool) => pool.install(|| {
+                near.par_chunks_mut(slots)
+                    .zip(parts.into_par_iter())
+                    .enumerate()
+                    .for_each(|(c, (n, p))| fill(c, n, p))
+            }),
+            None => near
+                .chunks_mut(slots)
+                .zip(parts)
+                .enumerate()
+                .for_each(|(c, (n, p))| fill(c, n, p)),
+        }
+    }
+
     /// Pass `hair_grid`: searches this step's turn of wet free points (and every wet point with
     /// no neighbour yet) for its [`MAX_BRIDGES`] nearest wet points of other strands within the
     /// bridge length, keeps the pairs that are each among the other's nearest, in point order,
@@ -149,24 +262,7 @@ impl Bridges {
         h: f32,
         pool: Option<&Pool>,
     ) {
-        self.forget_points();
-        // Pinned points (roots) take no part: a bridge cannot move them, and the scalp is
-        // where hair is densest. A point that is dry forgets its neighbours.
-        for (r, (w, row)) in held.iter().zip(state).enumerate() {
-            for l in 0..W {
-                let p = r * W + l;
-                if w[l] > 0 && lay.real_lanes[r] & (1 << l) != 0 && inv_mass(r, l) > 0.0 {
-                    self.near[p].local = self.point.len() as u32;
-                    self.point.push(p as u32);
-                    self.pos.push(row.x.get(l));
-                    self.strand.push(((r / lay.rows) * W + l) as u32);
-                    self.sat_len
-                        .push((wet::saturation(w[l], capacity[r][l]).min(1.0), self.length[r][l]));
-                } else {
-                    self.near[p].n = 0;
-                }
-            }
-        }
+        self.list_wet(lay, state, held, capacity, &inv_mass, pool);
         let turn = self.step % SEARCH_TURNS;
         self.step = self.step.wrapping_add(1);
         if self.point.len() < 2 {
