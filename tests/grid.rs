@@ -152,9 +152,9 @@ fn hash_grid_query_equals_brute_force() {
             Vec3::new(f32::MAX, 0.0, 0.0),
             Vec3::NAN,
         ]);
-        for cell in [r, 1.5 * r] {
+        for (cell, parallel) in [(r, false), (1.5 * r, false), (2.0 * r, false), (2.0 * r, true)] {
             let mut grid = HashGrid::new(cell);
-            grid.build(&pts);
+            grid.build(&pts, parallel);
             for q in &queries {
                 let mut found = vec![];
                 grid.for_each_near(*q, r, |i, d2| {

@@ -268,7 +268,11 @@ impl Bridges {
         if self.point.len() < 2 {
             return;
         }
-        self.grid.build(&self.pos);
+        let (grid, pos) = (&mut self.grid, &self.pos);
+        match pool {
+            Some(pool) => pool.install(|| grid.build(pos, true)),
+            None => grid.build(pos, false),
+        }
         self.turn.clear();
         for (i, &p) in self.point.iter().enumerate() {
             if wet::bridge_search_turn(self.host[p as usize], turn) || self.near[p as usize].n == 0 {

@@ -9,6 +9,7 @@
 
 use super::counting_sort::CountingSort;
 use glam::{IVec3, Vec3};
+use rayon::prelude::*;
 
 /// A hashed grid over a set of points.
 #[derive(Debug, Clone)]
@@ -41,45 +42,68 @@ impl HashGrid {
         }
     }
 
-    /// Integer cell of a position (floor; NaN gives 0, beyond `i32` saturates).
+    /// Integer cell of a position ([`coord_at`] with this grid's cell).
     #[inline(always)]
     fn coord_of(&self, p: Vec3) -> IVec3 {
-        let c = (p * self.inv_cell).floor();
-        IVec3::new(c.x as i32, c.y as i32, c.z as i32)
+        coord_at(p, self.inv_cell)
     }
 
-    /// Bucket of a cell: the coordinates mixed by odd multipliers and a finaliser (a plain
-    /// xor of products clusters neighbouring cells into the same buckets).
+    /// Bucket of a cell ([`bucket_at`] with this grid's table).
     #[inline(always)]
     fn bucket_of(&self, c: IVec3) -> u32 {
-        let mut h = (c.x as u32).wrapping_mul(0x9e37_79b1)
-            ^ (c.y as u32).wrapping_mul(0x85eb_ca77)
-            ^ (c.z as u32).wrapping_mul(0xc2b2_ae3d);
-        h ^= h >> 15;
-        h = h.wrapping_mul(0x2c1b_3c6d);
-        h ^= h >> 12;
-        h & self.mask
+        bucket_at(c, self.mask)
     }
 
     /// Rebuilds the grid over `points` (allocates only when they outgrow the last build).
-    pub fn build(&mut self, points: &[Vec3]) {
+    /// `parallel`: the per-point work runs as rayon tasks (call it inside the caller's pool);
+    /// the grid is the same either way.
+    pub fn build(&mut self, points: &[Vec3], parallel: bool) {
         let buckets = (2 * points.len()).next_power_of_two().max(64);
         self.mask = buckets as u32 - 1;
-        self.coord.clear();
-        self.bucket.clear();
-        for &p in points {
-            let c = self.coord_of(p);
-            let b = self.bucket_of(c);
-            self.coord.push(c);
-            self.bucket.push(b);
+        let (inv_cell, mask) = (self.inv_cell, self.mask);
+        self.coord.resize(points.len(), IVec3::ZERO);
+        self.bucket.resize(points.len(), 0);
+        let place = |((c, b), &p): ((&mut IVec3, &mut u32), &Vec3)| {
+            *c = coord_at(p, inv_cell);
+            *b = bucket_at(*c, mask);
+        };
+        const MIN: usize = 4096;
+        if parallel {
+            self.coord
+                .par_iter_mut()
+                .zip(self.bucket.par_iter_mut())
+                .zip(points.par_iter())
+                .with_min_len(MIN)
+                .for_each(place);
+        } else {
+            self.coord
+                .iter_mut()
+                .zip(self.bucket.iter_mut())
+                .zip(points)
+                .for_each(place);
         }
         self.order.sort(&self.bucket, buckets);
-        self.sorted_coord.clear();
-        self.sorted_coord
-            .extend(self.order.sorted.iter().map(|&i| self.coord[i as usize]));
-        self.sorted_pos.clear();
-        self.sorted_pos
-            .extend(self.order.sorted.iter().map(|&i| points[i as usize]));
+        let (sorted, coord) = (&self.order.sorted, &self.coord);
+        self.sorted_coord.resize(points.len(), IVec3::ZERO);
+        self.sorted_pos.resize(points.len(), Vec3::ZERO);
+        let gather = |((c, x), &i): ((&mut IVec3, &mut Vec3), &u32)| {
+            *c = coord[i as usize];
+            *x = points[i as usize];
+        };
+        if parallel {
+            self.sorted_coord
+                .par_iter_mut()
+                .zip(self.sorted_pos.par_iter_mut())
+                .zip(sorted.par_iter())
+                .with_min_len(MIN)
+                .for_each(gather);
+        } else {
+            self.sorted_coord
+                .iter_mut()
+                .zip(self.sorted_pos.iter_mut())
+                .zip(sorted)
+                .for_each(gather);
+        }
     }
 
     /// Calls `f(j, d2)` with every point `j` within `r <= cell` of `p` (squared distance `d2 <
@@ -151,4 +175,24 @@ impl HashGrid {
             + 4 * self.bucket.capacity()
             + 12 * (self.coord.capacity() + self.sorted_coord.capacity() + self.sorted_pos.capacity())
     }
+}
+
+/// Integer cell of a position (floor; NaN gives 0, beyond `i32` saturates).
+#[inline(always)]
+fn coord_at(p: Vec3, inv_cell: f32) -> IVec3 {
+    let c = (p * inv_cell).floor();
+    IVec3::new(c.x as i32, c.y as i32, c.z as i32)
+}
+
+/// Bucket of a cell: the coordinates mixed by odd multipliers and a finaliser (a plain xor of
+/// products clusters neighbouring cells into the same buckets).
+#[inline(always)]
+fn bucket_at(c: IVec3, mask: u32) -> u32 {
+    let mut h = (c.x as u32).wrapping_mul(0x9e37_79b1)
+        ^ (c.y as u32).wrapping_mul(0x85eb_ca77)
+        ^ (c.z as u32).wrapping_mul(0xc2b2_ae3d);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x2c1b_3c6d);
+    h ^= h >> 12;
+    h & mask
 }
