@@ -1,5 +1,6 @@
 //! Steps the paper scene (head collider, `particles` placed in the hair) for `frames` frames:
-//! a target for `perf record` when tuning the CPU backend (`FULL=1`: with the full wet model; `BIG=1`: on 100,000 x 16).
+//! a target for `perf record` when tuning the CPU backend (`FULL=1`: with the full wet model; `BIG=1`: on 100,000 x 16;
+//! `RAIN=1`: under the bench's rain).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -37,6 +38,17 @@ fn main() {
         params.held_water = wethair::HeldWater::ON; // the full wet model
     }
     let mut sim = Simulation::new(&groom, params).expect("sim");
+    // RAIN=1: the bench's rain over the head (100 drops a frame).
+    if std::env::var_os("RAIN").is_some() {
+        sim.set_rain(Some(wethair::Rain {
+            center: glam::Vec3::new(0.0, 0.0, 0.6),
+            size: [0.5, 0.5],
+            rate: 6000.0,
+            speed: 2.0,
+            seed: 1,
+        }))
+        .expect("rain");
+    }
     if particles > 0 {
         sim.add_water(&on_hair(groom.positions(), particles, &mut Lcg(2024)), &[])
             .expect("water");
@@ -45,6 +57,7 @@ fn main() {
     for _ in 0..frames {
         sim.step(1.0 / 60.0).expect("step");
     }
+    let ms = t0.elapsed().as_secs_f64() * 1e3 / frames as f64;
     let w = sim.water_positions().unwrap();
     let r = sim.params().water.r_max;
     let mut g = wethair::physics::grid::Grid::new(w.len(), r);
@@ -64,9 +77,5 @@ fn main() {
         g.dims(),
         g.cell()
     );
-    println!(
-        "{:.3} ms/frame, {} particles held",
-        t0.elapsed().as_secs_f64() * 1e3 / frames as f64,
-        sim.stats().particles
-    );
+    println!("{:.3} ms/frame, {} particles held", ms, sim.stats().particles);
 }
