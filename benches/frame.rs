@@ -166,7 +166,7 @@ fn frame_rows(cores: u32, frames: usize, warmup: usize, quick: bool) {
 /// 100,000 x 16 groom under rain, each dry, with the paper's model (adhesion only) and with
 /// the full model (held water: absorption, weight, limpness, bridges, flow, drip, drying).
 fn wet_model_costs(cores: u32, quick: bool) {
-    use wethair::{HeldWater, Rain};
+    use wethair::HeldWater;
     println!();
     println!("Wet model, CPU backend, {cores} threads (median ms/frame; full / paper is the model's cost over the paper's wet step):");
     println!();
@@ -202,14 +202,7 @@ fn wet_model_costs(cores: u32, quick: bool) {
     };
     let big = paper_scene(100_000, 16).expect("big scene");
     let rain = |s: &mut Simulation| {
-        s.set_rain(Some(Rain {
-            center: glam::Vec3::new(0.0, 0.0, 0.6),
-            size: [0.5, 0.5],
-            rate: 6000.0,
-            speed: 2.0,
-            seed: 1,
-        }))
-        .expect("rain");
+        s.set_rain(Some(wethair::scenes::rain_over_head())).expect("rain");
     };
     let big_frames = if quick { 20 } else { 100 };
     for (name, groom, water, n) in [

@@ -40,14 +40,7 @@ fn main() {
     let mut sim = Simulation::new(&groom, params).expect("sim");
     // RAIN=1: the bench's rain over the head (100 drops a frame).
     if std::env::var_os("RAIN").is_some() {
-        sim.set_rain(Some(wethair::Rain {
-            center: glam::Vec3::new(0.0, 0.0, 0.6),
-            size: [0.5, 0.5],
-            rate: 6000.0,
-            speed: 2.0,
-            seed: 1,
-        }))
-        .expect("rain");
+        sim.set_rain(Some(wethair::scenes::rain_over_head())).expect("rain");
     }
     if particles > 0 {
         sim.add_water(&on_hair(groom.positions(), particles, &mut Lcg(2024)), &[])
