@@ -13,7 +13,7 @@
 use std::time::Instant;
 use wethair::groom::{paper_scene, Groom};
 use wethair::scenes::{on_hair, Lcg};
-use wethair::{Integrator, SimParams, Simulation};
+use wethair::{Integrator, PassTime, SimParams, Simulation};
 
 struct Row {
     scene: String,
@@ -173,7 +173,11 @@ fn wet_model_costs(cores: u32, quick: bool) {
     println!("| scene | dry | paper model | full model | full / paper | particles at end (paper, full) |");
     println!("|---|---|---|---|---|---|");
     let frames = if quick { 40 } else { 200 };
-    let time = |groom: &Groom, wet: Option<bool>, water: &dyn Fn(&mut Simulation), frames: usize| -> (f64, u32) {
+    let time = |groom: &Groom,
+                wet: Option<bool>,
+                water: &dyn Fn(&mut Simulation),
+                frames: usize|
+     -> (f64, u32, Vec<PassTime>) {
         let mut p = SimParams {
             threads: cores,
             ..SimParams::paper_scene_with_head()
@@ -187,13 +191,16 @@ fn wet_model_costs(cores: u32, quick: bool) {
         }
         let mut times = Vec::with_capacity(frames);
         for f in 0..5 + frames {
+            if f == 5 {
+                sim.time_passes(true);
+            }
             let t0 = Instant::now();
             sim.step(1.0 / 60.0).expect("step");
             if f >= 5 {
                 times.push(t0.elapsed().as_secs_f64() * 1e3);
             }
         }
-        (median(times), sim.stats().particles)
+        (median(times), sim.stats().particles, sim.pass_times())
     };
     let paper = paper_scene(10_000, 6).expect("paper scene");
     let on_hair_1000 = |s: &mut Simulation| {
@@ -205,6 +212,7 @@ fn wet_model_costs(cores: u32, quick: bool) {
         s.set_rain(Some(wethair::scenes::rain_over_head())).expect("rain");
     };
     let big_frames = if quick { 20 } else { 100 };
+    let mut split = Vec::new();
     for (name, groom, water, n) in [
         (
             "paper 10000x6, 1000 particles on hair",
@@ -214,13 +222,44 @@ fn wet_model_costs(cores: u32, quick: bool) {
         ),
         ("100000x16 under rain (100 drops a frame)", &big, &rain, big_frames),
     ] {
-        let (dry, _) = time(groom, None, water, n);
-        let (paper_ms, pp) = time(groom, Some(false), water, n);
-        let (full_ms, pf) = time(groom, Some(true), water, n);
+        let (dry, _, t_dry) = time(groom, None, water, n);
+        let (paper_ms, pp, t_paper) = time(groom, Some(false), water, n);
+        let (full_ms, pf, t_full) = time(groom, Some(true), water, n);
         println!(
             "| {name} | {dry:.2} | {paper_ms:.2} | {full_ms:.2} | {:.2} | {pp}, {pf} |",
             full_ms / paper_ms
         );
+        for (model, t) in [("dry", t_dry), ("paper", t_paper), ("full", t_full)] {
+            split.push((name, model, n, t));
+        }
+    }
+    print_pass_split(&split);
+}
+
+/// The step's own per-pass timers for each row (ms per frame, mean over the timed frames):
+/// one line per scene and model, one column per pass that ran in any.
+fn print_pass_split(rows: &[(&str, &str, usize, Vec<PassTime>)]) {
+    let mut names: Vec<&str> = Vec::new();
+    for (_, _, _, t) in rows {
+        for p in t {
+            if !names.contains(&p.name) {
+                names.push(p.name);
+            }
+        }
+    }
+    println!();
+    println!("Where the time goes (the step's own pass timers, ms per frame, mean; `blocks` is the block kernel: drag, springs, adhesion, integrate, collide):");
+    println!();
+    println!("| scene | model | {} | sum |", names.join(" | "));
+    println!("|---|---|{}---|", "---|".repeat(names.len()));
+    for (scene, model, frames, t) in rows {
+        let per = |n: &str| t.iter().find(|p| p.name == n).map(|p| p.ms / *frames as f64);
+        let cells: Vec<String> = names
+            .iter()
+            .map(|n| per(n).map_or("–".into(), |ms| format!("{ms:.3}")))
+            .collect();
+        let sum: f64 = t.iter().map(|p| p.ms).sum::<f64>() / *frames as f64;
+        println!("| {scene} | {model} | {} | {sum:.2} |", cells.join(" | "));
     }
 }
 

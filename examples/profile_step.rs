@@ -1,6 +1,6 @@
 //! Steps the paper scene (head collider, `particles` placed in the hair) for `frames` frames:
 //! a target for `perf record` when tuning the CPU backend (`FULL=1`: with the full wet model; `BIG=1`: on 100,000 x 16;
-//! `RAIN=1`: under the bench's rain).
+//! `RAIN=1`: under the bench's rain; `PASSES=1`: print the step's per-pass timers).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -46,6 +46,8 @@ fn main() {
         sim.add_water(&on_hair(groom.positions(), particles, &mut Lcg(2024)), &[])
             .expect("water");
     }
+    // PASSES=1: print the step's own per-pass timers after the run.
+    let passes = std::env::var_os("PASSES").is_some() && sim.time_passes(true);
     let t0 = std::time::Instant::now();
     for _ in 0..frames {
         sim.step(1.0 / 60.0).expect("step");
@@ -70,5 +72,10 @@ fn main() {
         g.dims(),
         g.cell()
     );
+    if passes {
+        for p in sim.pass_times() {
+            println!("{:>16} {:8.3} ms/frame", p.name, p.ms / frames as f64);
+        }
+    }
     println!("{:.3} ms/frame, {} particles held", ms, sim.stats().particles);
 }

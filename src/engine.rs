@@ -31,6 +31,19 @@ pub struct Counters {
     pub threads: u32,
 }
 
+/// Wall time one stage of the step took since timing was switched on
+/// ([`crate::Simulation::time_passes`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassTime {
+    /// The pass's name (as in [`Pass::name`]), or the stage's where a backend runs several
+    /// passes as one (the CPU's `blocks`).
+    pub name: &'static str,
+    /// Total milliseconds.
+    pub ms: f64,
+    /// How many times it ran.
+    pub runs: u64,
+}
+
 /// Position, velocity and wetness of one hair point.
 pub type PointState = (Vec3, Vec3, f32);
 
@@ -115,6 +128,15 @@ pub trait Engine: std::fmt::Debug + Send {
     /// the CPU.
     fn device_failure(&self) -> Option<crate::error::Error> {
         None
+    }
+    /// Switches per-pass wall timing on (totals from zero) or off; false where the backend
+    /// cannot time its passes.
+    fn time_passes(&mut self, _on: bool) -> bool {
+        false
+    }
+    /// Per-pass totals since timing was switched on, in step order (empty when off).
+    fn pass_times(&self) -> Vec<PassTime> {
+        Vec::new()
     }
     /// Starts GPU timestamp queries around each step; false where there are none.
     fn enable_gpu_timing(&mut self) -> bool {

@@ -37,7 +37,7 @@ pub mod scenes;
 pub mod sim;
 
 pub use emit::{Rain, Spray};
-pub use engine::WaterLedger;
+pub use engine::{PassTime, WaterLedger};
 pub use error::{Error, Result};
 pub use params::{
     Backend, HeldWater, Integrator, MaterialParams, Readback, SimParams, SpringModel, SpringParams, VertexAttributes,

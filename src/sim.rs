@@ -565,6 +565,19 @@ impl Simulation {
         }
     }
 
+    /// Switches per-pass wall timing on (totals start from zero) or off. Returns whether the
+    /// backend can (the CPU can; on the GPU see [`Simulation::enable_gpu_timing`]). Off, it
+    /// costs a branch per pass; on, two clock reads per pass.
+    pub fn time_passes(&mut self, on: bool) -> bool {
+        self.engine.time_passes(on)
+    }
+
+    /// Per-pass wall time since [`Simulation::time_passes`] switched it on, in step order:
+    /// where a frame's time goes (the benches print it).
+    pub fn pass_times(&self) -> Vec<crate::engine::PassTime> {
+        self.engine.pass_times()
+    }
+
     /// Starts measuring each step's GPU time with timestamp queries (GPU backend, adapters with
     /// timestamps). Returns whether it could; costs one query resolve per step after.
     pub fn enable_gpu_timing(&mut self) -> bool {

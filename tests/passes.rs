@@ -103,3 +103,71 @@ fn single_and_multi_threaded_steps_agree_exactly_when_dry() {
     assert_eq!(a.positions(), b.positions());
     assert_eq!(b.stats().threads, 2);
 }
+
+/// The step's own pass timers: off by default (nothing timed), on they name the stages a
+/// scene runs, in step order, each run as often as the plan says (per substep or per step),
+/// and a dry scene times no water stage; switching on again starts from zero.
+#[test]
+fn pass_timers_follow_the_scene() {
+    // Dense enough that soaked points of different strands lie within the bridge length.
+    let groom = paper_scene(10_000, 6).unwrap();
+    let params = SimParams {
+        backend: wethair::Backend::CPU,
+        held_water: wethair::HeldWater::ON,
+        ..SimParams::paper_scene_with_head()
+    };
+    let substeps = params.substeps as u64;
+    let mut sim = Simulation::new(&groom, params).unwrap();
+    sim.step(1.0 / 60.0).unwrap();
+    assert!(sim.pass_times().is_empty(), "timed while off");
+    assert!(sim.time_passes(true));
+    sim.step(1.0 / 60.0).unwrap();
+    let names: Vec<_> = sim.pass_times().iter().map(|p| p.name).collect();
+    assert_eq!(
+        names,
+        ["wet_params", "hair_grid", "blocks", "flow", "drip", "dry"],
+        "dry hair"
+    );
+    sim.soak(1.0).unwrap();
+    let x = sim.positions();
+    sim.add_water(&x[100..110], &[]).unwrap();
+    assert!(sim.time_passes(true));
+    let steps = 3;
+    for _ in 0..steps {
+        sim.step(1.0 / 60.0).unwrap();
+    }
+    let mut out = vec![0.0; sim.vertex_count() * sim.attributes().stride()];
+    sim.write_vertices(&mut out).unwrap();
+    let t = sim.pass_times();
+    let names: Vec<_> = t.iter().map(|p| p.name).collect();
+    assert_eq!(
+        names,
+        [
+            "wet_params",
+            "hair_grid",
+            "water_grid",
+            "cohesion",
+            "blocks",
+            "absorb",
+            "water_integrate",
+            "flow",
+            "drip",
+            "dry",
+            "water_cull",
+            "vertices"
+        ]
+    );
+    for p in &t {
+        let per_substep = ["water_grid", "cohesion", "blocks", "absorb", "water_integrate"].contains(&p.name);
+        let want = match p.name {
+            "vertices" => 1,
+            _ if per_substep => steps * substeps,
+            _ => steps,
+        };
+        assert_eq!(p.runs, want, "{}", p.name);
+        assert!(p.ms.is_finite() && p.ms >= 0.0, "{}: {}", p.name, p.ms);
+    }
+    assert!(sim.time_passes(false));
+    sim.step(1.0 / 60.0).unwrap();
+    assert!(sim.pass_times().is_empty(), "timed while off");
+}

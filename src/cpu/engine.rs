@@ -2,7 +2,7 @@
 //! strand-major blocks.
 
 use super::step::CpuBackend;
-use crate::engine::{Counters, Engine, PointState, WaterLedger};
+use crate::engine::{Counters, Engine, PassTime, PointState, WaterLedger};
 use crate::error::Result;
 use crate::params::{Backend, Integrator};
 use crate::plan::Pass;
@@ -47,8 +47,19 @@ impl Engine for CpuBackend {
     }
 
     fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()> {
+        let t = self.clock.start();
         CpuBackend::write_vertices(self, dst);
+        self.clock.stop(super::timers::Stage::Vertices, t);
         Ok(())
+    }
+
+    fn time_passes(&mut self, on: bool) -> bool {
+        self.clock.set(on);
+        true
+    }
+
+    fn pass_times(&self) -> Vec<PassTime> {
+        self.clock.times()
     }
 
     fn point_states(&self) -> Result<Vec<PointState>> {

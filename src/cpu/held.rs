@@ -283,12 +283,16 @@ impl Held {
     }
 
     /// Writes each point's saturation, at most 1, as its wetness.
-    pub fn saturation_into(&self, wetness: &mut [Lane]) {
-        for ((out, w), c) in wetness.iter_mut().zip(&self.water).zip(&self.capacity) {
-            for l in 0..W {
-                out[l] = wet::saturation(w[l], c[l]).min(1.0);
+    pub fn saturation_into(&self, wetness: &mut [Lane], pool: Option<&Pool>) {
+        let (water, capacity) = (&self.water, &self.capacity);
+        let write = |r0: usize, out: &mut [Lane]| {
+            for (k, out) in out.iter_mut().enumerate() {
+                for l in 0..W {
+                    out[l] = wet::saturation(water[r0 + k][l], capacity[r0 + k][l]).min(1.0);
+                }
             }
-        }
+        };
+        for_chunks(pool, wetness, 1024, write);
     }
 
     /// The row parameters the kernel reads: the layout's with each point's water.

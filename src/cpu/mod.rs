@@ -11,6 +11,7 @@ pub mod layout;
 pub mod output;
 pub mod pool;
 pub mod step;
+pub mod timers;
 #[cfg(target_arch = "x86_64")]
 mod transpose;
 pub mod water;

@@ -7,6 +7,7 @@
 
 use super::kernel::{block_substep, cpu_has_avx2, AbsorbCtx, Ctx, WaterCtx, Worker};
 use super::layout::{Layout, StateRow};
+use super::timers::{Stage, StageClock};
 use super::water::Water;
 use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
@@ -53,6 +54,8 @@ pub struct CpuBackend {
     domain: WaterDomain,
     avx2: bool,
     integrator: Integrator,
+    /// Wall time per stage, when the host asks for it.
+    pub(super) clock: StageClock,
 }
 
 impl CpuBackend {
@@ -126,6 +129,7 @@ impl CpuBackend {
             domain: WaterDomain::new(groom, params),
             avx2: cpu_has_avx2(),
             integrator,
+            clock: StageClock::default(),
         };
         if hw.drips() {
             // Drops are made in the step, which never allocates: their storage comes now.
@@ -280,10 +284,14 @@ impl CpuBackend {
         }
         let wet = self.water.as_ref().is_some_and(|w| !w.is_empty());
         let axial = self.params.damping_model == DampingModel::AXIAL;
+        let clock = &mut self.clock;
         if let Some(held) = &mut self.held {
+            let t = clock.start();
             held.refresh_params(&self.lay, self.pool.as_ref()); // wet_params: masses and limpness from the water
             held.keep_velocities(&self.state);
+            clock.stop(Stage::WetParams, t);
             if let Some(br) = &mut self.bridges {
+                let t = clock.start();
                 let inv_mass = |r: usize, l: usize| held.inv_mass(r, l);
                 br.find_pairs(
                     &self.lay,
@@ -294,7 +302,7 @@ impl CpuBackend {
                     h,
                     self.pool.as_ref(),
                 );
-                // pass hair_grid
+                clock.stop(Stage::HairGrid, t); // pass hair_grid
             }
         }
         let bridging = self.bridges.as_ref().is_some_and(|b| b.active());
@@ -302,27 +310,34 @@ impl CpuBackend {
         if wet || bridging {
             for s in 0..n_sub {
                 if wet {
+                    let t = self.clock.start();
                     self.water.as_mut().expect("wet").grid_build(); // pass water_grid
+                    self.clock.stop(Stage::WaterGrid, t);
                 }
                 if bridging {
+                    let t = self.clock.start();
                     let pool = self.pool.as_ref();
                     self.bridges
                         .as_mut()
                         .expect("bridging")
                         .gather(&self.state, pool, self.avx2);
-                    // pass cohesion
+                    self.clock.stop(Stage::Cohesion, t); // pass cohesion
                 }
+                let t = self.clock.start();
                 self.run_blocks(s..s + 1, h, wet, bridging, axial);
+                self.clock.stop(Stage::Blocks, t);
                 if !wet {
                     continue;
                 }
                 let water = self.water.as_mut().expect("wet");
                 if let (Some(held), true) = (&mut self.held, self.params.held_water.absorbs()) {
+                    let t = self.clock.start();
                     let last = (crate::physics::wet::to_quanta(self.params.water.particle_mass as f64) as f64
                         * crate::physics::wet::ABSORB_LAST_FRACTION) as u32;
                     water.absorb(self.workers.iter().map(|w| &w.demands[..]), &mut held.water, last);
-                    // pass absorb
+                    self.clock.stop(Stage::Absorb, t); // pass absorb
                 }
+                let t = self.clock.start();
                 // Workers hold contiguous block ranges in order, so their lists one after
                 // another are every block's reactions in block order, whatever the thread count.
                 let reactions = self.workers.iter().map(|w| &w.reactions[..]);
@@ -335,6 +350,7 @@ impl CpuBackend {
                     placed_of(&self.placed, s, nc),
                     self.params.friction,
                 );
+                self.clock.stop(Stage::WaterIntegrate, t);
             }
             if wet {
                 let water = self.water.as_ref().expect("wet");
@@ -346,22 +362,33 @@ impl CpuBackend {
                 }
             }
         } else {
+            let t = self.clock.start();
             self.run_blocks(0..n_sub, h, false, false, axial);
+            self.clock.stop(Stage::Blocks, t);
         }
+        let clock = &mut self.clock;
         if let Some(held) = &mut self.held {
+            let t = clock.start();
             held.flow(&self.lay, &self.state, self.params.gravity, dt, self.pool.as_ref()); // pass flow
+            clock.stop(Stage::Flow, t);
             if self.params.held_water.drips() {
+                let t = clock.start();
                 let cap = self.params.water.capacity as usize;
                 let water = self.water.as_mut().expect("allocated at create when water can drip");
                 let g = self.params.gravity;
                 let reach = self.params.water.r_max;
                 held.drip(&self.lay, &self.state, g, dt, reach, water, cap); // pass drip
+                clock.stop(Stage::Drip, t);
             }
+            let t = clock.start();
             held.dry(&self.state, self.wind, dt, self.pool.as_ref()); // pass dry
-            held.saturation_into(&mut self.wet);
+            held.saturation_into(&mut self.wet, self.pool.as_ref());
+            clock.stop(Stage::Dry, t);
         }
         if wet {
+            let t = clock.start();
             report.water_removed = self.water.as_mut().expect("wet").cull(to); // pass water_cull
+            clock.stop(Stage::WaterCull, t);
         }
         if self.workers.iter().any(|w| w.nonfinite) {
             let strand = self.first_nonfinite_strand();
@@ -486,7 +513,7 @@ impl CpuBackend {
             Error::Unsupported("this simulation holds no water (SimParams::held_water is off)".into())
         })?;
         held.soak(s);
-        held.saturation_into(&mut self.wet);
+        held.saturation_into(&mut self.wet, self.pool.as_ref());
         Ok(())
     }
 

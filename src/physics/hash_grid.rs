@@ -8,6 +8,7 @@
 //! bucket lists its points in index order and queries are deterministic.
 
 use super::counting_sort::CountingSort;
+use super::rounding::floor_i32;
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 
@@ -180,8 +181,8 @@ impl HashGrid {
 /// Integer cell of a position (floor; NaN gives 0, beyond `i32` saturates).
 #[inline(always)]
 fn coord_at(p: Vec3, inv_cell: f32) -> IVec3 {
-    let c = (p * inv_cell).floor();
-    IVec3::new(c.x as i32, c.y as i32, c.z as i32)
+    let c = p * inv_cell;
+    IVec3::new(floor_i32(c.x), floor_i32(c.y), floor_i32(c.z))
 }
 
 /// Bucket of a cell: the coordinates mixed by odd multipliers and a finaliser (a plain xor of

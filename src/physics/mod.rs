@@ -13,6 +13,7 @@ pub mod head;
 pub mod implicit;
 pub mod integrate;
 pub mod lanes;
+pub mod rounding;
 pub mod spring;
 pub mod wet;
 pub mod xpbd;

@@ -1,0 +1,120 @@
+//! Wall time per stage of the CPU step, behind a switch. Off (the default) a stage costs one
+//! branch; on, it reads the clock before and after. The benches print the totals beside each
+//! row, so a frame's time is seen pass by pass.
+
+use crate::engine::PassTime;
+use std::time::{Duration, Instant};
+
+/// The CPU step's stages, in the order a step runs them. The block kernel runs the pass
+/// list's per-point passes (drag, springs, adhesion, integrate, collide) together, block by
+/// block, so they are one stage, `blocks`; the rest are the pass list's own passes, named as
+/// there (`wet_params` is the held water's masses and limpness, `vertices` the host's copy).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Held water's masses and limpness (and the velocities flow reads).
+    WetParams,
+    /// Pass `hair_grid`: the liquid bridges' search.
+    HairGrid,
+    /// Pass `water_grid`.
+    WaterGrid,
+    /// Pass `cohesion`: the bridges' forces.
+    Cohesion,
+    /// The block kernel (drag, springs, adhesion, integrate, collide).
+    Blocks,
+    /// Pass `absorb`.
+    Absorb,
+    /// Pass `water_integrate`.
+    WaterIntegrate,
+    /// Pass `flow`.
+    Flow,
+    /// Pass `drip`.
+    Drip,
+    /// Pass `dry`, and the saturation the vertices show.
+    Dry,
+    /// Pass `water_cull`.
+    WaterCull,
+    /// The host's copy of the vertices.
+    Vertices,
+}
+
+/// Every stage, in step order.
+const STAGES: [Stage; 12] = [
+    Stage::WetParams,
+    Stage::HairGrid,
+    Stage::WaterGrid,
+    Stage::Cohesion,
+    Stage::Blocks,
+    Stage::Absorb,
+    Stage::WaterIntegrate,
+    Stage::Flow,
+    Stage::Drip,
+    Stage::Dry,
+    Stage::WaterCull,
+    Stage::Vertices,
+];
+
+impl Stage {
+    /// The stage's name (a pass's name where the stage is one pass).
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::WetParams => "wet_params",
+            Stage::HairGrid => "hair_grid",
+            Stage::WaterGrid => "water_grid",
+            Stage::Cohesion => "cohesion",
+            Stage::Blocks => "blocks",
+            Stage::Absorb => "absorb",
+            Stage::WaterIntegrate => "water_integrate",
+            Stage::Flow => "flow",
+            Stage::Drip => "drip",
+            Stage::Dry => "dry",
+            Stage::WaterCull => "water_cull",
+            Stage::Vertices => "vertices",
+        }
+    }
+}
+
+/// Time and runs per stage since the clock was switched on.
+#[derive(Debug, Default)]
+pub struct StageClock {
+    on: bool,
+    total: [Duration; STAGES.len()],
+    runs: [u64; STAGES.len()],
+}
+
+impl StageClock {
+    /// Switches timing on (totals start from zero) or off.
+    pub fn set(&mut self, on: bool) {
+        *self = StageClock {
+            on,
+            ..Default::default()
+        };
+    }
+
+    /// The time a stage starts, when timing is on.
+    #[inline]
+    pub fn start(&self) -> Option<Instant> {
+        self.on.then(Instant::now)
+    }
+
+    /// Books the time since `start` (from [`StageClock::start`]) to `stage`.
+    #[inline]
+    pub fn stop(&mut self, stage: Stage, start: Option<Instant>) {
+        if let Some(t) = start {
+            self.total[stage as usize] += t.elapsed();
+            self.runs[stage as usize] += 1;
+        }
+    }
+
+    /// The stages that ran, in step order, with their totals.
+    pub fn times(&self) -> Vec<PassTime> {
+        STAGES
+            .iter()
+            .filter(|&&s| self.runs[s as usize] > 0)
+            .map(|&s| PassTime {
+                name: s.name(),
+                ms: self.total[s as usize].as_secs_f64() * 1e3,
+                runs: self.runs[s as usize],
+            })
+            .collect()
+    }
+}
