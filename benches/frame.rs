@@ -239,8 +239,11 @@ fn wet_model_costs(cores: u32, quick: bool) {
 /// The step's own per-pass timers for each row (ms per frame, mean over the timed frames):
 /// one line per scene and model, one column per pass that ran in any.
 fn print_pass_split(rows: &[(&str, &str, usize, Vec<PassTime>)]) {
+    // Columns in step order: each row lists its passes in step order, so the longest first.
     let mut names: Vec<&str> = Vec::new();
-    for (_, _, _, t) in rows {
+    let mut by_length: Vec<_> = rows.iter().collect();
+    by_length.sort_by_key(|r| std::cmp::Reverse(r.3.len()));
+    for (_, _, _, t) in by_length {
         for p in t {
             if !names.contains(&p.name) {
                 names.push(p.name);

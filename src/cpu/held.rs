@@ -28,6 +28,11 @@ pub struct Held {
     /// The layout's row parameters with each free point's inverse mass from its dry mass plus
     /// its water (what the kernel reads instead of the layout's while water is held).
     pub params: Vec<ParamRow>,
+    /// Per row: whether its parameters may differ from the layout's (its points, or its bend
+    /// springs' far ends, held water at the last refresh). A row that was and is dry is left
+    /// as it is: under rain on a large groom most rows are, and rewriting them every step was
+    /// most of the pass.
+    params_wet: Vec<bool>,
     /// Added and evaporated since the last reset.
     added: u64,
     evaporated: u64,
@@ -70,6 +75,7 @@ impl Held {
             capacity,
             dry_mass,
             params: lay.params.clone(),
+            params_wet: vec![false; n_rows],
             added: 0,
             evaporated: 0,
             cfg,
@@ -93,9 +99,15 @@ impl Held {
         let limp = self.cfg.limp();
         let (water, capacity, dry_mass) = (&self.water, &self.capacity, &self.dry_mass);
         let (rows, ratio) = (lay.rows, self.cfg.wet_bend_ratio);
-        let refresh = |r0: usize, out: &mut [ParamRow]| {
-            for (k, row) in out.iter_mut().enumerate() {
+        let refresh = |r0: usize, out: &mut [ParamRow], was_wet: &mut [bool]| {
+            for (k, (row, was_wet)) in out.iter_mut().zip(was_wet).enumerate() {
                 let (r, i) = (r0 + k, (r0 + k) % rows);
+                let holds = |r: usize| water[r] != [0; W];
+                let wet = holds(r) || (limp && i + 2 < rows && holds(r + 2));
+                if !wet && !*was_wet {
+                    continue; // still the layout's values
+                }
+                *was_wet = wet;
                 for l in 0..W {
                     let dry_inv = lay.params[r].inv_mass[l];
                     let q = water[r][l];
@@ -119,7 +131,18 @@ impl Held {
                 }
             }
         };
-        for_chunks(pool, &mut self.params, rows * BLOCKS_PER_TASK, refresh);
+        let size = rows * BLOCKS_PER_TASK;
+        let (params, was_wet) = (&mut self.params, &mut self.params_wet);
+        match pool {
+            Some(pool) => pool.install(|| {
+                params
+                    .par_chunks_mut(size)
+                    .zip(was_wet.par_chunks_mut(size))
+                    .enumerate()
+                    .for_each(|(c, (p, w))| refresh(c * size, p, w))
+            }),
+            None => refresh(0, params, was_wet),
+        }
     }
 
     /// Wets every point up to saturation `s` (in [0, 1]) of its capacity; never removes
@@ -137,10 +160,13 @@ impl Held {
     }
 
     /// Keeps the velocities at the step's start, for the flow pass's accelerations.
-    pub fn keep_velocities(&mut self, state: &[StateRow]) {
-        for (v0, r) in self.v0.iter_mut().zip(state) {
-            *v0 = r.v;
-        }
+    pub fn keep_velocities(&mut self, state: &[StateRow], pool: Option<&Pool>) {
+        let copy = |r0: usize, out: &mut [L3]| {
+            for (v0, r) in out.iter_mut().zip(&state[r0..]) {
+                *v0 = r.v;
+            }
+        };
+        for_chunks(pool, &mut self.v0, 4096, copy);
     }
 
     /// Pass `flow` (§6): held water runs along each strand toward where gravity minus the
@@ -330,6 +356,7 @@ impl Held {
             + self.capacity.capacity() * 4 * W
             + self.dry_mass.capacity() * 4 * W
             + self.params.capacity() * std::mem::size_of::<ParamRow>()
+            + self.params_wet.capacity()
             + self.v0.capacity() * std::mem::size_of::<L3>()
     }
 }
@@ -340,4 +367,41 @@ fn runs_on(state: &[StateRow], rows: &std::ops::Range<usize>, r: usize, l: usize
     let x = state[r].x.get(l);
     let toward = |n: usize| wet::runs_toward(g_eff, (state[n].x.get(l) - x).normalize_or_zero());
     (r > rows.start && toward(r - 1)) || (r + 1 < rows.end && toward(r + 1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::SimParams;
+
+    /// Every field as printed: the shortest text that reads back to the same float, so equal
+    /// text is equal bits (no NaN here).
+    fn bits(p: &[ParamRow]) -> String {
+        format!("{p:?}")
+    }
+
+    /// Rows that were and are dry are skipped by `wet_params`; a row that dries goes back to
+    /// the layout's values bit for bit, and a wet one changes.
+    #[test]
+    fn wet_params_returns_dried_rows_to_the_layout() {
+        let groom = crate::groom::paper_scene(40, 6).unwrap();
+        let params = SimParams {
+            held_water: HeldWater::ON,
+            ..SimParams::paper()
+        };
+        let lay = Layout::new(&groom, &params);
+        let mut held = Held::new(&lay, params.held_water);
+        held.refresh_params(&lay, None);
+        assert_eq!(bits(&held.params), bits(&lay.params), "dry");
+        held.water[lay.rows + 3][2] = held.capacity[lay.rows + 3][2];
+        held.refresh_params(&lay, None);
+        assert_ne!(bits(&held.params), bits(&lay.params), "wet");
+        assert_ne!(
+            held.params[lay.rows + 3].inv_mass[2],
+            lay.params[lay.rows + 3].inv_mass[2]
+        );
+        held.water[lay.rows + 3][2] = 0;
+        held.refresh_params(&lay, None);
+        assert_eq!(bits(&held.params), bits(&lay.params), "dried");
+    }
 }

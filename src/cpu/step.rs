@@ -288,7 +288,7 @@ impl CpuBackend {
         if let Some(held) = &mut self.held {
             let t = clock.start();
             held.refresh_params(&self.lay, self.pool.as_ref()); // wet_params: masses and limpness from the water
-            held.keep_velocities(&self.state);
+            held.keep_velocities(&self.state, self.pool.as_ref());
             clock.stop(Stage::WetParams, t);
             if let Some(br) = &mut self.bridges {
                 let t = clock.start();
