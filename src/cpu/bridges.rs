@@ -6,7 +6,7 @@
 
 use super::cohesion::{self, Pairs};
 use super::layout::{Layout, StateRow};
-use super::pool::{for_chunks, Pool};
+use super::pool::{for_chunks, for_chunks2, Pool};
 use crate::physics::hash_grid::HashGrid;
 use crate::physics::lanes::{L3, W};
 use crate::physics::wet;
@@ -299,11 +299,14 @@ impl Bridges {
         // Keep a pair only when each is among the other's nearest and both are wet (a dry
         // point has no nearest): the bridges are symmetric, so each pair's two forces are
         // exact negatives. Point by point in parallel; each keeps its nearest's order.
+        // With each point's pairs, what stiffness it may take: m / (4 h^2 n).
         let near = &self.near[..];
         self.pairs.clear();
         self.pairs.resize(self.point.len(), Pairs::NONE);
-        let mutual = |i0: usize, out: &mut [Pairs]| {
-            for (k, out) in out.iter_mut().enumerate() {
+        self.room.clear();
+        self.room.resize(self.point.len(), 0.0);
+        let mutual = |i0: usize, out: &mut [Pairs], room: &mut [f32]| {
+            for (k, (out, room)) in out.iter_mut().zip(room).enumerate() {
                 let p = point[i0 + k];
                 let me = &near[p as usize];
                 // Branch-free over all six slots (a slot past a count holds a valid index):
@@ -323,22 +326,12 @@ impl Bridges {
                 }
                 out.j = j;
                 out.n = n as u32;
+                let p = p as usize;
+                *room = 1.0 / (inv_mass(p / W, p % W) * 4.0 * h * h * n.max(1) as f32);
             }
         };
-        for_chunks(pool, &mut self.pairs, CHUNK, mutual);
+        for_chunks2(pool, &mut self.pairs, &mut self.room, CHUNK, mutual);
         self.n_pairs = self.pairs.iter().map(|p| p.n as usize).sum();
-        // What each point may take: m / (4 h^2 n).
-        self.room.clear();
-        self.room.resize(self.point.len(), 0.0);
-        let pairs = &self.pairs;
-        let room = |i0: usize, out: &mut [f32]| {
-            for (k, out) in out.iter_mut().enumerate() {
-                let p = point[i0 + k] as usize;
-                let n = pairs[i0 + k].n.max(1) as f32;
-                *out = 1.0 / (inv_mass(p / W, p % W) * 4.0 * h * h * n);
-            }
-        };
-        for_chunks(pool, &mut self.room, CHUNK, room);
         let (room, sl, kappa, d_b) = (&self.room, &self.sat_len, self.kappa, self.d_b);
         let coef = |i0: usize, out: &mut [Pairs]| {
             for (k, out) in out.iter_mut().enumerate() {

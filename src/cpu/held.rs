@@ -4,7 +4,7 @@
 //! held water switched on.
 
 use super::layout::{Layout, ParamRow, StateRow};
-use super::pool::{for_chunks, Pool};
+use super::pool::{for_chunks, for_chunks2, Pool};
 use super::water::Water;
 use crate::engine::WaterLedger;
 use crate::params::HeldWater;
@@ -42,6 +42,8 @@ pub struct Held {
     v0: Vec<L3>,
     /// Scratch of the flow pass, one per task (empty unless water flows).
     flow_tasks: Vec<FlowTask>,
+    /// Scratch of the drip pass: per block, the lanes with a point over capacity by a drop.
+    drip_lanes: Vec<u8>,
 }
 
 /// What one task of the flow pass works in: one strand's water, positions and accelerations.
@@ -88,6 +90,7 @@ impl Held {
                     scratch: wet::FlowScratch::default(),
                 })
                 .collect(),
+            drip_lanes: if cfg.drips() { vec![0; lay.blocks] } else { Vec::new() },
         }
     }
 
@@ -132,17 +135,7 @@ impl Held {
             }
         };
         let size = rows * BLOCKS_PER_TASK;
-        let (params, was_wet) = (&mut self.params, &mut self.params_wet);
-        match pool {
-            Some(pool) => pool.install(|| {
-                params
-                    .par_chunks_mut(size)
-                    .zip(was_wet.par_chunks_mut(size))
-                    .enumerate()
-                    .for_each(|(c, (p, w))| refresh(c * size, p, w))
-            }),
-            None => refresh(0, params, was_wet),
-        }
+        for_chunks2(pool, &mut self.params, &mut self.params_wet, size, refresh);
     }
 
     /// Wets every point up to saturation `s` (in [0, 1]) of its capacity; never removes
@@ -239,10 +232,32 @@ impl Held {
         reach: f32,
         water: &mut Water,
         capacity: usize,
+        pool: Option<&Pool>,
     ) {
         let min_drop = wet::to_quanta(self.cfg.drip_mass as f64).max(1);
+        // Which lanes of each block hold a drop's excess anywhere, block by block on the pool
+        // (rows in memory order); then the strands in the host's order, which numbers the
+        // drops, visit only those lanes. Most strands have none: visiting every point in the
+        // host's order, a cache miss per strand, was most of the pass.
+        let (held, cap, rows) = (&self.water, &self.capacity, lay.rows);
+        let mark = |b0: usize, out: &mut [u8]| {
+            for (k, lanes) in out.iter_mut().enumerate() {
+                let r0 = (b0 + k) * rows;
+                let mut m = 0u8;
+                for r in r0..r0 + rows {
+                    for l in 0..W {
+                        m |= ((wet::drip(held[r][l], cap[r][l], min_drop) > 0) as u8) << l;
+                    }
+                }
+                *lanes = m;
+            }
+        };
+        for_chunks(pool, &mut self.drip_lanes, BLOCKS_PER_TASK, mark);
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
+            if self.drip_lanes[b] & (1 << l) == 0 {
+                continue;
+            }
             let rows = b * lay.rows..b * lay.rows + lay.strand_points(s);
             for r in rows.clone() {
                 let q = wet::drip(self.water[r][l], self.capacity[r][l], min_drop);
@@ -358,6 +373,7 @@ impl Held {
             + self.params.capacity() * std::mem::size_of::<ParamRow>()
             + self.params_wet.capacity()
             + self.v0.capacity() * std::mem::size_of::<L3>()
+            + self.drip_lanes.capacity()
     }
 }
 

@@ -66,3 +66,23 @@ pub fn for_chunks<T: Send>(pool: Option<&Pool>, items: &mut [T], size: usize, f:
         None => f(0, items),
     }
 }
+
+/// [`for_chunks`] over two slices of equal length at once: `f(first, a_chunk, b_chunk)`.
+pub fn for_chunks2<T: Send, U: Send>(
+    pool: Option<&Pool>,
+    a: &mut [T],
+    b: &mut [U],
+    size: usize,
+    f: impl Fn(usize, &mut [T], &mut [U]) + Sync,
+) {
+    debug_assert_eq!(a.len(), b.len());
+    match pool {
+        Some(pool) => pool.install(|| {
+            a.par_chunks_mut(size)
+                .zip(b.par_chunks_mut(size))
+                .enumerate()
+                .for_each(|(c, (x, y))| f(c * size, x, y))
+        }),
+        None => f(0, a, b),
+    }
+}

@@ -377,7 +377,7 @@ impl CpuBackend {
                 let water = self.water.as_mut().expect("allocated at create when water can drip");
                 let g = self.params.gravity;
                 let reach = self.params.water.r_max;
-                held.drip(&self.lay, &self.state, g, dt, reach, water, cap); // pass drip
+                held.drip(&self.lay, &self.state, g, dt, reach, water, cap, self.pool.as_ref()); // pass drip
                 clock.stop(Stage::Drip, t);
             }
             let t = clock.start();
