@@ -3,6 +3,7 @@
 //! row, so a frame's time is seen pass by pass.
 
 use crate::engine::PassTime;
+use crate::plan::Pass;
 use std::time::{Duration, Instant};
 
 /// The CPU step's stages, in the order a step runs them. The block kernel runs the pass
@@ -58,16 +59,16 @@ impl Stage {
     pub fn name(self) -> &'static str {
         match self {
             Stage::WetParams => "wet_params",
-            Stage::HairGrid => "hair_grid",
-            Stage::WaterGrid => "water_grid",
-            Stage::Cohesion => "cohesion",
+            Stage::HairGrid => Pass::HairGrid.name(),
+            Stage::WaterGrid => Pass::WaterGrid.name(),
+            Stage::Cohesion => Pass::Cohesion.name(),
             Stage::Blocks => "blocks",
-            Stage::Absorb => "absorb",
-            Stage::WaterIntegrate => "water_integrate",
-            Stage::Flow => "flow",
-            Stage::Drip => "drip",
-            Stage::Dry => "dry",
-            Stage::WaterCull => "water_cull",
+            Stage::Absorb => Pass::Absorb.name(),
+            Stage::WaterIntegrate => Pass::WaterIntegrate.name(),
+            Stage::Flow => Pass::Flow.name(),
+            Stage::Drip => Pass::Drip.name(),
+            Stage::Dry => Pass::Dry.name(),
+            Stage::WaterCull => Pass::WaterCull.name(),
             Stage::Vertices => "vertices",
         }
     }
