@@ -135,8 +135,9 @@ impl Bridges {
         self.n_pairs = 0;
     }
 
-    /// Lists this step's wet free points in index order with their positions, strands,
-    /// saturations and lengths, and their places in `near`; a point that is not wet forgets
+    /// Lists this step's wet free points (those holding water enough to bridge,
+    /// [`wet::can_bridge`]) in index order with their positions, strands, saturations and
+    /// lengths, and their places in `near`; a point that is not wet forgets
     /// its neighbours, and last step's forces are cleared. Pinned points (roots) take no part:
     /// a bridge cannot move them, and the scalp is where hair is densest. In two passes over
     /// runs of rows (count, then fill each run's own part of the lists), on the pool.
@@ -149,7 +150,9 @@ impl Bridges {
         inv_mass: &(impl Fn(usize, usize) -> f32 + Sync),
         pool: Option<&Pool>,
     ) {
-        let is_wet = |r: usize, l: usize| held[r][l] > 0 && lay.real_lanes[r] & (1 << l) != 0 && inv_mass(r, l) > 0.0;
+        let is_wet = |r: usize, l: usize| {
+            wet::can_bridge(held[r][l], capacity[r][l]) && lay.real_lanes[r] & (1 << l) != 0 && inv_mass(r, l) > 0.0
+        };
         let slots = ROWS_PER_TASK * W;
         // Pass 1: forget last step's places and forces, count each run's wet points.
         let mark = |c: usize, near: &mut [Near], force: &mut [L3], count: &mut u32| {

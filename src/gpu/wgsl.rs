@@ -124,6 +124,7 @@ pub fn constants() -> Vec<(&'static str, Const)> {
         ("ABS_WORDS", U32(buffers::absorb_words::WORDS)),
         ("MAX_BRIDGES", U32(crate::physics::wet::MAX_BRIDGES as u32)),
         ("BRIDGE_SEARCH_TURNS", U32(crate::physics::wet::BRIDGE_SEARCH_TURNS)),
+        ("BRIDGE_MIN_PARTS", U32(crate::physics::wet::BRIDGE_MIN_PARTS)),
         ("BR_NEAREST", U32(buffers::bridge_words::NEAREST)),
         ("BR_COUNT", U32(buffers::bridge_words::COUNT)),
         ("BR_MUTUAL", U32(buffers::bridge_words::MUTUAL)),

@@ -24,9 +24,15 @@ const B_ENTRIES: u32 = B_SUMS + BRIDGE_BLOCKS;
 // Farther than any distance: the empty slots of a search.
 const FAR: f32 = 3.4028235e38;
 
-// Whether point i takes part: free (a bridge cannot move a root) and holding water.
+// wet::can_bridge: any water, and at least capacity / BRIDGE_MIN_PARTS rounded up.
+fn can_bridge(w: u32, cap: u32) -> bool {
+    let least = cap / BRIDGE_MIN_PARTS + select(0u, 1u, cap % BRIDGE_MIN_PARTS != 0u);
+    return w > 0u && w >= least;
+}
+
+// Whether point i takes part: free (a bridge cannot move a root) and holding water enough.
 fn bridge_point(i: u32) -> bool {
-    return held[i] > 0u && points[i].inv_mass > 0.0;
+    return can_bridge(held[i], capacity[i]) && points[i].inv_mass > 0.0;
 }
 
 // HashGrid::coord_of: the cell of side d_b holding x (floor; beyond i32 saturates).
