@@ -27,6 +27,10 @@ pub struct Bridges {
     grid: HashGrid,
     /// The wet free points (row index times `W` plus lane), in index order.
     point: Vec<u32>,
+    /// Last step's `point` (the points whose places and forces the listing clears).
+    last_point: Vec<u32>,
+    /// Scratch of the listing: per row, a bit per lane that takes part this step.
+    wet_rows: Vec<u8>,
     /// Their positions at the step's start (the grid's input).
     pos: Vec<Vec3>,
     /// Their strands (block times `W` plus lane: one number per strand).
@@ -88,6 +92,8 @@ impl Bridges {
             // (measured on the paper scene: about 24); it scans a few more points, in runs.
             grid: HashGrid::new(2.0 * d_b),
             point: Vec::new(),
+            last_point: Vec::new(),
+            wet_rows: vec![0; n_rows],
             pos: Vec::new(),
             strand: Vec::new(),
             sat_len: Vec::new(),
@@ -128,6 +134,7 @@ impl Bridges {
             self.near[p as usize].local = u32::MAX;
         }
         self.point.clear();
+        self.last_point.clear();
         self.pos.clear();
         self.strand.clear();
         self.sat_len.clear();
@@ -137,10 +144,14 @@ impl Bridges {
 
     /// Lists this step's wet free points (those holding water enough to bridge,
     /// [`wet::can_bridge`]) in index order with their positions, strands, saturations and
-    /// lengths, and their places in `near`; a point that is not wet forgets
-    /// its neighbours, and last step's forces are cleared. Pinned points (roots) take no part:
+    /// lengths, and their places in `near`; a point listed last step forgets its place and
+    /// force, and its nearest too if it is no longer wet. Pinned points (roots) take no part:
     /// a bridge cannot move them, and the scalp is where hair is densest. In two passes over
-    /// runs of rows (count, then fill each run's own part of the lists), on the pool.
+    /// runs of rows on the pool: mark each row's wet lanes and count them (reading only the
+    /// held water, and last step's points), then fill each run's own part of the lists from
+    /// its marked rows. `near` (32 bytes a point of the whole groom) is touched only at points
+    /// listed now or last step: sweeping all of it twice was a quarter of the pass on a big
+    /// groom.
     fn list_wet(
         &mut self,
         lay: &Layout,
@@ -153,41 +164,51 @@ impl Bridges {
         let is_wet = |r: usize, l: usize| {
             wet::can_bridge(held[r][l], capacity[r][l]) && lay.real_lanes[r] & (1 << l) != 0 && inv_mass(r, l) > 0.0
         };
+        std::mem::swap(&mut self.point, &mut self.last_point);
+        let last = &self.last_point[..];
         let slots = ROWS_PER_TASK * W;
-        // Pass 1: forget last step's places and forces, count each run's wet points.
-        let mark = |c: usize, near: &mut [Near], force: &mut [L3], count: &mut u32| {
+        // Pass 1: each row's wet lanes and each run's count; last step's points forget.
+        let mark = |c: usize, near: &mut [Near], force: &mut [L3], rows: &mut [u8], count: &mut u32| {
+            let r0 = c * ROWS_PER_TASK;
             *count = 0;
-            for (k, nr) in near.iter_mut().enumerate() {
-                let (r, l) = (c * ROWS_PER_TASK + k / W, k % W);
-                if nr.local != u32::MAX {
-                    force[k / W].set(l, Vec3::ZERO);
-                    nr.local = u32::MAX;
+            for (k, m) in rows.iter_mut().enumerate() {
+                *m = 0;
+                for l in 0..W {
+                    *m |= (is_wet(r0 + k, l) as u8) << l;
                 }
-                if is_wet(r, l) {
-                    *count += 1;
-                } else {
-                    nr.n = 0;
+                *count += m.count_ones();
+            }
+            let lo = last.partition_point(|&p| (p as usize) < r0 * W);
+            let hi = lo + last[lo..].partition_point(|&p| (p as usize) < (r0 + rows.len()) * W);
+            for &p in &last[lo..hi] {
+                let (k, l) = (p as usize - r0 * W, p as usize % W);
+                force[k / W].set(l, Vec3::ZERO);
+                near[k].local = u32::MAX;
+                if rows[k / W] & (1 << l) == 0 {
+                    near[k].n = 0;
                 }
             }
         };
         let runs = self.near.len().div_ceil(slots);
         self.run_start.clear();
         self.run_start.resize(runs, 0);
-        let (near, force, counts) = (&mut self.near, &mut self.force, &mut self.run_start);
+        let (near, force, rows, counts) = (&mut self.near, &mut self.force, &mut self.wet_rows, &mut self.run_start);
         match pool {
             Some(pool) => pool.install(|| {
                 near.par_chunks_mut(slots)
                     .zip(force.par_chunks_mut(ROWS_PER_TASK))
+                    .zip(rows.par_chunks_mut(ROWS_PER_TASK))
                     .zip(counts.par_iter_mut())
                     .enumerate()
-                    .for_each(|(c, ((n, f), k))| mark(c, n, f, k))
+                    .for_each(|(c, (((n, f), m), k))| mark(c, n, f, m, k))
             }),
             None => near
                 .chunks_mut(slots)
                 .zip(force.chunks_mut(ROWS_PER_TASK))
+                .zip(rows.chunks_mut(ROWS_PER_TASK))
                 .zip(counts.iter_mut())
                 .enumerate()
-                .for_each(|(c, ((n, f), k))| mark(c, n, f, k)),
+                .for_each(|(c, (((n, f), m), k))| mark(c, n, f, m, k)),
         }
         let mut total = 0;
         for c in self.run_start.iter_mut() {
@@ -200,7 +221,7 @@ impl Bridges {
         self.sat_len.resize(total, (0.0, 0.0));
         self.pairs.clear();
         self.n_pairs = 0;
-        // Pass 2: each run fills its own part of the lists.
+        // Pass 2: each run fills its own part of the lists from its marked rows.
         type Part<'a> = (&'a mut [u32], &'a mut [Vec3], &'a mut [u32], &'a mut [(f32, f32)]);
         let mut parts: Vec<Part> = Vec::with_capacity(runs);
         let mut rest: Part = (&mut self.point, &mut self.pos, &mut self.strand, &mut self.sat_len);
@@ -214,21 +235,27 @@ impl Bridges {
             parts.push((a0, a1, a2, a3));
             rest = (b0, b1, b2, b3);
         }
-        let (length, start) = (&self.length, &self.run_start);
+        let (length, start, marks) = (&self.length, &self.run_start, &self.wet_rows);
         let fill = |c: usize, near: &mut [Near], part: Part| {
             let (point, pos, strand, sat_len) = part;
+            if point.is_empty() {
+                return;
+            }
+            let r0 = c * ROWS_PER_TASK;
             let mut i = 0;
-            for (k, nr) in near.iter_mut().enumerate() {
-                let (r, l) = (c * ROWS_PER_TASK + k / W, k % W);
-                if !is_wet(r, l) {
-                    continue;
+            for k in 0..near.len() / W {
+                let r = r0 + k;
+                let mut m = marks[r];
+                while m != 0 {
+                    let l = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    near[k * W + l].local = start[c] + i as u32;
+                    point[i] = (r * W + l) as u32;
+                    pos[i] = state[r].x.get(l);
+                    strand[i] = ((r / lay.rows) * W + l) as u32;
+                    sat_len[i] = (wet::saturation(held[r][l], capacity[r][l]).min(1.0), length[r][l]);
+                    i += 1;
                 }
-                nr.local = start[c] + i as u32;
-                point[i] = (r * W + l) as u32;
-                pos[i] = state[r].x.get(l);
-                strand[i] = ((r / lay.rows) * W + l) as u32;
-                sat_len[i] = (wet::saturation(held[r][l], capacity[r][l]).min(1.0), length[r][l]);
-                i += 1;
             }
         };
         let near = &mut self.near;
@@ -382,7 +409,9 @@ impl Bridges {
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         self.grid.bytes()
-            + 4 * (self.point.capacity() + self.strand.capacity() + self.turn.capacity() + self.room.capacity())
+            + 4 * (self.point.capacity() + self.last_point.capacity() + self.strand.capacity())
+            + 4 * (self.turn.capacity() + self.room.capacity())
+            + self.wet_rows.capacity()
             + std::mem::size_of::<Near>() * self.near.capacity()
             + std::mem::size_of::<Pairs>() * self.pairs.capacity()
             + (4 * MAX_BRIDGES + 1) * self.found.capacity()
