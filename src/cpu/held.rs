@@ -46,12 +46,11 @@ pub struct Held {
     drip_lanes: Vec<u8>,
 }
 
-/// What one task of the flow pass works in: one strand's water, positions and accelerations.
+/// What one task of the flow pass works in: one block's positions and accelerations.
 #[derive(Debug, Default)]
 struct FlowTask {
-    water: Vec<u32>,
-    x: Vec<Vec3>,
-    a: Vec<Vec3>,
+    x: Vec<L3>,
+    a: Vec<L3>,
     scratch: wet::FlowScratch,
 }
 
@@ -84,7 +83,6 @@ impl Held {
             v0: if flows { vec![L3::ZERO; n_rows] } else { Vec::new() },
             flow_tasks: (0..tasks)
                 .map(|_| FlowTask {
-                    water: Vec::with_capacity(lay.rows),
                     x: Vec::with_capacity(lay.rows),
                     a: Vec::with_capacity(lay.rows),
                     scratch: wet::FlowScratch::default(),
@@ -169,32 +167,34 @@ impl Held {
             return;
         }
         let (v0, mob, rows) = (&self.v0, self.cfg.flow_mobility, lay.rows);
-        // One task per run of blocks; each strand is independent of the others.
+        // One task per run of blocks; each block's eight strands flow at once.
         let run = |r0: usize, water: &mut [[u32; W]], t: &mut FlowTask| {
-            for b in 0..water.len() / rows {
-                for l in 0..W {
-                    let s = lay.strand_of_slot[(r0 / rows + b) * W + l] as usize;
-                    if s >= lay.strands {
-                        continue;
-                    }
-                    let local = b * rows..b * rows + lay.strand_points(s);
-                    if water[local.clone()].iter().all(|w| w[l] == 0) {
-                        continue;
-                    }
-                    t.water.clear();
-                    t.x.clear();
-                    t.a.clear();
-                    for k in local.clone() {
-                        let r = r0 + k;
-                        t.water.push(water[k][l]);
-                        t.x.push(state[r].x.get(l));
-                        t.a.push((state[r].v.get(l) - v0[r].get(l)) / dt);
-                    }
-                    wet::flow_strand(&mut t.water, &t.x, &t.a, g, mob, dt, &mut t.scratch);
-                    for (k, &q) in local.zip(&t.water) {
-                        water[k][l] = q;
+            for (b, water) in water.chunks_mut(rows).enumerate() {
+                if water.iter().all(|w| w.iter().all(|&q| q == 0)) {
+                    continue;
+                }
+                let rb = r0 + b * rows;
+                let mut n = [0usize; W];
+                for (l, n) in n.iter_mut().enumerate() {
+                    let s = lay.strand_of_slot[(rb / rows) * W + l] as usize;
+                    if s < lay.strands {
+                        *n = lay.strand_points(s);
                     }
                 }
+                t.x.clear();
+                t.a.clear();
+                for (r, s) in state[rb..rb + rows].iter().enumerate() {
+                    t.x.push(s.x);
+                    let v0 = &v0[rb + r];
+                    let mut a = L3::ZERO;
+                    for l in 0..W {
+                        a.x[l] = (s.v.x[l] - v0.x[l]) / dt;
+                        a.y[l] = (s.v.y[l] - v0.y[l]) / dt;
+                        a.z[l] = (s.v.z[l] - v0.z[l]) / dt;
+                    }
+                    t.a.push(a);
+                }
+                wet::flow_lanes(water, &t.x, &t.a, &n, g, mob, dt, &mut t.scratch);
             }
         };
         let size = rows * BLOCKS_PER_TASK;

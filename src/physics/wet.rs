@@ -8,6 +8,7 @@
 //! order, on any thread count, and with integer atomics on the GPU. Rates are floats; only the
 //! amounts they move are rounded, once, to whole quanta.
 
+use super::lanes::{Lane, L3, W};
 use super::rounding::{floor_nonneg, round_nonneg};
 use glam::Vec3;
 
@@ -232,13 +233,13 @@ pub fn drip(held: u32, capacity: u32, min_drop: u32) -> u32 {
     }
 }
 
-/// Scratch for [`flow_strand`], kept by the caller so a pass allocates nothing per strand.
+/// Scratch for [`flow_lanes`], kept by the caller so a pass allocates nothing per block.
 #[derive(Debug, Default)]
 pub struct FlowScratch {
-    down: Vec<u64>,
-    up: Vec<u64>,
-    out: Vec<u64>,
-    start: Vec<u32>,
+    down: Vec<[u64; W]>,
+    up: Vec<[u64; W]>,
+    out: Vec<[u64; W]>,
+    start: Vec<[u32; W]>,
 }
 
 /// Moves one strand's held water (quanta per point, updated in place) one step `h` along its
@@ -247,54 +248,118 @@ pub struct FlowScratch {
 /// itself when that is positive, computed from the water at the start of the step (the order
 /// points are visited does not matter), rounded down to whole quanta, and scaled so no point
 /// sends more than it holds. Every transfer is one integer taken from one point and given to
-/// its neighbour: the strand's total never changes.
+/// its neighbour: the strand's total never changes. The strand runs as lane 0 of
+/// [`flow_lanes`], which the CPU backend calls on eight strands at once.
 pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: f32, h: f32, sc: &mut FlowScratch) {
     let n = held.len();
     debug_assert!(x.len() == n && a.len() == n);
+    let lane0 = |v: &Vec3| {
+        let mut l = L3::ZERO;
+        l.set(0, *v);
+        l
+    };
+    let mut rows: Vec<[u32; W]> = held.iter().map(|&q| [q, 0, 0, 0, 0, 0, 0, 0]).collect();
+    let (xs, as_): (Vec<L3>, Vec<L3>) = (x.iter().map(lane0).collect(), a.iter().map(lane0).collect());
+    let mut count = [0; W];
+    count[0] = n;
+    flow_lanes(&mut rows, &xs, &as_, &count, g, mobility, h, sc);
+    for (q, r) in held.iter_mut().zip(&rows) {
+        *q = r[0];
+    }
+}
+
+/// [`flow_strand`] on the `W` strands of a lane group at once: lane `l` is a strand of
+/// `n[l]` points, rows `0..n[l]` of `held`, `x` and `a` (fewer than two: no flow; rows past
+/// it are left alone). Each lane gets the same bits as the strand alone would: the same
+/// operations in the same order, lane by lane (the f32 part then runs as vectors: one square
+/// root and three divides per segment were most of the pass when it went strand by strand).
+#[allow(clippy::too_many_arguments)]
+pub fn flow_lanes(
+    held: &mut [[u32; W]],
+    x: &[L3],
+    a: &[L3],
+    n: &[usize; W],
+    g: Vec3,
+    mobility: f32,
+    h: f32,
+    sc: &mut FlowScratch,
+) {
+    let rows = held.len();
+    debug_assert!(x.len() >= rows && a.len() >= rows && n.iter().all(|&k| k <= rows));
     let g_len = g.length();
-    if n < 2 || g_len <= 0.0 || mobility <= 0.0 {
+    if rows < 2 || g_len <= 0.0 || mobility <= 0.0 {
         return;
     }
     // Per segment, what each end sends across it (down: i to i+1; up: i+1 to i).
     for v in [&mut sc.down, &mut sc.up, &mut sc.out] {
         v.clear();
-        v.resize(n, 0);
+        v.resize(rows, [0; W]);
     }
     let rate = h as f64 * mobility as f64;
-    for i in 0..n - 1 {
-        let t = (x[i + 1] - x[i]).normalize_or_zero();
-        let along = |g_eff: Vec3, t: Vec3| {
-            if runs_toward(g_eff, t) {
-                (g_eff.dot(t) / g_len) as f64
-            } else {
-                0.0
+    for i in 0..rows - 1 {
+        let (along_i, along_j) = segment_along(&x[i], &x[i + 1], &a[i], &a[i + 1], g, g_len);
+        for l in 0..W {
+            if i + 1 >= n[l] {
+                continue;
             }
-        };
-        let along_i = along(g - a[i], t);
-        let along_j = along(g - a[i + 1], -t);
-        sc.down[i] = floor_nonneg(rate * along_i * held[i] as f64);
-        sc.up[i] = floor_nonneg(rate * along_j * held[i + 1] as f64);
-        sc.out[i] += sc.down[i];
-        sc.out[i + 1] += sc.up[i];
+            let down = floor_nonneg(rate * along_i[l] as f64 * held[i][l] as f64);
+            let up = floor_nonneg(rate * along_j[l] as f64 * held[i + 1][l] as f64);
+            sc.down[i][l] = down;
+            sc.up[i][l] = up;
+            sc.out[i][l] += down;
+            sc.out[i + 1][l] += up;
+        }
     }
     // A point asked to send more than it holds sends all of it, shared in proportion (rounded
     // down, so never more).
     sc.start.clear();
     sc.start.extend_from_slice(held);
     let (out, start) = (&sc.out, &sc.start);
-    let share = |q: u64, from: usize| -> u32 {
-        if out[from] > start[from] as u64 {
-            (q * start[from] as u64 / out[from]) as u32
+    let share = |q: u64, from: usize, l: usize| -> u32 {
+        if out[from][l] > start[from][l] as u64 {
+            (q * start[from][l] as u64 / out[from][l]) as u32
         } else {
             q as u32
         }
     };
-    for i in 0..n - 1 {
-        let d = share(sc.down[i], i);
-        let u = share(sc.up[i], i + 1);
-        held[i] = held[i] - d + u;
-        held[i + 1] = held[i + 1] + d - u;
+    for i in 0..rows - 1 {
+        for l in 0..W {
+            if i + 1 >= n[l] {
+                continue;
+            }
+            let d = share(sc.down[i][l], i, l);
+            let u = share(sc.up[i][l], i + 1, l);
+            held[i][l] = held[i][l] - d + u;
+            held[i + 1][l] = held[i + 1][l] + d - u;
+        }
     }
+}
+
+/// Per lane, how far the effective gravity at each end of segment `x0 -> x1` points along it,
+/// over `|g|` (0 where it points away; [`runs_toward`]): at the first end along the unit
+/// tangent `t`, at the second along `-t`. Written out component by component as glam computes
+/// `(x1 - x0).normalize_or_zero()` and `(g - a).dot(t)`, so the bits are the same, and as one
+/// loop over the lanes, which the compiler runs as vectors.
+#[inline(always)]
+fn segment_along(x0: &L3, x1: &L3, a0: &L3, a1: &L3, g: Vec3, g_len: f32) -> (Lane, Lane) {
+    let (mut wi, mut wj) = ([0.0f32; W], [0.0f32; W]);
+    for l in 0..W {
+        let (dx, dy, dz) = (x1.x[l] - x0.x[l], x1.y[l] - x0.y[l], x1.z[l] - x0.z[l]);
+        let rcp = 1.0 / ((dx * dx) + (dy * dy) + (dz * dz)).sqrt();
+        let keep = rcp.is_finite() && rcp > 0.0;
+        let (tx, ty, tz) = if keep {
+            (dx * rcp, dy * rcp, dz * rcp)
+        } else {
+            (0.0, 0.0, 0.0)
+        };
+        let (gx, gy, gz) = (g.x - a0.x[l], g.y - a0.y[l], g.z - a0.z[l]);
+        let di = (gx * tx) + (gy * ty) + (gz * tz);
+        let (hx, hy, hz) = (g.x - a1.x[l], g.y - a1.y[l], g.z - a1.z[l]);
+        let dj = (hx * -tx) + (hy * -ty) + (hz * -tz);
+        wi[l] = if di > 0.0 { di / g_len } else { 0.0 };
+        wj[l] = if dj > 0.0 { dj / g_len } else { 0.0 };
+    }
+    (wi, wj)
 }
 
 /// The wind at time `t` (s): `w0` times `1 + amplitude` times the mean of three sines whose
@@ -321,6 +386,47 @@ pub fn gust(w0: Vec3, amplitude: f32, seed: u32, t: f64) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Eight strands of different lengths flowing at once give each the same bits as it gets
+    /// alone (lane 0), and rows past a strand's end are left alone.
+    #[test]
+    fn lanes_flow_as_each_strand_alone() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let rows = 9;
+        let n = [9usize, 1, 0, 5, 9, 2, 7, 3];
+        let (mut held, mut x, mut a) = (vec![[0u32; W]; rows], vec![L3::ZERO; rows], vec![L3::ZERO; rows]);
+        for r in 0..rows {
+            for l in 0..W {
+                held[r][l] = (rnd() * 5.0e6) as u32;
+                x[r].set(l, Vec3::new(rnd() * 0.01, -0.02 * r as f32, rnd() * 0.01));
+                a[r].set(l, Vec3::new(rnd() - 0.5, 20.0 * (rnd() - 0.5), rnd() - 0.5));
+            }
+        }
+        let g = Vec3::new(0.0, -9.81, 0.0);
+        let (h, mob) = (1.0 / 60.0, 40.0);
+        let before = held.clone();
+        let mut sc = FlowScratch::default();
+        flow_lanes(&mut held, &x, &a, &n, g, mob, h, &mut sc);
+        let mut moved = 0;
+        for l in 0..W {
+            let mut alone: Vec<u32> = before[..n[l]].iter().map(|r| r[l]).collect();
+            let xs: Vec<Vec3> = x[..n[l]].iter().map(|r| r.get(l)).collect();
+            let as_: Vec<Vec3> = a[..n[l]].iter().map(|r| r.get(l)).collect();
+            flow_strand(&mut alone, &xs, &as_, g, mob, h, &mut sc);
+            for r in 0..rows {
+                let want = if r < n[l] { alone[r] } else { before[r][l] };
+                assert_eq!(held[r][l], want, "lane {l} row {r}");
+                moved += (held[r][l] != before[r][l]) as usize;
+            }
+        }
+        assert!(moved > 10, "water moved at {moved} points");
+    }
 
     /// At least one part in a hundred of the capacity, rounded up, and never a dry point.
     #[test]
