@@ -297,14 +297,21 @@ impl Held {
         let dry = |r0: usize, water: &mut [[u32; W]]| -> u64 {
             let mut lost = 0;
             for (w, r) in water.iter_mut().zip(&state[r0..]) {
+                if w.iter().all(|&q| q == 0) {
+                    continue;
+                }
+                // The row's rates as one vector: `(wind - v).length()` component by
+                // component as glam computes it, so the bits are the same.
+                let mut k = [0.0f32; W];
+                for (l, k) in k.iter_mut().enumerate() {
+                    let (ux, uy, uz) = (wind.x - r.v.x[l], wind.y - r.v.y[l], wind.z - r.v.z[l]);
+                    let u = ((ux * ux) + (uy * uy) + (uz * uz)).sqrt();
+                    *k = wet::evaporation_rate(u, tau, u_ref);
+                }
+                let e = wet::evaporate_lanes(w, &k, dt);
                 for l in 0..W {
-                    if w[l] == 0 {
-                        continue;
-                    }
-                    let u = (wind - r.v.get(l)).length();
-                    let e = wet::evaporate(w[l], wet::evaporation_rate(u, tau, u_ref), dt);
-                    w[l] -= e;
-                    lost += e as u64;
+                    w[l] -= e[l];
+                    lost += e[l] as u64;
                 }
             }
             lost
