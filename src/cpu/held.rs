@@ -109,25 +109,21 @@ impl Held {
                     continue; // still the layout's values
                 }
                 *was_wet = wet;
+                // Each lane computed, then chosen: branch-free, so the eight lanes' divides
+                // run as vectors (a divide per point was most of the pass).
                 for l in 0..W {
                     let dry_inv = lay.params[r].inv_mass[l];
                     let q = water[r][l];
-                    row.inv_mass[l] = if dry_inv == 0.0 || q == 0 {
-                        dry_inv
-                    } else {
-                        (1.0 / (dry_mass[r][l] as f64 + wet::to_kg(q))) as f32
-                    };
+                    let wet_inv = (1.0 / (dry_mass[r][l] as f64 + wet::to_kg(q))) as f32;
+                    row.inv_mass[l] = if dry_inv == 0.0 || q == 0 { dry_inv } else { wet_inv };
                 }
                 if limp && i + 2 < rows {
                     for l in 0..W {
                         let s_a = wet::saturation(water[r][l], capacity[r][l]);
                         let s_b = wet::saturation(water[r + 2][l], capacity[r + 2][l]);
                         let k = lay.params[r].bend.k[l];
-                        row.bend.k[l] = if s_a + s_b == 0.0 {
-                            k
-                        } else {
-                            k * wet::bend_scale(0.5 * (s_a + s_b), ratio)
-                        };
+                        let wet_k = k * wet::bend_scale(0.5 * (s_a + s_b), ratio);
+                        row.bend.k[l] = if s_a + s_b == 0.0 { k } else { wet_k };
                     }
                 }
             }
