@@ -280,7 +280,9 @@ impl Bridges {
     /// and gives each its coefficient: the bridge's stiffness `4 kappa l min(s_i, s_j) / d_b`
     /// (peak pull `kappa l s` at `d_b / 2`), capped so that no point's bridges together exceed
     /// a quarter of what an explicit substep `h` holds stably (`m / (4 h^2)`, shared among its
-    /// bridges). `inv_mass` gives each point's inverse mass (0 pinned).
+    /// bridges). `inv_mass` gives each point's inverse mass (0 pinned). `any_held`: whether
+    /// any point may hold water; when none does and none took part last step, nothing is
+    /// listed (the search turns still count the step).
     #[allow(clippy::too_many_arguments)]
     pub fn find_pairs(
         &mut self,
@@ -290,8 +292,13 @@ impl Bridges {
         capacity: &[[u32; W]],
         inv_mass: impl Fn(usize, usize) -> f32 + Sync,
         h: f32,
+        any_held: bool,
         pool: Option<&Pool>,
     ) {
+        if !any_held && self.point.is_empty() {
+            self.step = self.step.wrapping_add(1);
+            return;
+        }
         self.list_wet(lay, state, held, capacity, &inv_mass, pool);
         let turn = self.step % SEARCH_TURNS;
         self.step = self.step.wrapping_add(1);

@@ -44,6 +44,13 @@ pub struct Held {
     flow_tasks: Vec<FlowTask>,
     /// Scratch of the drip pass: per block, the lanes with a point over capacity by a drop.
     drip_lanes: Vec<u8>,
+    /// Whether any point may hold water: exact after each step's saturation count, set by a
+    /// soaking and by particles that may be absorbed. While false, the per-point passes
+    /// (wet_params, flow, drip, dry, saturation) return at once: a scene with the model on
+    /// and no water yet (or dried) costs what a dry one does.
+    may_hold: bool,
+    /// Whether some row's parameters may differ from the layout's (a refresh that saw water).
+    params_wet_any: bool,
 }
 
 /// What one task of the flow pass works in: one block's positions and accelerations.
@@ -89,6 +96,8 @@ impl Held {
                 })
                 .collect(),
             drip_lanes: if cfg.drips() { vec![0; lay.blocks] } else { Vec::new() },
+            may_hold: false,
+            params_wet_any: false,
         }
     }
 
@@ -97,6 +106,10 @@ impl Held {
     /// bend spring's stiffness by `wet::bend_scale` of the mean saturation of its two ends
     /// (§4). A dry point and a dry spring keep the layout's values bit for bit.
     pub fn refresh_params(&mut self, lay: &Layout, pool: Option<&Pool>) {
+        if !self.may_hold && !self.params_wet_any {
+            return; // every row holds the layout's values
+        }
+        self.params_wet_any = self.may_hold;
         let limp = self.cfg.limp();
         let (water, capacity, dry_mass) = (&self.water, &self.capacity, &self.dry_mass);
         let (rows, ratio) = (lay.rows, self.cfg.wet_bend_ratio);
@@ -144,10 +157,14 @@ impl Held {
                 }
             }
         }
+        self.may_hold = true;
     }
 
     /// Keeps the velocities at the step's start, for the flow pass's accelerations.
     pub fn keep_velocities(&mut self, state: &[StateRow], pool: Option<&Pool>) {
+        if !self.may_hold {
+            return;
+        }
         let copy = |r0: usize, out: &mut [L3]| {
             for (v0, r) in out.iter_mut().zip(&state[r0..]) {
                 *v0 = r.v;
@@ -159,7 +176,7 @@ impl Held {
     /// Pass `flow` (§6): held water runs along each strand toward where gravity minus the
     /// point's acceleration over the step points (`wet::flow_strand`, strand by strand).
     pub fn flow(&mut self, lay: &Layout, state: &[StateRow], g: Vec3, dt: f32, pool: Option<&Pool>) {
-        if self.v0.is_empty() {
+        if self.v0.is_empty() || !self.may_hold {
             return;
         }
         let (v0, mob, rows) = (&self.v0, self.cfg.flow_mobility, lay.rows);
@@ -230,6 +247,9 @@ impl Held {
         capacity: usize,
         pool: Option<&Pool>,
     ) {
+        if !self.may_hold {
+            return;
+        }
         let min_drop = wet::to_quanta(self.cfg.drip_mass as f64).max(1);
         // Which lanes of each block hold a drop's excess anywhere, block by block on the pool
         // (rows in memory order); then the strands in the host's order, which numbers the
@@ -285,7 +305,7 @@ impl Held {
     /// `k = (1 / dry_time) (1 + sqrt(|u| / dry_air_speed))` and `u = wind - v` the air
     /// speed past the point. Order-free: integers per point.
     pub fn dry(&mut self, state: &[StateRow], wind: Vec3, dt: f32, pool: Option<&Pool>) {
-        if self.cfg.dry_time <= 0.0 {
+        if self.cfg.dry_time <= 0.0 || !self.may_hold {
             return;
         }
         let (tau, u_ref) = (self.cfg.dry_time, self.cfg.dry_air_speed);
@@ -326,17 +346,38 @@ impl Held {
         };
     }
 
-    /// Writes each point's saturation, at most 1, as its wetness.
-    pub fn saturation_into(&self, wetness: &mut [Lane], pool: Option<&Pool>) {
+    /// Writes each point's saturation, at most 1, as its wetness, and learns whether any
+    /// point holds water (nothing to write when none may: the wetness is already zero).
+    pub fn saturation_into(&mut self, wetness: &mut [Lane], pool: Option<&Pool>) {
+        if !self.may_hold {
+            return;
+        }
+        let any = std::sync::atomic::AtomicBool::new(false);
         let (water, capacity) = (&self.water, &self.capacity);
         let write = |r0: usize, out: &mut [Lane]| {
+            let mut held = false;
             for (k, out) in out.iter_mut().enumerate() {
+                held |= water[r0 + k] != [0; W];
                 for l in 0..W {
                     out[l] = wet::saturation(water[r0 + k][l], capacity[r0 + k][l]).min(1.0);
                 }
             }
+            if held {
+                any.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
         };
         for_chunks(pool, wetness, 1024, write);
+        self.may_hold = any.into_inner();
+    }
+
+    /// Particles are in the simulation this step: the hair may absorb some.
+    pub fn may_absorb(&mut self) {
+        self.may_hold = true;
+    }
+
+    /// Whether any point may hold water now.
+    pub fn may_hold(&self) -> bool {
+        self.may_hold
     }
 
     /// The row parameters the kernel reads: the layout's with each point's water.
@@ -354,6 +395,7 @@ impl Held {
         self.water.iter_mut().for_each(|w| *w = [0; W]);
         self.added = 0;
         self.evaporated = 0;
+        self.may_hold = false;
         self.refresh_params(lay, None);
     }
 
@@ -413,6 +455,7 @@ mod tests {
         held.refresh_params(&lay, None);
         assert_eq!(bits(&held.params), bits(&lay.params), "dry");
         held.water[lay.rows + 3][2] = held.capacity[lay.rows + 3][2];
+        held.may_absorb(); // water arrived as absorption brings it
         held.refresh_params(&lay, None);
         assert_ne!(bits(&held.params), bits(&lay.params), "wet");
         assert_ne!(

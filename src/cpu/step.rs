@@ -287,7 +287,11 @@ impl CpuBackend {
         let clock = &mut self.clock;
         if let Some(held) = &mut self.held {
             let t = clock.start();
+            let held_at_start = held.may_hold();
             held.refresh_params(&self.lay, self.pool.as_ref()); // wet_params: masses and limpness from the water
+            if wet {
+                held.may_absorb();
+            }
             held.keep_velocities(&self.state, self.pool.as_ref());
             clock.stop(Stage::WetParams, t);
             if let Some(br) = &mut self.bridges {
@@ -300,6 +304,7 @@ impl CpuBackend {
                     &held.capacity,
                     inv_mass,
                     h,
+                    held_at_start,
                     self.pool.as_ref(),
                 );
                 clock.stop(Stage::HairGrid, t); // pass hair_grid
