@@ -298,7 +298,14 @@ pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: 
         l.set(0, *v);
         l
     };
-    let mut rows: Vec<[u32; W]> = held.iter().map(|&q| [q, 0, 0, 0, 0, 0, 0, 0]).collect();
+    let mut rows: Vec<[u32; W]> = held
+        .iter()
+        .map(|&q| {
+            let mut row = [0; W];
+            row[0] = q;
+            row
+        })
+        .collect();
     let (xs, as_): (Vec<L3>, Vec<L3>) = (x.iter().map(lane0).collect(), a.iter().map(lane0).collect());
     let mut count = [0; W];
     count[0] = n;
