@@ -8,7 +8,11 @@
 //!
 //! Run: `cargo bench --bench frame` (full, about a minute), or `-- --quick` (fewer frames).
 //! Name sections to run only those: `-- --quick wet copy` (sections: `frames`, `integrators`,
-//! `wet`, `copy`).
+//! `wet`, `particles`, `copy`).
+//!
+//! `particles` (run only when named: `-- --quick particles`, about seven minutes here) times the
+//! water's cost against the particle count (0 to 1,000,000) on the paper scene and a
+//! 100,000 x 16 groom, with the paper's model and the full wet model.
 
 use std::time::Instant;
 use wethair::groom::{paper_scene, Groom};
@@ -73,9 +77,11 @@ fn run_with(
 
 /// Whether section `name` runs: every section when none is named on the command line.
 fn section(name: &str) -> bool {
-    const SECTIONS: [&str; 4] = ["frames", "integrators", "wet", "copy"];
+    const SECTIONS: [&str; 5] = ["frames", "integrators", "wet", "particles", "copy"];
+    // Run unless named: every section but `particles` (a quarter of an hour here).
+    const BY_NAME_ONLY: [&str; 1] = ["particles"];
     let named: Vec<String> = std::env::args().filter(|a| SECTIONS.contains(&a.as_str())).collect();
-    named.is_empty() || named.iter().any(|a| a == name)
+    (named.is_empty() && !BY_NAME_ONLY.contains(&name)) || named.iter().any(|a| a == name)
 }
 
 fn main() {
@@ -90,6 +96,9 @@ fn main() {
     }
     if section("wet") {
         wet_model_costs(cores, quick);
+    }
+    if section("particles") {
+        particle_scaling(cores, quick);
     }
     if section("copy") {
         copy_path_cost(cores, quick);
@@ -234,6 +243,73 @@ fn wet_model_costs(cores: u32, quick: bool) {
         }
     }
     print_pass_split(&split);
+}
+
+/// How the water's cost grows with the particles (issue 15): the paper scene and a 100,000 x 16
+/// groom with 0 to 1,000,000 particles placed on the hair, with the paper's model and with the
+/// full model. "water" is the frame less the dry frame of the same run; "x per 10x" is each
+/// row's water over the row with a tenth of the particles (linear cost: at most 10).
+fn particle_scaling(cores: u32, quick: bool) {
+    use wethair::HeldWater;
+    println!();
+    println!("Cost against particles, CPU backend, {cores} threads (median ms/frame over the frames named; particles placed on the hair at the start):");
+    println!();
+    println!("| scene | model | particles | frames | ms/frame | water (ms over dry) | water x per 10x particles | particles at end |");
+    println!("|---|---|---|---|---|---|---|---|");
+    let paper = paper_scene(10_000, 6).expect("paper scene");
+    let big = paper_scene(100_000, 16).expect("big scene");
+    let mut split = Vec::new();
+    for (name, groom, frames) in [
+        ("paper 10000x6", &paper, if quick { 10 } else { 40 }),
+        ("100000x16", &big, if quick { 3 } else { 10 }),
+    ] {
+        let time = |model: Option<bool>, particles: usize| -> (f64, u32, Vec<PassTime>) {
+            let mut p = SimParams {
+                threads: cores,
+                ..SimParams::paper_scene_with_head()
+            };
+            if model == Some(true) {
+                p.held_water = HeldWater::ON;
+            }
+            p.water.capacity = p.water.capacity.max(particles as u32);
+            let mut sim = Simulation::new(groom, p).expect("sim");
+            if particles > 0 {
+                let w = on_hair(sim.positions().as_slice(), particles, &mut Lcg(2024));
+                sim.add_water(&w, &[]).expect("water");
+            }
+            let mut times = Vec::with_capacity(frames);
+            for f in 0..2 + frames {
+                if f == 2 {
+                    sim.time_passes(true);
+                }
+                let t0 = Instant::now();
+                sim.step(1.0 / 60.0).expect("step");
+                if f >= 2 {
+                    times.push(t0.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+            (median(times), sim.stats().particles, sim.pass_times())
+        };
+        let (dry, _, t_dry) = time(None, 0);
+        println!("| {name} | dry | 0 | {frames} | {dry:.2} | – | – | 0 |");
+        split.push((name, "dry".to_string(), frames, t_dry));
+        for (model, full) in [("paper", false), ("full", true)] {
+            let mut last: Option<f64> = None;
+            for particles in [1_000usize, 10_000, 100_000, 1_000_000] {
+                let (ms, held, t) = time(Some(full), particles);
+                let water = ms - dry;
+                let growth = last.map_or("–".into(), |l| format!("{:.1}", water / l));
+                println!("| {name} | {model} | {particles} | {frames} | {ms:.2} | {water:.2} | {growth} | {held} |");
+                last = Some(water.max(1e-3));
+                split.push((name, format!("{model}, {particles}"), frames, t));
+            }
+        }
+    }
+    let rows: Vec<(&str, &str, usize, Vec<PassTime>)> = split
+        .iter()
+        .map(|(n, m, f, t)| (*n, m.as_str(), *f, t.clone()))
+        .collect();
+    print_pass_split(&rows);
 }
 
 /// The step's own per-pass timers for each row (ms per frame, mean over the timed frames):
