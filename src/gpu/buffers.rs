@@ -179,6 +179,14 @@ pub const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
     .union(wgpu::BufferUsages::COPY_DST)
     .union(wgpu::BufferUsages::COPY_SRC);
 
+/// Words per particle in the `water_force` buffer: the hair's summed reaction on it, each of x,
+/// y, z as a 64-bit fixed-point integer (low word, high word; two words of padding), so
+/// the sum is the same in any order.
+pub const WATER_FORCE_WORDS: u32 = 8;
+
+/// Fixed-point units per unit of adhesion strength in the adhesion sums (2^32).
+pub const FIXED_SCALE: f32 = 4_294_967_296.0;
+
 /// Words before the per-cell counts in the `grid_count` buffer (the particles' bounds as
 /// order-preserving keys: lo.xyz at 0..3, hi.xyz at 3..6).
 pub const GRID_COUNT_HEADER: u32 = 8;

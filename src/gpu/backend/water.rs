@@ -3,7 +3,7 @@
 //! blocking reads tests use (particles, grid counts).
 
 use super::super::buffers::{
-    self as b, grid_header as gh, groups, ParticleGpu, GRID_COUNT_HEADER, SCAN_BLOCK, STORAGE,
+    self as b, grid_header as gh, groups, ParticleGpu, GRID_COUNT_HEADER, SCAN_BLOCK, STORAGE, WATER_FORCE_WORDS,
 };
 use super::super::pipelines::{self as pl, Slot};
 use super::kernels::HairKernels;
@@ -171,7 +171,7 @@ impl GpuBackend {
             b::buffer(d, "particles_a", cap * 32, STORAGE),
             b::buffer(d, "particles_b", cap * 32, STORAGE),
         ];
-        let force = b::buffer(d, "water_force", cap * 16, STORAGE);
+        let force = b::buffer(d, "water_force", cap * 4 * WATER_FORCE_WORDS as u64, STORAGE);
         let grid_count = b::buffer(
             d,
             "grid_count",

@@ -1,6 +1,9 @@
 // Eq. 2 on the GPU (physics/adhesion.rs): each hair point gathers the particles of the grid
-// cells within r_max; the opposite force goes to the particle with a float atomic add, so
-// hair and water exchange exactly equal and opposite forces (up to summation order).
+// cells within r_max; the opposite force goes to the particle by an integer atomic add. Both
+// sides sum in 64-bit fixed point (FIXED_SCALE units per adhesion strength), so a sum is the
+// same whatever order the particles of a cell, or the points that pull one particle, come in:
+// a step gives the same bits run after run, and hair and water exchange exactly equal and
+// opposite forces up to the one rounding back to f32.
 
 @group(1) @binding(0) var<storage, read_write> sorted: array<Particle>;
 @group(1) @binding(1) var<storage, read_write> water_force: array<atomic<u32>>;
@@ -19,15 +22,49 @@ fn force_scale(d2: f32, s: f32) -> f32 {
     return s * (1.0 - u * u) / d;
 }
 
-fn atomic_add_f32(i: u32, v: f32) {
-    var old = atomicLoad(&water_force[i]);
-    loop {
-        let r = atomicCompareExchangeWeak(&water_force[i], old, bitcast<u32>(bitcast<f32>(old) + v));
-        if (r.exchanged) {
-            break;
-        }
-        old = r.old_value;
+// A force component as a 64-bit two's-complement integer (low word, high word) in units of
+// the adhesion strength over FIXED_SCALE: 2.3e-10 of the largest pull one particle gives,
+// finer than f32 near it, with room for 2^31 such pulls in one sum.
+fn to_fixed(x: f32) -> vec2<u32> {
+    let m = abs(x) * (FIXED_SCALE / P.adhesion);
+    let hi = floor(m / 4294967296.0);
+    // Exact: m and hi * 2^32 agree above the 24 bits an f32 holds.
+    var r = vec2<u32>(u32(m - hi * 4294967296.0), u32(hi));
+    if (x < 0.0) {
+        r = vec2<u32>(~r.x + 1u, ~r.y + select(0u, 1u, r.x == 0u));
     }
+    return r;
+}
+
+fn fixed_add(a: vec2<u32>, b: vec2<u32>) -> vec2<u32> {
+    let lo = a.x + b.x;
+    return vec2<u32>(lo, a.y + b.y + select(0u, 1u, lo < a.x));
+}
+
+// Back to newtons: the magnitude converted, then the sign (converting the two words of a
+// negative value apart would cancel catastrophically).
+fn from_fixed(a: vec2<u32>) -> f32 {
+    let neg = (a.y & 0x80000000u) != 0u;
+    var m = a;
+    if (neg) {
+        m = vec2<u32>(~a.x + 1u, ~a.y + select(0u, 1u, a.x == 0u));
+    }
+    let v = (f32(m.y) * 4294967296.0 + f32(m.x)) * (P.adhesion / FIXED_SCALE);
+    return select(v, -v, neg);
+}
+
+// Adds to a particle's reaction word pair `at`: the carry out of the low word goes into the
+// high one, so the pair ends as the exact sum in any order.
+fn atomic_add_fixed(at: u32, v: vec2<u32>) {
+    let old = atomicAdd(&water_force[at], v.x);
+    atomicAdd(&water_force[at + 1u], v.y + select(0u, 1u, old + v.x < old));
+}
+
+fn reaction(k: u32) -> vec3<f32> {
+    let at = WATER_FORCE_WORDS * k;
+    return vec3<f32>(from_fixed(vec2<u32>(atomicLoad(&water_force[at]), atomicLoad(&water_force[at + 1u]))),
+                     from_fixed(vec2<u32>(atomicLoad(&water_force[at + 2u]), atomicLoad(&water_force[at + 3u]))),
+                     from_fixed(vec2<u32>(atomicLoad(&water_force[at + 4u]), atomicLoad(&water_force[at + 5u]))));
 }
 
 // Absorption's ask (physics/absorb.rs `WetRow::demand`): the demand joins the particle's sum
@@ -45,11 +82,12 @@ fn ask(k: u32, demand: u32) {
 // within r_max (for wetting). With absorption, a particle pulls with the water it still holds
 // and the point (at saturation `sat`) asks it for water.
 fn adhesion(x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f32> {
-    var acc = vec3<f32>(0.0);
+    var acc = array<vec2<u32>, 3>(vec2<u32>(0u), vec2<u32>(0u), vec2<u32>(0u));
+    var bad = false;
     let r = P.r_max;
     var span: Span;
     if (!near_span(x, r, &span)) {
-        return acc;
+        return vec3<f32>(0.0);
     }
     for (var cx = span.c0.x; cx <= span.c1.x; cx++) {
         for (var cy = span.c0.y; cy <= span.c1.y; cy++) {
@@ -75,14 +113,23 @@ fn adhesion(x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f32> {
                     continue;
                 }
                 let g = m * d;
-                acc += g;
-                atomic_add_f32(4u * k, -g.x);
-                atomic_add_f32(4u * k + 1u, -g.y);
-                atomic_add_f32(4u * k + 2u, -g.z);
+                // A non-finite pull has no fixed-point form: it is flagged, and the point's
+                // force is made non-finite below, so the kernel reports it as before.
+                bad = bad || non_finite(dot(g, g));
+                let at = WATER_FORCE_WORDS * k;
+                for (var c = 0u; c < 3u; c++) {
+                    let f = to_fixed(g[c]);
+                    acc[c] = fixed_add(acc[c], f);
+                    atomic_add_fixed(at + 2u * c, fixed_add(~f, vec2<u32>(1u, 0u)));
+                }
             }
         }
     }
-    return acc;
+    if (bad) {
+        atomicOr(&status[STATUS_FLAGS], FLAG_WATER_NONFINITE);
+        return vec3<f32>(bitcast<f32>(0x7fc00000u));
+    }
+    return vec3<f32>(from_fixed(acc[0]), from_fixed(acc[1]), from_fixed(acc[2]));
 }
 
 // Pass water_integrate (cpu/water.rs `Water::integrate`): symplectic Euler for each particle
@@ -95,9 +142,7 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
         return;
     }
     let p = sorted[k];
-    let react = vec3<f32>(bitcast<f32>(atomicLoad(&water_force[4u * k])),
-                          bitcast<f32>(atomicLoad(&water_force[4u * k + 1u])),
-                          bitcast<f32>(atomicLoad(&water_force[4u * k + 2u])));
+    let react = reaction(k);
     var drag = P.water_drag;
     var inv_m = P.particle_inv_mass;
     if (P.massive != 0u) {

@@ -193,9 +193,9 @@ fn grid_scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     let c = cell_index(p.x.xyz);
     let slot = grid[G_START + c] + atomicSub(&grid_count[GRID_COUNT_HEADER + c], 1u) - 1u;
     other[slot] = p;
-    water_force[4u * slot] = 0u;
-    water_force[4u * slot + 1u] = 0u;
-    water_force[4u * slot + 2u] = 0u;
+    for (var w = 0u; w < WATER_FORCE_WORDS; w++) {
+        water_force[WATER_FORCE_WORDS * slot + w] = 0u;
+    }
 }
 
 // Pass water_cull (once per step): particles farther than the domain radius from its centre
