@@ -29,11 +29,13 @@ fn to_fixed(x: f32) -> vec2<u32> {
     let m = abs(x) * (FIXED_SCALE / P.adhesion);
     let hi = floor(m / 4294967296.0);
     // Exact: m and hi * 2^32 agree above the 24 bits an f32 holds.
-    var r = vec2<u32>(u32(m - hi * 4294967296.0), u32(hi));
-    if (x < 0.0) {
-        r = vec2<u32>(~r.x + 1u, ~r.y + select(0u, 1u, r.x == 0u));
-    }
-    return r;
+    let r = vec2<u32>(u32(m - hi * 4294967296.0), u32(hi));
+    return select(r, fixed_neg(r), x < 0.0);
+}
+
+// Two's-complement negation of a 64-bit word pair.
+fn fixed_neg(a: vec2<u32>) -> vec2<u32> {
+    return vec2<u32>(~a.x + 1u, ~a.y + select(0u, 1u, a.x == 0u));
 }
 
 fn fixed_add(a: vec2<u32>, b: vec2<u32>) -> vec2<u32> {
@@ -45,10 +47,7 @@ fn fixed_add(a: vec2<u32>, b: vec2<u32>) -> vec2<u32> {
 // negative value apart would cancel catastrophically).
 fn from_fixed(a: vec2<u32>) -> f32 {
     let neg = (a.y & 0x80000000u) != 0u;
-    var m = a;
-    if (neg) {
-        m = vec2<u32>(~a.x + 1u, ~a.y + select(0u, 1u, a.x == 0u));
-    }
+    let m = select(a, fixed_neg(a), neg);
     let v = (f32(m.y) * 4294967296.0 + f32(m.x)) * (P.adhesion / FIXED_SCALE);
     return select(v, -v, neg);
 }
@@ -120,7 +119,7 @@ fn adhesion(x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f32> {
                 for (var c = 0u; c < 3u; c++) {
                     let f = to_fixed(g[c]);
                     acc[c] = fixed_add(acc[c], f);
-                    atomic_add_fixed(at + 2u * c, fixed_add(~f, vec2<u32>(1u, 0u)));
+                    atomic_add_fixed(at + 2u * c, fixed_neg(f));
                 }
             }
         }
