@@ -1013,8 +1013,9 @@ fn a_groom_beyond_the_device_binding_limit_is_refused_by_name() {
     }
 }
 
-/// The same inputs give the same bits run after run on one device: 100 frames with water on
-/// the hair, with the paper's model and with the full wet model, twice each. The hair's
+/// The same inputs give the same vertex buffer, bit for bit, run after run on one device: 100
+/// frames with water on the hair, with the paper's model and with the full wet model, twice
+/// each. The hair's
 /// adhesion and the particles' reactions are sums over pairs whose order depends on how the
 /// device schedules invocations; they are summed as integers (fixed point) so the order does
 /// not matter. With float atomics these runs ended apart on lavapipe.
@@ -1034,7 +1035,10 @@ fn wet_frames_are_bit_identical_run_after_run() {
             for _ in 0..100 {
                 g.step(1.0 / 60.0).unwrap();
             }
-            let bits: Vec<[u32; 3]> = g.positions().iter().map(|p| p.to_array().map(f32::to_bits)).collect();
+            // The whole vertex buffer: position, tangent and wetness of every point.
+            let mut v = vec![0.0f32; g.vertex_count() * 7];
+            g.write_vertices(&mut v).unwrap();
+            let bits: Vec<[u32; 7]> = v.chunks(7).map(|c| std::array::from_fn(|k| c[k].to_bits())).collect();
             Some((bits, g.stats().particles, g.water_ledger()))
         };
         let Some((a, particles, ledger)) = run() else {
