@@ -76,6 +76,23 @@ fn run_with(
 }
 
 /// Whether section `name` runs: every section when none is named on the command line.
+/// Steps `warmup` frames, then `frames` more with the pass timers on: the median ms/frame, the
+/// particles at the end, and the pass times.
+fn timed_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> (f64, u32, Vec<PassTime>) {
+    let mut times = Vec::with_capacity(frames);
+    for f in 0..warmup + frames {
+        if f == warmup {
+            sim.time_passes(true);
+        }
+        let t0 = Instant::now();
+        sim.step(1.0 / 60.0).expect("step");
+        if f >= warmup {
+            times.push(t0.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    (median(times), sim.stats().particles, sim.pass_times())
+}
+
 fn section(name: &str) -> bool {
     const SECTIONS: [&str; 5] = ["frames", "integrators", "wet", "particles", "copy"];
     // Run unless named: every section but `particles` (a quarter of an hour here).
@@ -198,18 +215,7 @@ fn wet_model_costs(cores: u32, quick: bool) {
         if wet.is_some() {
             water(&mut sim);
         }
-        let mut times = Vec::with_capacity(frames);
-        for f in 0..5 + frames {
-            if f == 5 {
-                sim.time_passes(true);
-            }
-            let t0 = Instant::now();
-            sim.step(1.0 / 60.0).expect("step");
-            if f >= 5 {
-                times.push(t0.elapsed().as_secs_f64() * 1e3);
-            }
-        }
-        (median(times), sim.stats().particles, sim.pass_times())
+        timed_frames(&mut sim, 5, frames)
     };
     let paper = paper_scene(10_000, 6).expect("paper scene");
     let on_hair_1000 = |s: &mut Simulation| {
@@ -277,18 +283,7 @@ fn particle_scaling(cores: u32, quick: bool) {
                 let w = on_hair(sim.positions().as_slice(), particles, &mut Lcg(2024));
                 sim.add_water(&w, &[]).expect("water");
             }
-            let mut times = Vec::with_capacity(frames);
-            for f in 0..2 + frames {
-                if f == 2 {
-                    sim.time_passes(true);
-                }
-                let t0 = Instant::now();
-                sim.step(1.0 / 60.0).expect("step");
-                if f >= 2 {
-                    times.push(t0.elapsed().as_secs_f64() * 1e3);
-                }
-            }
-            (median(times), sim.stats().particles, sim.pass_times())
+            timed_frames(&mut sim, 2, frames)
         };
         let (dry, _, t_dry) = time(None, 0);
         println!("| {name} | dry | 0 | {frames} | {dry:.2} | – | – | 0 |");
