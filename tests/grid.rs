@@ -71,6 +71,36 @@ fn grid_handles_far_apart_points_by_growing_cells() {
     assert!(g.cell() > 0.01);
 }
 
+/// The prefilter stays tight when the particles spread wide (rain over a head): the counting
+/// sort's cells grow with the box (here to several times the reach), but the prefilter reads
+/// a finer grid of cells of the reach, so it lets through a few times the points that truly
+/// have a neighbour, not the whole neighbourhood of the grown cells (which passed ~100 times).
+#[test]
+fn prefilter_stays_tight_when_particles_spread_wide() {
+    let mut rng = Lcg(21);
+    let r = 0.008;
+    let pts = cloud(&mut rng, 2000, Vec3::ZERO, Vec3::ONE);
+    let queries = cloud(&mut rng, 200_000, Vec3::ZERO, Vec3::ONE);
+    let mut g = Grid::new(pts.len(), r);
+    g.build(&pts);
+    assert!(g.cell() > 2.0 * r, "the sort's cells grew: {}", g.cell());
+    let (mut pass, mut near) = (0usize, 0usize);
+    for q in &queries {
+        let has = pts.iter().any(|p| (*p - *q).length_squared() <= r * r);
+        let may = g.may_have_near(*q, r);
+        assert!(may || !has, "prefilter rejected {q} with a neighbour");
+        pass += may as usize;
+        near += has as usize;
+    }
+    // 27 cells of side r around each particle hold 27 / (4/3 pi) = 6.4 times its sphere.
+    assert!(near > 100, "too few queries with a neighbour to judge: {near}");
+    assert!(
+        pass <= 8 * near,
+        "{pass} of {} queries pass, {near} have a neighbour",
+        queries.len()
+    );
+}
+
 #[test]
 fn grid_counting_sort_counts_every_point_once() {
     let mut rng = Lcg(11);

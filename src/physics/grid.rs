@@ -8,12 +8,24 @@
 //! exact: a point farther than `r` from the box has no neighbour and returns at once, and
 //! clamping is monotonic, so a neighbour's cell always lies in the clamped query range. Cells
 //! adjacent in z are adjacent in memory, so a query walks one contiguous run per (x, y).
+//!
+//! Beside the cells, a bit per cell of a finer grid over the same box (cells of `cell_min`,
+//! growing only when the box needs more than the bits allocated) marks where a point may be
+//! within `cell_min`: the prefilter [`Grid::may_have_near_lanes`] reads it. The cells of the
+//! counting sort grow with a wide box (under rain over a head, 2.5 cm cells for an 8 mm
+//! reach), and their 3 x 3 x 3 neighbourhoods let three quarters of a groom's points through
+//! where one in twenty is near a particle; the fine bits let through one in five.
 
 use super::counting_sort::CountingSort;
 use glam::{IVec3, Vec3};
 
 /// Most cells a grid uses; a larger box gets larger cells instead.
 pub const MAX_CELLS: usize = 1 << 18;
+
+/// Bits of the prefilter's fine grid: 1 MiB, what the sort cells' flags took before, enough
+/// for a box of a metre at 8 mm (the bench's rain over a head needs 4 million). A box that
+/// needs more gets larger fine cells.
+const FINE_BITS: usize = 1 << 23;
 
 /// A uniform grid over a set of points (the water particles, or strand tips).
 #[derive(Debug, Clone)]
@@ -27,9 +39,11 @@ pub struct Grid {
     /// The points by cell: cell `c` holds `order.sorted[order.start[c]..order.start[c + 1]]`.
     order: CountingSort,
     cell_of_point: Vec<u32>,
-    /// Per cell: 1 when a point lies in this cell or one of its 26 neighbours (u32, so eight
-    /// lanes can look theirs up with one gather).
-    near: Vec<u32>,
+    /// The prefilter's fine grid: the inverse of its cell side, cells per axis, and a bit per
+    /// cell set where some point lies within `cell_min` of the cell.
+    fine_inv: f32,
+    fine_dims: IVec3,
+    near: Vec<u64>,
 }
 
 impl Grid {
@@ -45,7 +59,9 @@ impl Grid {
             dims: IVec3::ONE,
             order: CountingSort::with_capacity(MAX_CELLS, capacity),
             cell_of_point: Vec::with_capacity(capacity),
-            near: Vec::with_capacity(MAX_CELLS),
+            fine_inv: 1.0 / cell_min,
+            fine_dims: IVec3::ONE,
+            near: Vec::with_capacity(FINE_BITS / 64),
         }
     }
 
@@ -71,6 +87,14 @@ impl Grid {
     #[inline(always)]
     fn index(&self, c: IVec3) -> usize {
         ((c.x * self.dims.y + c.y) * self.dims.z + c.z) as usize
+    }
+
+    /// Clamped fine cell of a position (eq. 4 on the fine grid; monotonic in each coordinate,
+    /// so a point within `cell_min` of another lies in the range the other marks).
+    #[inline(always)]
+    fn fine_of(&self, p: Vec3) -> IVec3 {
+        let c = ((p - self.lo) * self.fine_inv).clamp(Vec3::ZERO, (self.fine_dims - IVec3::ONE).as_vec3());
+        IVec3::new(c.x as i32, c.y as i32, c.z as i32)
     }
 
     /// Rebuilds the grid over `points`: box, cell size, count, prefix sum, scatter.
@@ -106,6 +130,15 @@ impl Grid {
         }
         let dims = dims.as_ivec3();
         (self.lo, self.hi, self.cell, self.inv_cell, self.dims) = (lo, hi, cell, 1.0 / cell, dims);
+        // The fine grid: cells of `cell_min`, grown as the cells are when the box needs more
+        // bits than were allocated.
+        let mut fine = self.cell_min;
+        let mut fine_dims = dims_for(fine);
+        while fine_dims.element_product() > FINE_BITS as f64 {
+            fine *= 1.26;
+            fine_dims = dims_for(fine);
+        }
+        (self.fine_inv, self.fine_dims) = (1.0 / fine, fine_dims.as_ivec3());
         let cells = dims.element_product() as usize;
         self.cell_of_point.clear();
         for &p in points {
@@ -113,28 +146,46 @@ impl Grid {
             self.cell_of_point.push(c);
         }
         self.order.sort(&self.cell_of_point, cells);
+        self.mark_fine(points);
+    }
+
+    /// Sets the fine bits of the cells each point's cube of half-side `cell_min` touches (at
+    /// most 3 x 3 x 3: fine cells are at least `cell_min`); each (x, y) is one run of bits.
+    fn mark_fine(&mut self, points: &[Vec3]) {
+        let fd = self.fine_dims;
+        let words = (fd.element_product() as usize).div_ceil(64);
         self.near.clear();
-        self.near.resize(cells, 0);
-        // Mark each point's 3x3x3 neighbourhood (work per point, not per cell).
+        self.near.resize(words, 0);
+        let r = Vec3::splat(self.cell_min);
         for &p in points {
-            let c = self.cell_of(p);
-            for nx in (c.x - 1).max(0)..=(c.x + 1).min(dims.x - 1) {
-                for ny in (c.y - 1).max(0)..=(c.y + 1).min(dims.y - 1) {
-                    let first = self.index(IVec3::new(nx, ny, (c.z - 1).max(0)));
-                    let last = self.index(IVec3::new(nx, ny, (c.z + 1).min(dims.z - 1)));
-                    self.near[first..=last].fill(1);
+            let (a, b) = (self.fine_of(p - r), self.fine_of(p + r));
+            for x in a.x..=b.x {
+                for y in a.y..=b.y {
+                    let row = ((x * fd.y + y) * fd.z) as usize;
+                    for bit in row + a.z as usize..=row + b.z as usize {
+                        self.near[bit / 64] |= 1 << (bit % 64);
+                    }
                 }
             }
         }
     }
 
-    /// False when no point can lie within `r` of `p` (`r` at most the cell size): `p` is
-    /// outside the box grown by `r`, or no point is in its cell's 3×3×3 neighbourhood. A
-    /// neighbour's cell is within one cell of `p`'s because cells are at least `r` wide, and
-    /// clamping does not increase that distance.
+    /// The fine bit of the cell holding `p`.
+    #[inline(always)]
+    fn fine_bit(&self, p: Vec3) -> bool {
+        let c = self.fine_of(p);
+        let bit = ((c.x * self.fine_dims.y + c.y) * self.fine_dims.z + c.z) as usize;
+        self.near[bit / 64] & (1 << (bit % 64)) != 0
+    }
+
+    /// False when no point can lie within `r` of `p` (`r` at most `cell_min`): `p` is outside
+    /// the box grown by `r`, or its fine cell is unmarked. A point within `r` of `p` marked
+    /// every fine cell its cube of half-side `cell_min` touches, `p`'s among them (clamping
+    /// keeps the order of coordinates, so it keeps `p` inside that range).
     #[inline(always)]
     pub fn may_have_near(&self, p: Vec3, r: f32) -> bool {
-        p.cmpge(self.lo - r).all() && p.cmple(self.hi + r).all() && self.near[self.index(self.cell_of(p))] != 0
+        debug_assert!(r <= self.cell_min);
+        p.cmpge(self.lo - r).all() && p.cmple(self.hi + r).all() && !self.near.is_empty() && self.fine_bit(p)
     }
 
     /// [`Grid::may_have_near`] for the `W` points of a lane row at once (the arithmetic runs
@@ -142,8 +193,12 @@ impl Grid {
     #[inline(always)]
     pub fn may_have_near_lanes(&self, x: &crate::physics::lanes::L3, r: f32) -> u32 {
         use crate::physics::lanes::W;
-        let (lo, hi, inv) = (self.lo - r, self.hi + r, self.inv_cell);
-        let top = (self.dims - IVec3::ONE).as_vec3();
+        debug_assert!(r <= self.cell_min);
+        if self.near.is_empty() {
+            return 0;
+        }
+        let (lo, hi, inv) = (self.lo - r, self.hi + r, self.fine_inv);
+        let top = (self.fine_dims - IVec3::ONE).as_vec3();
         let mut idx = [0i32; W];
         let mut inside = [false; W];
         for l in 0..W {
@@ -152,13 +207,14 @@ impl Grid {
             let cx = ((px - self.lo.x) * inv).clamp(0.0, top.x) as i32;
             let cy = ((py - self.lo.y) * inv).clamp(0.0, top.y) as i32;
             let cz = ((pz - self.lo.z) * inv).clamp(0.0, top.z) as i32;
-            idx[l] = (cx * self.dims.y + cy) * self.dims.z + cz;
+            idx[l] = (cx * self.fine_dims.y + cy) * self.fine_dims.z + cz;
         }
         let mut bits = 0u32;
         for l in 0..W {
-            // SAFETY: each coordinate is clamped to [0, dims - 1], so idx < dims.x*dims.y*dims.z,
-            // which is near.len() after build.
-            let flag = unsafe { *self.near.get_unchecked(idx[l] as usize) };
+            let i = idx[l] as usize;
+            // SAFETY: each coordinate is clamped to [0, fine_dims - 1], so i is below the
+            // fine cell count, and `near` holds that many bits after a build.
+            let flag = (unsafe { *self.near.get_unchecked(i / 64) } >> (i % 64)) as u32 & 1;
             bits |= ((inside[l] as u32) & flag) << l;
         }
         bits
@@ -166,7 +222,7 @@ impl Grid {
 
     /// Bytes allocated.
     pub fn bytes(&self) -> usize {
-        self.order.bytes() + 4 * self.cell_of_point.capacity() + 4 * self.near.capacity()
+        self.order.bytes() + 4 * self.cell_of_point.capacity() + 8 * self.near.capacity()
     }
 
     /// Number of points in the grid.
