@@ -1,6 +1,7 @@
 //! Steps the paper scene (head collider, `particles` placed in the hair) for `frames` frames:
 //! a target for `perf record` when tuning the CPU backend (`FULL=1`: with the full wet model; `BIG=1`: on 100,000 x 16;
-//! `RAIN=1`: under the bench's rain; `PASSES=1`: print the step's per-pass timers).
+//! `RAIN=1`: under the bench's rain; `PASSES=1`: print the step's per-pass timers; `CAP=n`:
+//! room for n particles).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -33,6 +34,10 @@ fn main() {
     };
     if let Some(a) = std::env::var_os("ADHESION") {
         params.water.adhesion = a.to_str().and_then(|s| s.parse().ok()).expect("ADHESION=number");
+    }
+    // CAP=n: room for n particles (the default holds 65,536).
+    if let Some(c) = std::env::var_os("CAP") {
+        params.water.capacity = c.to_str().and_then(|s| s.parse().ok()).expect("CAP=number");
     }
     if std::env::var_os("FULL").is_some() {
         params.held_water = wethair::HeldWater::ON; // the full wet model
