@@ -7,7 +7,10 @@
 //! read at the end (which waits for all of them) and divides by `frames`: throughput, the
 //! figure a host that reads every frame one frame late sees. CPU rows time the same way.
 //! Where the adapter has timestamp queries, a second column gives the GPU time of the step's
-//! compute pass (median of up to 20 steps, each read back before the next).
+//! compute pass (median of up to 20 steps, each read back before the next). A second table
+//! splits each row's step by stage over up to 20 more steps (`Simulation::time_passes`: GPU
+//! timestamps after each stage where the adapter writes them inside a pass, wall time on the
+//! CPU), under the same stage names on both backends.
 //!
 //! Run: `cargo bench --bench backends` (`-- --quick` for fewer frames). Without a GPU adapter
 //! the GPU rows say so.
@@ -17,7 +20,20 @@ use wethair::groom::{paper_scene, Groom};
 use wethair::scenes::{on_hair, Lcg};
 use wethair::{Backend, HeldWater, Integrator, SimParams, Simulation};
 
-/// ms/frame (throughput) and the device, or the reason there is no row.
+/// What one row measured.
+struct Measured {
+    /// ms/frame, throughput.
+    ms: f64,
+    /// Median GPU ms per step from timestamps, or "-".
+    gpu_ms: String,
+    device: String,
+    /// Dispatches (GPU) or passes (CPU) per step.
+    what: String,
+    /// ms per step by stage, or "-" where the backend cannot time its stages.
+    split: String,
+}
+
+/// One row's figures, or the reason there is no row.
 fn run(
     groom: &Groom,
     backend: Backend,
@@ -25,7 +41,7 @@ fn run(
     particles: usize,
     held: bool,
     frames: usize,
-) -> Result<(f64, String, String, String), String> {
+) -> Result<Measured, String> {
     let mut params = SimParams {
         backend,
         integrator,
@@ -66,13 +82,36 @@ fn run(
     } else {
         "-".into()
     };
+    // Where a step's time goes, stage by stage (each timed GPU step waits for its stamps).
+    let split = if sim.time_passes(true) {
+        let steps = frames.min(20);
+        for _ in 0..steps {
+            sim.step(1.0 / 60.0).map_err(|e| e.to_string())?;
+        }
+        let times = sim.pass_times();
+        sim.time_passes(false);
+        let parts: Vec<String> = times
+            .iter()
+            .map(|p| format!("{} {:.3}", p.name, p.ms / steps as f64))
+            .collect();
+        let sum: f64 = times.iter().map(|p| p.ms).sum::<f64>() / steps as f64;
+        format!("{} (sum {sum:.3})", parts.join(" · "))
+    } else {
+        "-".into()
+    };
     let passes: Vec<&str> = sim.gpu_dispatches();
     let what = if passes.is_empty() {
         sim.passes().iter().map(|p| p.name()).collect::<Vec<_>>().join(" ")
     } else {
         passes.join(" ")
     };
-    Ok((ms, gpu_ms, sim.backend_info().device.clone(), what))
+    Ok(Measured {
+        ms,
+        gpu_ms,
+        device: sim.backend_info().device.clone(),
+        what,
+        split,
+    })
 }
 
 fn main() {
@@ -110,20 +149,34 @@ fn main() {
         ("large 100000x32", &big, se, 100_000, false, big_frames),
         ("large 100000x32", &big, se, 100_000, true, big_frames),
     ];
+    let mut splits = Vec::new();
     for (name, groom, integrator, particles, held, frames) in rows {
         let model = if held { "full wet model" } else { "paper" };
         for backend in [Backend::GPU, Backend::CPU] {
             let i = format!("{integrator:?}");
             match run(groom, backend, integrator, particles, held, frames) {
-                Ok((ms, gpu_ms, device, what)) => {
+                Ok(m) => {
+                    let (ms, gpu_ms, device, what) = (m.ms, &m.gpu_ms, &m.device, &m.what);
                     println!(
                         "| {name} | {particles} | {model} | {i} | {backend:?} | {device} | {ms:.2} | {gpu_ms} | {frames} | {what} |"
-                    )
+                    );
+                    splits.push(format!(
+                        "| {name} | {particles} | {model} | {i} | {backend:?} | {} |",
+                        m.split
+                    ));
                 }
                 Err(e) => {
                     println!("| {name} | {particles} | {model} | {i} | {backend:?} | none: {e} | - | - | - | - |")
                 }
             }
         }
+    }
+    println!();
+    println!("Where a step's time goes: ms per step by stage (GPU: timestamps; CPU: wall time), up to 20 steps");
+    println!();
+    println!("| scene | water particles | model | integrator | backend | stages, ms/step |");
+    println!("|---|---|---|---|---|---|");
+    for s in splits {
+        println!("{s}");
     }
 }

@@ -31,8 +31,8 @@ pub struct Counters {
     pub threads: u32,
 }
 
-/// Wall time one stage of the step took since timing was switched on
-/// ([`crate::Simulation::time_passes`]).
+/// Time one stage of the step took since timing was switched on
+/// ([`crate::Simulation::time_passes`]): wall time on the CPU, GPU time on the GPU.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PassTime {
     /// The pass's name (as in [`Pass::name`]), or the stage's where a backend runs several

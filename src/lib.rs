@@ -35,6 +35,7 @@ pub mod plan;
 pub mod reference;
 pub mod scenes;
 pub mod sim;
+pub mod timers;
 
 pub use emit::{Rain, Spray};
 pub use engine::{PassTime, WaterLedger};

@@ -565,15 +565,16 @@ impl Simulation {
         }
     }
 
-    /// Switches per-pass wall timing on (totals start from zero) or off. Returns whether the
-    /// backend can (the CPU can; on the GPU see [`Simulation::enable_gpu_timing`]). Off, it
-    /// costs a branch per pass; on, two clock reads per pass.
+    /// Switches per-pass timing on (totals start from zero) or off. Returns whether the backend
+    /// can: the CPU always (wall time, two clock reads per pass); the GPU where the adapter
+    /// writes timestamps inside a compute pass (GPU time per stage, and each timed step waits
+    /// for the GPU to read its timestamps back). Off, it costs a branch per pass.
     pub fn time_passes(&mut self, on: bool) -> bool {
         self.engine.time_passes(on)
     }
 
-    /// Per-pass wall time since [`Simulation::time_passes`] switched it on, in step order:
-    /// where a frame's time goes (the benches print it).
+    /// Per-pass time since [`Simulation::time_passes`] switched it on, in step order, under
+    /// the same stage names on both backends: where a frame's time goes (the benches print it).
     pub fn pass_times(&self) -> Vec<crate::engine::PassTime> {
         self.engine.pass_times()
     }

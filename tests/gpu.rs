@@ -83,6 +83,94 @@ fn gpu_timestamps_time_a_step_where_the_adapter_has_them() {
     }
 }
 
+/// Per-stage GPU time (`time_passes` on the GPU): the stages the GPU books are the CPU's, by
+/// name and in step order, for a dry scene and for the full wet model with particles (less
+/// the CPU's own `vertices` copy); each ran as often as the step runs it; the times are
+/// finite and not negative; nothing is booked while off; and timing does not change a bit of
+/// the result. Lavapipe writes timestamps inside passes, so under CI the test cannot pass by
+/// finding none.
+#[test]
+fn gpu_stage_timestamps_book_the_cpu_stages() {
+    let _serial = serial();
+    let groom = paper_scene(2_000, 6).unwrap();
+    let dry = SimParams::paper_scene_with_head();
+    let Some(mut sim) = gpu(&groom, dry.clone()) else {
+        return;
+    };
+    if !sim.time_passes(true) {
+        let device = sim.backend_info().device.clone();
+        assert!(
+            !device.contains("llvmpipe"),
+            "lavapipe writes timestamps inside passes: {device}"
+        );
+        assert!(sim.pass_times().is_empty());
+        eprintln!("{device} cannot write timestamps inside a pass: no per-stage GPU time");
+        return;
+    }
+    let substeps = dry.substeps as u64;
+    let steps = 3;
+    for _ in 0..steps {
+        sim.step(1.0 / 60.0).unwrap();
+    }
+    let t = sim.pass_times();
+    assert_eq!(
+        t.iter().map(|p| (p.name, p.runs)).collect::<Vec<_>>(),
+        [("blocks", steps * substeps)]
+    );
+    assert!(t[0].ms > 0.0 && t[0].ms.is_finite(), "{t:?}");
+    assert!(sim.time_passes(false));
+    sim.step(1.0 / 60.0).unwrap();
+    assert!(sim.pass_times().is_empty(), "timed while off");
+
+    // The full wet model with particles: every stage, timed and untimed twins bit-identical.
+    let wet = SimParams {
+        held_water: wethair::HeldWater::ON,
+        ..dry
+    };
+    let mut timed = gpu(&groom, wet.clone()).unwrap();
+    let mut plain = gpu(&groom, wet).unwrap();
+    assert!(timed.time_passes(true));
+    for s in [&mut timed, &mut plain] {
+        s.soak(1.0).unwrap();
+        let x = s.positions();
+        s.add_water(&x[100..110], &[]).unwrap();
+        for _ in 0..steps {
+            s.step(1.0 / 60.0).unwrap();
+        }
+    }
+    assert_eq!(timed.positions(), plain.positions(), "timing changed the result");
+    let t = timed.pass_times();
+    let names: Vec<_> = t.iter().map(|p| p.name).collect();
+    assert_eq!(
+        names,
+        [
+            "wet_params",
+            "hair_grid",
+            "water_grid",
+            "cohesion",
+            "blocks",
+            "absorb",
+            "water_integrate",
+            "flow",
+            "drip",
+            "dry",
+            "water_cull"
+        ]
+    );
+    for p in &t {
+        let per_substep = ["water_grid", "cohesion", "blocks", "absorb", "water_integrate"].contains(&p.name);
+        let want = match p.name {
+            // The first step also inserts the added particles, booked with the grid.
+            "water_grid" => steps * substeps + 1,
+            _ if per_substep => steps * substeps,
+            _ => steps,
+        };
+        assert_eq!(p.runs, want, "{}", p.name);
+        assert!(p.ms.is_finite() && p.ms >= 0.0, "{}: {}", p.name, p.ms);
+    }
+    assert!(t.iter().map(|p| p.ms).sum::<f64>() > 0.0, "{t:?}");
+}
+
 #[test]
 fn auto_falls_back_with_a_reason() {
     let _serial = serial();

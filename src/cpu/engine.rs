@@ -49,7 +49,7 @@ impl Engine for CpuBackend {
     fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()> {
         let t = self.clock.start();
         CpuBackend::write_vertices(self, dst);
-        self.clock.stop(super::timers::Stage::Vertices, t);
+        self.clock.stop(crate::timers::Stage::Vertices, t);
         Ok(())
     }
 

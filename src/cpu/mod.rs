@@ -11,7 +11,6 @@ pub mod layout;
 pub mod output;
 pub mod pool;
 pub mod step;
-pub mod timers;
 #[cfg(target_arch = "x86_64")]
 mod transpose;
 pub mod water;

@@ -7,7 +7,6 @@
 
 use super::kernel::{block_substep, cpu_has_avx2, AbsorbCtx, Ctx, WaterCtx, Worker};
 use super::layout::{Layout, StateRow};
-use super::timers::{Stage, StageClock};
 use super::water::Water;
 use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
@@ -17,6 +16,7 @@ use crate::physics::integrate::blown_up;
 use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::spring::DampingModel;
 use crate::plan::{has_bend, pass_list, resolve_integrator, Pass, WaterDomain};
+use crate::timers::{Stage, StageClock};
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 

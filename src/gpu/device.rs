@@ -21,6 +21,8 @@ pub struct GpuDevice {
     pub limits: wgpu::Limits,
     /// Whether GPU timestamp queries are enabled.
     pub timestamps: bool,
+    /// Whether timestamps may also be written inside a compute pass (per-stage timing).
+    pub pass_timestamps: bool,
     failure: Arc<Mutex<Option<String>>>,
     /// The semaphores shared with the host when the device is the host's (feature `vulkan`).
     #[cfg(feature = "vulkan")]
@@ -73,6 +75,7 @@ impl GpuDevice {
         features: wgpu::Features,
     ) -> GpuDevice {
         let timestamps = features.contains(wgpu::Features::TIMESTAMP_QUERY);
+        let pass_timestamps = timestamps && features.contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
         let failure: Arc<Mutex<Option<String>>> = Arc::default();
         let sink = failure.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| record(&sink, &e.to_string())));
@@ -84,6 +87,7 @@ impl GpuDevice {
             info,
             limits,
             timestamps,
+            pass_timestamps,
             failure,
             #[cfg(feature = "vulkan")]
             shared: None,
@@ -143,15 +147,17 @@ impl GpuDevice {
     }
 }
 
-/// The features and limits wethair asks of an adapter: timestamps where offered, and storage
-/// bindings as large as the adapter allows (large grooms need them).
+/// The features and limits wethair asks of an adapter: timestamps where offered (also inside
+/// passes, for per-stage timing), and storage bindings as large as the adapter allows (large
+/// grooms need them).
 pub(crate) fn wanted(have: wgpu::Features, have_limits: &wgpu::Limits) -> (wgpu::Features, wgpu::Limits) {
     let limits = wgpu::Limits {
         max_storage_buffer_binding_size: have_limits.max_storage_buffer_binding_size,
         max_buffer_size: have_limits.max_buffer_size,
         ..wgpu::Limits::default()
     };
-    (have & wgpu::Features::TIMESTAMP_QUERY, limits)
+    let timestamps = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
+    (have & timestamps, limits)
 }
 
 /// The device descriptor for [`wanted`]'s features and limits.

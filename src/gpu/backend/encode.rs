@@ -4,11 +4,13 @@
 
 use super::super::buffers::{groups, ColliderGpu, Params, NO_ATTRIBUTE, SUBSTEP_HEAD_BYTES};
 use super::super::pipelines as pl;
+use super::stamps::close;
 use super::GpuBackend;
 use crate::error::Result;
 use crate::params::{Readback, VertexAttributes};
 use crate::physics::collide::Placed;
 use crate::physics::grid::MAX_CELLS;
+use crate::timers::Stage;
 use glam::Affine3A;
 use std::sync::atomic::Ordering;
 
@@ -133,11 +135,17 @@ impl GpuBackend {
                 }),
             };
             let mut pass = enc.begin_compute_pass(&desc);
+            let stamps = &mut self.stamps;
+            if let Some(s) = stamps {
+                s.open(&mut pass);
+            }
             if let Some(h) = &self.held {
                 h.encode_before(&mut pass, self.cur, self.points); // pass wet_params
+                close(stamps, &mut pass, Stage::WetParams);
             }
             if let Some(br) = &mut self.bridges {
                 br.encode(&mut pass, self.cur, self.points); // pass hair_grid
+                close(stamps, &mut pass, Stage::HairGrid);
             }
             let bridges = self.bridges.as_ref().map(|b| &b.cohesion_bg);
             if let Some(w) = self.water.as_mut().filter(|w| w.pending > 0) {
@@ -147,12 +155,15 @@ impl GpuBackend {
                 pass.dispatch_workgroups(gx, gy, 1);
                 w.bound = (w.bound + w.pending).min(self.params.water.capacity);
                 w.pending = 0;
+                // The new particles' insertion, booked with the grid that sorts them.
+                close(stamps, &mut pass, Stage::WaterGrid);
             }
             for s in 0..self.n_sub {
                 let off = [(s as u64 * self.sub_stride) as u32];
                 if let (true, Some(w)) = (wet, self.water.as_mut()) {
                     // Pass water_grid.
                     w.encode_grid(&mut pass, true);
+                    close(stamps, &mut pass, Stage::WaterGrid);
                     let (gx, gy) = groups(w.bound);
                     // Forces, adhesion, integrate, collide; then the particles move.
                     let k = &w.wet_hair;
@@ -165,17 +176,20 @@ impl GpuBackend {
                         bridges,
                         self.points,
                         self.strands,
+                        stamps,
                     );
                     if let Some(h) = self.held.as_ref().filter(|h| !h.absorb_dispatches().is_empty()) {
                         // Pass absorb: the particles give the hair what it asked for (its own
                         // bind groups; water_integrate's go back after it).
                         h.encode_absorb(&mut pass, self.cur, 1 - w.cur, self.points, w.bound);
                         pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
+                        close(stamps, &mut pass, Stage::Absorb);
                     }
                     if let Some(p) = &k.water {
                         pass.set_pipeline(p);
                         pass.set_bind_group(1, &w.hair_bg[w.cur], &[]);
                         pass.dispatch_workgroups(gx, gy, 1);
+                        close(stamps, &mut pass, Stage::WaterIntegrate);
                     }
                     w.cur = 1 - w.cur;
                 } else {
@@ -188,6 +202,7 @@ impl GpuBackend {
                         bridges,
                         self.points,
                         self.strands,
+                        stamps,
                     );
                 }
                 self.cur = 1 - self.cur;
@@ -195,7 +210,7 @@ impl GpuBackend {
             if let Some(h) = &self.held {
                 // Passes flow, drip, dry, then the saturation the vertices show.
                 let particles = self.water.as_ref().map_or(0, |w| w.cur);
-                h.encode_after(&mut pass, self.cur, particles, self.points);
+                h.encode_after(&mut pass, self.cur, particles, self.points, stamps);
                 if let (true, Some(w)) = (h.drips(), self.water.as_mut()) {
                     // Each point sheds at most one drop a step; a status read makes it exact.
                     w.bound = (w.bound + self.points).min(self.params.water.capacity);
@@ -210,10 +225,14 @@ impl GpuBackend {
                 pass.set_pipeline(&w.pipes[9]);
                 pass.dispatch_workgroups(1, 1, 1);
                 w.cur = 1 - w.cur;
+                close(stamps, &mut pass, Stage::WaterCull);
             }
         }
         if let Some(t) = &self.timing {
             enc.resolve_query_set(&t.queries, 0..2, &t.resolve, 0);
+        }
+        if let Some(s) = &self.stamps {
+            s.resolve(&mut enc);
         }
         self.frame += 1;
         self.vertices_current = false;
@@ -250,6 +269,11 @@ impl GpuBackend {
                     ready.store(true, Ordering::Release);
                 }
             });
+        }
+        if let Some(s) = &self.stamps {
+            // Timing per stage waits for the step (it is a measuring mode).
+            let bytes = self.read_buffers(&[s.resolved()], None)?;
+            self.stamps.as_mut().expect("checked above").book(&bytes);
         }
         self.dev.check()
     }

@@ -104,6 +104,14 @@ impl Engine for GpuBackend {
         self.dev.check().err()
     }
 
+    fn time_passes(&mut self, on: bool) -> bool {
+        GpuBackend::time_passes(self, on)
+    }
+
+    fn pass_times(&self) -> Vec<crate::engine::PassTime> {
+        GpuBackend::pass_times(self)
+    }
+
     fn enable_gpu_timing(&mut self) -> bool {
         self.enable_timing()
     }

@@ -5,11 +5,13 @@
 
 use super::super::buffers::{self as b, groups, held_ledger as hl, PointGpu, STORAGE};
 use super::super::pipelines::{self as pl, SceneConsts, Slot};
+use super::stamps::{close, PassStamps};
 use super::GpuBackend;
 use crate::engine::WaterLedger;
 use crate::error::{Error, Result};
 use crate::params::HeldWater;
 use crate::physics::wet;
+use crate::timers::Stage;
 
 /// The held-water kernels, by entry point (group 0 only).
 pub(super) const HELD_ENTRIES: [&str; 4] = ["wet_params", "soak", "dry", "saturation_out"];
@@ -269,19 +271,35 @@ impl HeldGpu {
     /// The once-per-step passes after the substeps, in the plan's order (flow, drip, dry),
     /// then the saturation the vertices show when the water can have changed. `cur` is the
     /// state buffer that holds the step's result, `particles` the particle buffer that holds
-    /// the particles.
-    pub(super) fn encode_after(&self, pass: &mut wgpu::ComputePass, cur: usize, particles: usize, points: u32) {
+    /// the particles. `stamps` closes the stages `flow`, `drip` and `dry` when stage timing is
+    /// on.
+    pub(super) fn encode_after(
+        &self,
+        pass: &mut wgpu::ComputePass,
+        cur: usize,
+        particles: usize,
+        points: u32,
+        stamps: &mut Option<PassStamps>,
+    ) {
         let (gx, gy) = groups(points);
         if let Some(bg2) = &self.bg2 {
             pass.set_bind_group(0, &self.bg0.as_ref().expect("bound at create")[cur], &[]);
             pass.set_bind_group(2, &bg2[particles], &[]);
-            for p in self.flow_pipe.iter().chain(&self.drip_pipes) {
+            if let Some(p) = &self.flow_pipe {
                 pass.set_pipeline(p);
-                if std::ptr::eq(p, &self.drip_pipes[1]) {
+                pass.dispatch_workgroups(gx, gy, 1);
+                close(stamps, pass, Stage::Flow);
+            }
+            for (k, p) in self.drip_pipes.iter().enumerate() {
+                pass.set_pipeline(p);
+                if k == 1 {
                     pass.dispatch_workgroups(1, 1, 1); // drip_scan: one workgroup
                 } else {
                     pass.dispatch_workgroups(gx, gy, 1);
                 }
+            }
+            if !self.drip_pipes.is_empty() {
+                close(stamps, pass, Stage::Drip);
             }
         }
         if self.cfg.dries() {
@@ -289,6 +307,9 @@ impl HeldGpu {
         }
         if self.changes() {
             self.dispatch(pass, SATURATION, cur, points);
+        }
+        if self.changes() {
+            close(stamps, pass, Stage::Dry);
         }
     }
 

@@ -3,7 +3,9 @@
 
 use super::super::buffers::groups;
 use super::super::pipelines::{self as pl, SceneConsts};
+use super::stamps::{close, PassStamps};
 use crate::plan::Pass;
+use crate::timers::Stage;
 
 /// The hair kernels of one scene variant (dry or wet).
 #[derive(Debug)]
@@ -56,7 +58,8 @@ impl HairKernels {
     }
 
     /// Encodes one substep's hair kernels (not water_integrate); `bridges` is the bridge
-    /// records' group when the scene has them.
+    /// records' group when the scene has them; `stamps` closes the stages `cohesion` and
+    /// `blocks` when stage timing is on.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn encode(
         &self,
@@ -68,6 +71,7 @@ impl HairKernels {
         bridges: Option<&wgpu::BindGroup>,
         points: u32,
         n_strands: u32,
+        stamps: &mut Option<PassStamps>,
     ) {
         let (px, py) = groups(points);
         pass.set_bind_group(0, hair, off);
@@ -75,6 +79,7 @@ impl HairKernels {
             pass.set_pipeline(p);
             pass.set_bind_group(3, bg, &[]);
             pass.dispatch_workgroups(px, py, 1);
+            close(stamps, pass, Stage::Cohesion);
         }
         if let Some(f) = &self.forces {
             pass.set_pipeline(f);
@@ -96,5 +101,6 @@ impl HairKernels {
             }
             pass.dispatch_workgroups(px, py, 1);
         }
+        close(stamps, pass, Stage::Blocks);
     }
 }

@@ -2,7 +2,8 @@
 //! buffer of compute passes; nothing returns to the host unless it asks (an explicit
 //! readback, blocking or one frame behind). One concern per file: creation and the backend's
 //! state here, `kernels` (hair kernels from the pass list), `water`, `encode` (the step's
-//! command buffers), `share` (the host's Vulkan), `readback`, and `engine` (the seam).
+//! command buffers), `stamps` (GPU time per stage), `share` (the host's Vulkan), `readback`,
+//! and `engine` (the seam).
 
 mod bridges;
 mod encode;
@@ -11,6 +12,7 @@ mod held;
 mod kernels;
 mod readback;
 mod share;
+mod stamps;
 mod water;
 
 use super::buffers::{self as b, Params, PointGpu, StateGpu, STORAGE};
@@ -26,6 +28,7 @@ use held::HeldGpu;
 use kernels::HairKernels;
 use readback::Staging;
 use share::WaterShare;
+use stamps::PassStamps;
 use std::sync::atomic::Ordering;
 use water::{WaterGpu, WATER_ENTRIES};
 
@@ -101,6 +104,8 @@ pub struct GpuBackend {
     vertices_current: bool,
     /// GPU timestamps around each step's compute pass (only once asked for).
     timing: Option<Timing>,
+    /// GPU time per stage, once a host switches it on ([`GpuBackend::time_passes`]).
+    stamps: Option<PassStamps>,
     /// Head transform per substep, and their upload bytes (reused every step).
     heads: Vec<Affine3A>,
     sub_bytes: Vec<u8>,
@@ -340,6 +345,7 @@ impl GpuBackend {
             last: Status::default(),
             vertices_current: false,
             timing: None,
+            stamps: None,
             heads: vec![*head; n_sub],
             sub_bytes: vec![0; sub_stride as usize * n_sub],
             wrote_vertices: false,
@@ -531,6 +537,22 @@ impl GpuBackend {
             });
         }
         true
+    }
+
+    /// Switches per-stage GPU timing on (totals from zero) or off. Returns false where the
+    /// adapter cannot write timestamps inside a compute pass. On, each step waits for the GPU
+    /// to read its stamps back.
+    pub fn time_passes(&mut self, on: bool) -> bool {
+        if !self.dev.pass_timestamps {
+            return false;
+        }
+        self.stamps = on.then(|| PassStamps::new(&self.dev.device, &self.dev.queue, self.n_sub));
+        true
+    }
+
+    /// Per-stage GPU time since [`GpuBackend::time_passes`] switched it on, in step order.
+    pub fn pass_times(&self) -> Vec<crate::engine::PassTime> {
+        self.stamps.as_ref().map_or_else(Vec::new, |s| s.clock.times())
     }
 
     /// GPU time of the last step's compute pass, ms (waits for it), once timing is enabled.

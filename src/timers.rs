@@ -1,15 +1,19 @@
-//! Wall time per stage of the CPU step, behind a switch. Off (the default) a stage costs one
-//! branch; on, it reads the clock before and after. The benches print the totals beside each
-//! row, so a frame's time is seen pass by pass.
+//! Time per stage of a step, behind a switch, for both backends: the CPU reads the wall clock
+//! before and after each stage; the GPU books the intervals between timestamps it writes
+//! after each stage (`gpu::backend::stamps`). Off (the default) a stage costs one branch. The
+//! benches print the totals beside each row, so a frame's time is seen pass by pass, under
+//! the same names on both backends.
 
 use crate::engine::PassTime;
 use crate::plan::Pass;
 use std::time::{Duration, Instant};
 
-/// The CPU step's stages, in the order a step runs them. The block kernel runs the pass
-/// list's per-point passes (drag, springs, adhesion, integrate, collide) together, block by
-/// block, so they are one stage, `blocks`; the rest are the pass list's own passes, named as
-/// there (`wet_params` is the held water's masses and limpness, `vertices` the host's copy).
+/// A step's stages, in the order a step runs them. The CPU's block kernel runs the pass list's
+/// per-point passes (drag, springs, adhesion, integrate, collide) together, block by block, so
+/// they are one stage, `blocks`; on the GPU `blocks` is the same passes' kernels
+/// (`hair_substep`, or `hair_forces` and `implicit_solve`). The rest are the pass list's own
+/// passes, named as there (`wet_params` is the held water's masses and limpness, `vertices`
+/// the host's copy).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
     /// Held water's masses and limpness (and the velocities flow reads).
@@ -30,7 +34,8 @@ pub enum Stage {
     Flow,
     /// Pass `drip`.
     Drip,
-    /// Pass `dry`, and the saturation the vertices show.
+    /// Pass `dry`, and the saturation the vertices show (on the GPU its own kernel, booked
+    /// here).
     Dry,
     /// Pass `water_cull`.
     WaterCull,
@@ -101,9 +106,19 @@ impl StageClock {
     #[inline]
     pub fn stop(&mut self, stage: Stage, start: Option<Instant>) {
         if let Some(t) = start {
-            self.total[stage as usize] += t.elapsed();
-            self.runs[stage as usize] += 1;
+            self.add(stage, t.elapsed());
         }
+    }
+
+    /// Books one run of `stage` that took `took` (measured elsewhere: GPU timestamps).
+    pub fn add(&mut self, stage: Stage, took: Duration) {
+        self.total[stage as usize] += took;
+        self.runs[stage as usize] += 1;
+    }
+
+    /// Whether timing is on.
+    pub fn is_on(&self) -> bool {
+        self.on
     }
 
     /// The stages that ran, in step order, with their totals.
