@@ -35,7 +35,9 @@ pub struct Water {
     /// With held water: each particle's water, quanta (empty in the paper's model, where
     /// every particle weighs `particle_mass`).
     pub mass: Vec<u32>,
-    /// `mass` in grid order (slot k is particle `grid.sorted()[k]`).
+    /// `mass` in grid order (slot k is particle `grid.sorted()[k]`) as of the substep's grid
+    /// build: what the pull and the particle's own motion are reckoned with this substep
+    /// (absorption takes from `mass` only).
     pub sorted_mass: Vec<u32>,
     /// With held water: quanta given by the host, and quanta that left (culled outside the
     /// domain, or cleared by the host).
@@ -192,10 +194,10 @@ impl Water {
                 self.given[k] += take(self.best[k].0, left) as u64;
             }
         }
+        // `sorted_mass` keeps the water the substep's pull was reckoned with: the particle
+        // moves under that pull with that mass (`integrate`).
         for (k, &j) in self.grid.sorted().iter().enumerate() {
-            let g = self.given[k] as u32; // at most the particle's own count
-            self.sorted_mass[k] -= g;
-            self.mass[j as usize] -= g;
+            self.mass[j as usize] -= self.given[k] as u32; // at most the particle's own count
         }
     }
 
@@ -219,8 +221,9 @@ impl Water {
             // A particle's drag scales with its water, so every drop, whatever its size, slows
             // at the rate a full particle does (`drag / particle_mass`) and falls alike.
             let per_quantum = p.drag as f64 * wet::WATER_QUANTUM / p.particle_mass as f64;
-            self.force.extend(self.grid.sorted().iter().map(|&j| {
-                let c = (self.mass[j as usize] as f64 * per_quantum) as f32;
+            let mass = &self.sorted_mass;
+            self.force.extend(self.grid.sorted().iter().zip(mass).map(|(&j, &q)| {
+                let c = (q as f64 * per_quantum) as f32;
                 c * (wind - self.vel[j as usize])
             }));
         } else {
@@ -237,9 +240,12 @@ impl Water {
         for (k, &j) in self.grid.sorted().iter().enumerate() {
             let j = j as usize;
             let f = self.force[k];
-            // A held-water particle weighs its own water; an empty one (removed at the end of
-            // the step) only falls.
-            let inv_m = match self.mass.get(j) {
+            // A held-water particle weighs the water it held when the hair's pull on it was
+            // reckoned, at the substep's start (what the hair drank since leaves with the
+            // momentum it had: dividing that pull by the little left flung drained drops out
+            // at kilometres per second); an empty one (removed at the end of the step) only
+            // falls.
+            let inv_m = match self.sorted_mass.get(k) {
                 None => inv_m0,
                 Some(0) => 0.0,
                 Some(&q) => (1.0 / wet::to_kg(q)) as f32,

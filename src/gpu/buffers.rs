@@ -132,8 +132,12 @@ gpu_record! {
         /// With held water, the water it carries, quanta (0 in the paper's model, where every
         /// particle weighs `particle_mass`).
         pub mass: u32,
-        /// Velocity; w unused.
-        pub v: [f32; 4],
+        /// Velocity, m/s.
+        pub v: [f32; 3],
+        /// With absorption: the water left after this substep's `absorb_finish`, quanta, which
+        /// `water_integrate` makes the particle's `mass` once it has moved it with the water
+        /// it held at the substep's start (the mass the hair's pull on it was reckoned with).
+        pub left: u32,
     }
 }
 

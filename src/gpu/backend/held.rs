@@ -3,7 +3,7 @@
 //! water is held (`points_wet`, rewritten by pass `wet_params` every step), the ledger block,
 //! and the kernels' encoding. Exists only when the scene has held water on.
 
-use super::super::buffers::{self as b, groups, held_ledger as hl, PointGpu, STORAGE};
+use super::super::buffers::{self as b, groups, held_ledger as hl, PointGpu, StateGpu, STORAGE};
 use super::super::pipelines::{self as pl, SceneConsts, Slot};
 use super::stamps::{close, PassStamps};
 use super::GpuBackend;
@@ -113,10 +113,13 @@ impl HeldGpu {
             dry_mass,
             ledger: b::buffer(d, "held_ledger", hl::WORDS as u64 * 4, STORAGE),
             soak_target: b::buffer(d, "held_soak_target", n * 4, STORAGE),
-            // Without flow, drip reads no step-start state: a placeholder.
-            state0: cfg
-                .drips()
-                .then(|| b::buffer(d, "held_state0", if cfg.flows() { n * 32 } else { 16 }, STORAGE)),
+            // Without flow, drip reads no step-start state: a placeholder of one record (a
+            // binding must hold at least one element of the array it declares; 16 bytes
+            // failed validation as soon as a scene dripped without flow).
+            state0: cfg.drips().then(|| {
+                let record = std::mem::size_of::<StateGpu>() as u64;
+                b::buffer(d, "held_state0", if cfg.flows() { n * record } else { record }, STORAGE)
+            }),
             drip_scratch: cfg
                 .drips()
                 .then(|| b::buffer(d, "held_drip", (n + gx as u64 * gy as u64) * 4, STORAGE)),

@@ -132,7 +132,8 @@ impl GpuBackend {
             .map(|(i, p)| ParticleGpu {
                 x: p.to_array(),
                 mass,
-                v: vel.get(i).copied().unwrap_or(Vec3::ZERO).extend(0.0).to_array(),
+                v: vel.get(i).copied().unwrap_or(Vec3::ZERO).to_array(),
+                left: 0,
             })
             .collect();
         self.dev

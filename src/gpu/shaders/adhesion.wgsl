@@ -145,8 +145,10 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
     var drag = P.water_drag;
     var inv_m = P.particle_inv_mass;
     if (P.massive != 0u) {
-        // A held-water particle weighs its own water and its drag scales with it, so drops of
-        // any size fall alike; an empty one (removed at the step's end) only falls.
+        // A held-water particle weighs the water it held when the hair's pull on it was
+        // reckoned, at the substep's start (cpu/water.rs `integrate`), and its drag scales
+        // with it, so drops of any size fall alike; an empty one (removed at the step's end)
+        // only falls.
         drag = f32(p.mass) * P.drag_per_quantum;
         inv_m = 0.0;
         if (p.mass != 0u) {
@@ -162,5 +164,10 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
     if (non_finite(dot(v, v) + x.x + x.y + x.z)) {
         atomicOr(&status[STATUS_FLAGS], FLAG_WATER_NONFINITE);
     }
-    sorted[k] = Particle(x, p.mass, vec4<f32>(v, 0.0));
+    // What absorb_finish left is the particle's water from here on.
+    var mass = p.mass;
+    if (P.absorbs != 0u) {
+        mass = p.left;
+    }
+    sorted[k] = Particle(x, mass, v, 0u);
 }

@@ -349,7 +349,7 @@ fn drip_emit(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg
     }
     let s = state[i];
     let x = s.x.xyz + P.r_max * unit_or_zero(g_eff(i));
-    particles[slot] = Particle(x, q, vec4<f32>(s.v.xyz, 0.0));
+    particles[slot] = Particle(x, q, s.v.xyz, 0u);
     atomicSub(&held[i], q);
 }
 
@@ -435,8 +435,9 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
 
 // Pass absorb, part 2, per particle: a particle left with less than absorb_last quanta goes
 // whole to its largest demander (absorption is exponential and would never finish); the
-// particle keeps what is left (an emptied one is removed at the step's end), and its scratch
-// record is cleared.
+// particle keeps what is left (an emptied one is removed at the step's end), noted in `left`
+// for water_integrate, which moves it with its `mass` at the substep's start first; and its
+// scratch record is cleared.
 @compute @workgroup_size(WG)
 fn absorb_finish(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                  @builtin(local_invocation_index) lid: u32) {
@@ -453,7 +454,7 @@ fn absorb_finish(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups)
         atomicAdd(&held[point], left);
         left = 0u;
     }
-    sorted[k].mass = left;
+    sorted[k].left = left;
     // The record is clear for the next substep.
     for (var w = 0u; w < ABS_WORDS; w++) {
         atomicStore(&absorb_scratch[at + w], 0u);
