@@ -154,7 +154,8 @@ impl Water {
     /// Pass `absorb` (docs/WET_MODEL.md §2): grants the substep's demands, listed in block
     /// order, from the particles to the hair points (`held`, per row of lanes). Each particle
     /// gives every demand in full while they sum to at most its water, else its share rounded
-    /// down; a point takes at most what fits its count. A particle left with less than `last`
+    /// down; a point takes grants up to [`wet::HELD_LIMIT`] and the particle keeps what it
+    /// refuses. A particle left with less than `last`
     /// quanta goes whole to the point that asked it for most (first found on a tie).
     /// Integers throughout: the particles lose exactly what the hair gains, whatever the order.
     pub fn absorb<'a>(
@@ -177,21 +178,24 @@ impl Water {
                 self.best[k] = (d.point, d.quanta);
             }
         }
-        let mut take = |point: u32, q: u32| -> u32 {
+        // A point takes a grant up to `limit` (what it refuses stays in the particle).
+        let mut take = |point: u32, q: u32, limit: u32| -> u32 {
             let (r, l) = (point as usize / W, point as usize % W);
-            let q = q.min(u32::MAX - held[r][l]);
+            let q = q.min(limit.saturating_sub(held[r][l]));
             held[r][l] += q;
             q
         };
         for d in demands.flatten() {
             let k = d.slot as usize;
             let g = wet::grant(self.sorted_mass[k], d.quanta, self.demand[k]);
-            self.given[k] += take(d.point, g) as u64;
+            self.given[k] += take(d.point, g, wet::HELD_LIMIT) as u64;
         }
+        // Remainders are small (under a thousandth of a particle each), so they are not held
+        // to the limit; only the count's own end bounds them.
         for k in 0..n {
             let left = self.sorted_mass[k] - self.given[k] as u32;
             if self.best[k].1 > 0 && left > 0 && left < last {
-                self.given[k] += take(self.best[k].0, left) as u64;
+                self.given[k] += take(self.best[k].0, left, u32::MAX) as u64;
             }
         }
         // `sorted_mass` keeps the water the substep's pull was reckoned with: the particle

@@ -18,6 +18,18 @@ pub const WATER_QUANTUM: f64 = 1.0e-12;
 /// The most water one count may describe, kg (`u32::MAX` quanta, less headroom for a step's
 /// inflow): capacities and particle masses above it are refused.
 pub const MAX_WATER_MASS: f64 = (1u64 << 31) as f64 * WATER_QUANTUM;
+/// The most a point takes by absorption, quanta (the largest capacity allowed): however many
+/// drops reach it in one substep, it stops here, and the drops keep the rest. With the flow's
+/// bound ([`flow_inflow_bound`]) no point's count can wrap.
+pub const HELD_LIMIT: u32 = 1 << 31;
+
+/// The most a point holding `start` quanta at the flow pass's start may receive from each of
+/// its two neighbours: half its room below `u32::MAX`, so that both together cannot wrap its
+/// count (a transfer is cut to it, never raised; the sender keeps the rest).
+#[inline]
+pub fn flow_inflow_bound(start: u32) -> u32 {
+    (u32::MAX - start) / 2
+}
 
 /// `kg` as whole quanta, to nearest (negative and NaN give 0; above `u32::MAX` saturates).
 #[inline]
@@ -374,8 +386,8 @@ pub fn flow_lanes(
             if i + 1 >= n[l] {
                 continue;
             }
-            let d = share(sc.down[i][l], i, l);
-            let u = share(sc.up[i][l], i + 1, l);
+            let d = share(sc.down[i][l], i, l).min(flow_inflow_bound(start[i + 1][l]));
+            let u = share(sc.up[i][l], i + 1, l).min(flow_inflow_bound(start[i][l]));
             held[i][l] = held[i][l] - d + u;
             held[i + 1][l] = held[i + 1][l] + d - u;
         }

@@ -231,6 +231,14 @@ fn flow(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
             to_next[k] = min(u32(floor(f32(to_next[k]) * share)), start - to_prev[k]);
         }
     }
+    // wet::flow_inflow_bound: each neighbour gives a point at most half its room below the
+    // count's end, so its count cannot wrap.
+    for (var k = 0u; k + 1u < n; k++) {
+        let room_next = (0xffffffffu - atomicLoad(&held[first + k + 1u])) / 2u;
+        let room_here = (0xffffffffu - atomicLoad(&held[first + k])) / 2u;
+        to_next[k] = min(to_next[k], room_next);
+        to_prev[k + 1u] = min(to_prev[k + 1u], room_here);
+    }
     for (var k = 0u; k < n; k++) {
         var q = atomicLoad(&held[first + k]) - to_prev[k] - to_next[k];
         if (k > 0u) {
@@ -397,6 +405,9 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
         return;
     }
     let r2 = P.r_max * P.r_max;
+    // The point takes grants up to HELD_LIMIT (wet::HELD_LIMIT); the particle keeps the rest.
+    // Only this invocation adds to held[i] during the pass (remainders come after).
+    let held0 = atomicLoad(&held[i]);
     var got = 0u;
     for (var cx = span.c0.x; cx <= span.c1.x; cx++) {
         for (var cy = span.c0.y; cy <= span.c1.y; cy++) {
@@ -420,6 +431,7 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
                     let total = f32(hi) * 4294967296.0 + f32(lo);
                     g = u32(floor(f32(demand) * (f32(q) / total) * (1.0 - 4.0e-7)));
                 }
+                g = min(g, HELD_LIMIT - min(held0 + got, HELD_LIMIT));
                 got += take_from(k, q, g);
                 if (demand == atomicLoad(&absorb_scratch[at + ABS_BEST])) {
                     atomicMax(&absorb_scratch[at + ABS_POINT], ~i);
