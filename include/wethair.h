@@ -168,6 +168,13 @@ enum WetHairIntegrator
   // Symplectic Euler when it is stable for the scene's stiffness, masses and substep
   // (with a 10% margin), else implicit Euler; resolved at create.
   WETHAIR_INTEGRATOR_AUTO = 3,
+  // BDF2 on implicit Euler's solver: a backward Euler solve from the blend of this substep's
+  // start and the one before (`physics/bdf2.rs`), so second order in the springs at the cost
+  // of implicit Euler, and as stable (give it 3 Newton iterations where springs are far
+  // past the explicit limit). The first substep, the first after a reset, and a jump in
+  // the frame time that could grow the history's errors past 2x (`Bdf2Clock`) take a
+  // backward Euler step.
+  WETHAIR_INTEGRATOR_BDF2 = 4,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L

@@ -100,10 +100,11 @@ pub fn paper_slice(strands: usize, particles: usize, stiffness: f32) -> ReportSc
     params.stretch.stiffness *= stiffness;
     params.bend.stiffness *= stiffness;
     let water = on_hair(groom.positions(), particles, &mut Lcg(77));
-    let name = if stiffness == 1.0 {
-        "paper_slice_wet"
-    } else {
-        "paper_slice_wet_stiff"
+    let name = match (particles, stiffness == 1.0) {
+        (0, true) => "paper_slice_dry",
+        (0, false) => "paper_slice_dry_stiff",
+        (_, true) => "paper_slice_wet",
+        (_, false) => "paper_slice_wet_stiff",
     };
     ReportScene {
         name,

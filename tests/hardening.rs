@@ -152,6 +152,7 @@ fn cpu_results_do_not_depend_on_the_thread_count_with_water() {
         Integrator::SYMPLECTIC_EULER,
         Integrator::IMPLICIT_EULER,
         Integrator::XPBD,
+        Integrator::BDF2,
     ] {
         let one = wet_run(integrator, 1, 100);
         assert_eq!(one, wet_run(integrator, 1, 100), "{integrator:?}: two runs differ");

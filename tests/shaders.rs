@@ -65,6 +65,7 @@ fn consts(bend: bool, colliders: u32) -> wethair::gpu::pipelines::SceneConsts {
         bend,
         max_points: 32,
         iterations: 2,
+        bdf2: false,
     }
 }
 
@@ -90,7 +91,15 @@ fn all_modules() -> Vec<(String, String)> {
                 radius: 0.1,
             });
         }
-        for integrator in [Integrator::SYMPLECTIC_EULER, Integrator::IMPLICIT_EULER] {
+        for integrator in [
+            Integrator::SYMPLECTIC_EULER,
+            Integrator::IMPLICIT_EULER,
+            Integrator::BDF2,
+        ] {
+            let c = wethair::gpu::pipelines::SceneConsts {
+                bdf2: integrator == Integrator::BDF2,
+                ..c
+            };
             for wet in [false, true] {
                 let passes: Vec<Pass> = pass_list(&p, integrator, bend, wet);
                 let name = format!("hair {integrator:?} wet={wet} bend={bend} colliders={colliders}");
@@ -154,11 +163,12 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
         let naga::TypeInner::Struct { members, .. } = find("Substep") else {
             panic!("{name}: Substep is not a struct")
         };
+        assert_eq!(members[1].offset, 64, "{name}: the blend follows the head matrix");
         assert_eq!(
-            members[1].offset, SUBSTEP_HEAD_BYTES,
-            "{name}: colliders follow the head matrix"
+            members[2].offset, SUBSTEP_HEAD_BYTES,
+            "{name}: colliders follow the head matrix and the blend"
         );
-        let naga::TypeInner::Array { stride, .. } = module.types[members[1].ty].inner else {
+        let naga::TypeInner::Array { stride, .. } = module.types[members[2].ty].inner else {
             panic!("{name}: Substep.colliders is not an array")
         };
         assert_eq!(
@@ -167,7 +177,7 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
             "{name}: collider stride"
         );
     }
-    assert_eq!(checked, 5 * 22, "every record in every module");
+    assert_eq!(checked, 5 * 28, "every record in every module");
 }
 
 /// The generated constants are the Rust values, as each module compiles them (naga evaluates

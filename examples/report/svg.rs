@@ -12,7 +12,9 @@ pub struct Series {
 }
 
 /// Colours for successive series.
-pub const COLOURS: [&str; 6] = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"];
+pub const COLOURS: [&str; 8] = [
+    "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#17becf", "#e377c2",
+];
 
 fn decades(lo: f64, hi: f64) -> (f64, f64) {
     (lo.log10().floor(), hi.log10().ceil().max(lo.log10().floor() + 1.0))

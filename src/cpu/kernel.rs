@@ -4,6 +4,7 @@
 
 use super::layout::{Layout, StateRow};
 use crate::params::Integrator;
+use crate::physics::bdf2::{blend_rows, Bdf2Blend};
 use crate::physics::collide::{collide_row, Placed};
 use crate::physics::implicit::{implicit_euler_block, BandScratch};
 use crate::physics::integrate::symplectic_euler_row;
@@ -26,7 +27,7 @@ pub struct Worker {
     pub(super) reactions: Vec<adhesion::Reaction>,
     pub(super) max_v2: f32,
     pub(super) nonfinite: bool,
-    /// Banded system of one block (implicit Euler only).
+    /// Banded system of one block (implicit Euler and BDF2 only).
     pub(super) band: Option<BandScratch>,
     /// Positions before the substep (XPBD only).
     pub(super) prev: Vec<L3>,
@@ -40,6 +41,9 @@ pub struct Worker {
 pub(super) struct Ctx<'a> {
     pub(super) integrator: Integrator,
     pub(super) solver_iterations: u32,
+    /// BDF2's blends for the frame's first substep (maybe a backward Euler restart) and for
+    /// the others (from [`crate::physics::bdf2::Bdf2Clock`]).
+    pub(super) bdf2: (Bdf2Blend, Bdf2Blend),
     pub(super) lay: &'a Layout,
     /// Per-row parameters: the layout's, or with held water's masses.
     pub(super) params: &'a [super::layout::ParamRow],
@@ -92,15 +96,16 @@ pub(super) fn block_substep<const AXIAL: bool>(
     s: usize,
     rows: &mut [StateRow],
     wet: &mut [Lane],
+    history: &mut [StateRow],
     worker: &mut Worker,
 ) {
     #[cfg(target_arch = "x86_64")]
     if ctx.avx2 {
         // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")` at create.
-        unsafe { block_substep_avx2::<AXIAL>(ctx, b, s, rows, wet, worker) };
+        unsafe { block_substep_avx2::<AXIAL>(ctx, b, s, rows, wet, history, worker) };
         return;
     }
-    block_substep_base::<AXIAL>(ctx, b, s, rows, wet, worker)
+    block_substep_base::<AXIAL>(ctx, b, s, rows, wet, history, worker)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -111,9 +116,10 @@ unsafe fn block_substep_avx2<const AXIAL: bool>(
     s: usize,
     rows: &mut [StateRow],
     wet: &mut [Lane],
+    history: &mut [StateRow],
     worker: &mut Worker,
 ) {
-    block_substep_impl::<AXIAL>(ctx, b, s, rows, wet, worker)
+    block_substep_impl::<AXIAL>(ctx, b, s, rows, wet, history, worker)
 }
 
 #[inline(never)]
@@ -123,9 +129,10 @@ fn block_substep_base<const AXIAL: bool>(
     s: usize,
     rows: &mut [StateRow],
     wet: &mut [Lane],
+    history: &mut [StateRow],
     worker: &mut Worker,
 ) {
-    block_substep_impl::<AXIAL>(ctx, b, s, rows, wet, worker)
+    block_substep_impl::<AXIAL>(ctx, b, s, rows, wet, history, worker)
 }
 
 /// One substep of one block: forces → integrate → collide. The heart of the CPU backend.
@@ -136,6 +143,7 @@ fn block_substep_impl<const AXIAL: bool>(
     s: usize,
     rows: &mut [StateRow],
     wet: &mut [Lane],
+    history: &mut [StateRow],
     worker: &mut Worker,
 ) {
     let lay = ctx.lay;
@@ -144,13 +152,15 @@ fn block_substep_impl<const AXIAL: bool>(
     let params = &ctx.params[base..base + p];
     let f = &mut worker.f[..p];
 
-    // Pass: drag toward the wind (or clear the force accumulators).
+    // Pass: drag toward the wind (or clear the force accumulators). The implicit solve takes
+    // drag itself, implicitly.
     let [wx, wy, wz] = ctx.wind;
+    let drag = if ctx.integrator.is_implicit() { 0.0 } else { ctx.drag };
     for (fi, r) in f.iter_mut().zip(rows.iter()) {
         for l in 0..W {
-            fi.x[l] = ctx.drag * (wx - r.v.x[l]);
-            fi.y[l] = ctx.drag * (wy - r.v.y[l]);
-            fi.z[l] = ctx.drag * (wz - r.v.z[l]);
+            fi.x[l] = drag * (wx - r.v.x[l]);
+            fi.y[l] = drag * (wy - r.v.y[l]);
+            fi.z[l] = drag * (wz - r.v.z[l]);
         }
     }
     // Pass: stretch springs (i, i+1) (XPBD projects them as constraints instead).
@@ -276,10 +286,19 @@ fn block_substep_impl<const AXIAL: bool>(
         Some(t)
     };
     match ctx.integrator {
-        Integrator::IMPLICIT_EULER => {
+        Integrator::IMPLICIT_EULER | Integrator::BDF2 => {
             let sc = worker.band.as_mut().expect("band scratch allocated for implicit Euler");
             let iters = ctx.solver_iterations;
-            implicit_euler_block::<AXIAL>(rows, f, params, &target, ctx.bend, ctx.g, ctx.h, iters, sc);
+            let mut h = ctx.h;
+            if ctx.integrator == Integrator::BDF2 {
+                // BDF2: backward Euler from the blend of this start and the last (the drag
+                // above was taken at this start, as backward Euler takes it).
+                let blend = if s == 0 { ctx.bdf2.0 } else { ctx.bdf2.1 };
+                blend_rows(rows, history, blend);
+                h = blend.h;
+            }
+            let drag = (ctx.drag, ctx.wind);
+            implicit_euler_block::<AXIAL>(rows, f, params, &target, ctx.bend, ctx.g, drag, h, iters, sc);
         }
         Integrator::XPBD => {
             let prev = &mut worker.prev[..p];

@@ -10,6 +10,7 @@ use super::layout::{Layout, StateRow};
 use super::water::Water;
 use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
+use crate::physics::bdf2::{Bdf2Blend, Bdf2Clock};
 use crate::physics::collide::Placed;
 use crate::physics::implicit::BandScratch;
 use crate::physics::integrate::blown_up;
@@ -54,6 +55,11 @@ pub struct CpuBackend {
     domain: WaterDomain,
     avx2: bool,
     integrator: Integrator,
+    /// BDF2's history: each row as it was at the start of the last substep (BDF2 only).
+    history: Vec<StateRow>,
+    /// BDF2's clock (which frames keep the history) and this frame's blends: the first
+    /// substep's, then the others'.
+    bdf2: (Bdf2Clock, (Bdf2Blend, Bdf2Blend)),
     /// Wall time per stage, when the host asks for it.
     pub(super) clock: StageClock,
 }
@@ -77,7 +83,7 @@ impl CpuBackend {
         let workers = (0..threads)
             .map(|_| Worker {
                 f: vec![L3::ZERO; lay.rows],
-                band: (integrator == Integrator::IMPLICIT_EULER).then(|| BandScratch::new(lay.rows)),
+                band: integrator.is_implicit().then(|| BandScratch::new(lay.rows)),
                 prev: if integrator == Integrator::XPBD {
                     vec![L3::ZERO; lay.rows]
                 } else {
@@ -113,6 +119,11 @@ impl CpuBackend {
         } else {
             Vec::new()
         };
+        let history = if integrator == Integrator::BDF2 {
+            vec![StateRow::default(); state.len()]
+        } else {
+            Vec::new()
+        };
         let mut cpu = CpuBackend {
             lay,
             state,
@@ -129,6 +140,8 @@ impl CpuBackend {
             domain: WaterDomain::new(groom, params),
             avx2: cpu_has_avx2(),
             integrator,
+            history,
+            bdf2: (Bdf2Clock::default(), (Bdf2Blend::euler(0.0), Bdf2Blend::euler(0.0))),
             clock: StageClock::default(),
         };
         if hw.drips() {
@@ -238,6 +251,7 @@ impl CpuBackend {
     /// Back to the rest pose at `head`: zero velocity, dry, no water.
     pub fn reset(&mut self, head: &Affine3A) {
         self.state = self.lay.rest_state(head);
+        self.bdf2.0 = Bdf2Clock::default();
         self.wet.iter_mut().for_each(|w| *w = [0.0; W]);
         if let Some(h) = &mut self.held {
             h.reset(&self.lay);
@@ -271,6 +285,9 @@ impl CpuBackend {
         let _ftz = super::denormals::FlushDenormals::new();
         let n_sub = self.params.substeps as usize;
         let h = dt / n_sub as f32;
+        if self.integrator == Integrator::BDF2 {
+            self.bdf2.1 = self.bdf2.0.frame(h, n_sub as u32);
+        }
         let nc = self.params.colliders.len();
         crate::physics::head::substep_heads_into(from, to, &mut self.heads);
         for s in 0..n_sub {
@@ -415,6 +432,7 @@ impl CpuBackend {
         let ctx = Ctx {
             integrator: self.integrator,
             solver_iterations: p.solver_iterations,
+            bdf2: self.bdf2.1,
             lay: &self.lay,
             params: held.map_or(&self.lay.params[..], |h| h.row_params()),
             avx2: self.avx2,
@@ -456,42 +474,43 @@ impl CpuBackend {
         };
         let rows = self.lay.rows;
         let per_chunk = self.lay.blocks.div_ceil(self.workers.len()).max(1);
-        let run = |k: usize, state: &mut [StateRow], wet: &mut [Lane], worker: &mut Worker| {
-            worker.reactions.clear();
-            worker.demands.clear();
-            let first = k * per_chunk;
-            for (j, rows_b) in state.chunks_mut(rows).enumerate() {
-                let wet_b = if wet.is_empty() {
-                    &mut [][..]
-                } else {
-                    &mut wet[j * rows..(j + 1) * rows]
-                };
-                for s in subs.clone() {
-                    if axial {
-                        block_substep::<true>(&ctx, first + j, s, rows_b, wet_b, worker);
+        let run =
+            |k: usize, state: &mut [StateRow], wet: &mut [Lane], history: &mut [StateRow], worker: &mut Worker| {
+                worker.reactions.clear();
+                worker.demands.clear();
+                let first = k * per_chunk;
+                for (j, rows_b) in state.chunks_mut(rows).enumerate() {
+                    let wet_b = if wet.is_empty() {
+                        &mut [][..]
                     } else {
-                        block_substep::<false>(&ctx, first + j, s, rows_b, wet_b, worker);
+                        &mut wet[j * rows..(j + 1) * rows]
+                    };
+                    let hist_b = if history.is_empty() {
+                        &mut [][..]
+                    } else {
+                        &mut history[j * rows..(j + 1) * rows]
+                    };
+                    for s in subs.clone() {
+                        if axial {
+                            block_substep::<true>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
+                        } else {
+                            block_substep::<false>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
+                        }
                     }
                 }
-            }
-        };
+            };
         let chunk_rows = per_chunk * rows;
-        let (state, wet_rows, workers) = (&mut self.state, &mut self.wet, &mut self.workers);
+        let (state, wet_rows, history, workers) =
+            (&mut self.state, &mut self.wet, &mut self.history, &mut self.workers);
         let mut body = || {
-            if wet_rows.is_empty() {
-                state
-                    .par_chunks_mut(chunk_rows)
-                    .zip(workers.par_iter_mut())
-                    .enumerate()
-                    .for_each(|(k, (s, w))| run(k, s, &mut [], w));
-            } else {
-                state
-                    .par_chunks_mut(chunk_rows)
-                    .zip(wet_rows.par_chunks_mut(chunk_rows))
-                    .zip(workers.par_iter_mut())
-                    .enumerate()
-                    .for_each(|(k, ((s, wt), w))| run(k, s, wt, w));
-            }
+            let n = state.len().div_ceil(chunk_rows);
+            state
+                .par_chunks_mut(chunk_rows)
+                .zip(chunks_or_empty(wet_rows, chunk_rows, n))
+                .zip(chunks_or_empty(history, chunk_rows, n))
+                .zip(workers.par_iter_mut())
+                .enumerate()
+                .for_each(|(k, (((s, wt), hs), w))| run(k, s, wt, hs, w));
         };
         match &self.pool {
             Some(pool) => pool.install(body),
@@ -539,6 +558,16 @@ impl CpuBackend {
 }
 
 /// The colliders placed for substep `s` (`nc` per substep).
+/// `v` in chunks of `size`, or `n` empty slices when `v` is empty (a per-row buffer the scene
+/// does not have).
+fn chunks_or_empty<T: Send>(v: &mut [T], size: usize, n: usize) -> impl IndexedParallelIterator<Item = &mut [T]> {
+    if v.is_empty() {
+        rayon::iter::Either::Right((0..n).into_par_iter().map(|_| <&mut [T]>::default()))
+    } else {
+        rayon::iter::Either::Left(v.par_chunks_mut(size))
+    }
+}
+
 fn placed_of(placed: &[Placed], s: usize, nc: usize) -> &[Placed] {
     &placed[s * nc..(s + 1) * nc]
 }

@@ -56,7 +56,7 @@ c_enum!(
     Integrator,
     "WetHairIntegrator",
     "WETHAIR_INTEGRATOR_",
-    [SYMPLECTIC_EULER, IMPLICIT_EULER, XPBD, AUTO]
+    [SYMPLECTIC_EULER, IMPLICIT_EULER, XPBD, AUTO, BDF2]
 );
 c_enum!(Backend, "WetHairBackend", "WETHAIR_BACKEND_", [AUTO, CPU, GPU]);
 c_enum!(

@@ -291,6 +291,7 @@ pub mod absorb_words {
 /// An attribute offset meaning "not written" (`Params::pos_off` and friends).
 pub const NO_ATTRIBUTE: u32 = u32::MAX;
 
-/// Bytes of the head transform at the start of each substep's uniform (a column-major 4x4);
-/// the placed colliders follow, one [`ColliderGpu`] each.
-pub const SUBSTEP_HEAD_BYTES: u32 = 64;
+/// Bytes at the start of each substep's uniform: the head transform (a column-major 4x4) and
+/// the implicit solve's blend and step (`a, b, h, 1/h`: `physics/bdf2.rs`; `1, 0, h, 1/h` but
+/// for BDF2); the placed colliders follow, one [`ColliderGpu`] each.
+pub const SUBSTEP_HEAD_BYTES: u32 = 80;

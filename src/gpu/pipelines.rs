@@ -13,6 +13,10 @@ const WATER: &str = include_str!("shaders/water.wgsl");
 const OUTPUT: &str = include_str!("shaders/output.wgsl");
 const WATER_OUTPUT: &str = include_str!("shaders/water_output.wgsl");
 const IMPLICIT: &str = include_str!("shaders/implicit.wgsl");
+const BDF2: &str = include_str!("shaders/bdf2.wgsl");
+
+/// Backward Euler's start: the state as it is (BDF2's is `shaders/bdf2.wgsl`).
+const EULER_START: &str = "fn start_of(idx: u32, st: State) -> State {\n    return st;\n}\n";
 const HELD: &str = include_str!("shaders/held.wgsl");
 const ABSORB: &str = include_str!("shaders/absorb.wgsl");
 const SCAN: &str = include_str!("shaders/scan.wgsl");
@@ -32,6 +36,8 @@ pub struct SceneConsts {
     pub max_points: u32,
     /// Newton iterations of implicit Euler.
     pub iterations: u32,
+    /// The implicit solve starts from BDF2's blend (and binds its history).
+    pub bdf2: bool,
 }
 
 /// The scene's constants, the generated prelude (shared constants and structs), and the
@@ -118,27 +124,25 @@ fn adhesion() -> String {
     format!("{GRID}\n{ABSORB}\n{ADHESION}")
 }
 
-/// Implicit Euler's hair module: `hair_forces` (drag, adhesion, wetting; per point, only when
-/// the scene has them) writes the explicit forces into state_out, then `implicit_solve` (per
-/// strand) integrates and collides.
+/// Implicit Euler's (and BDF2's) hair module: `hair_forces` (adhesion, wetting, cohesion; per
+/// point, only when the scene has them) writes the explicit forces into state_out, then
+/// `implicit_solve` (per strand, from BDF2's blend when it runs) integrates and collides.
 fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
     let wet = passes.contains(&Pass::Adhesion);
     let forces = has_forces(passes);
     let mut out = format!(
-        "{}{HAIR}\n{}{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
+        "{}{HAIR}\n{}{}\n{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
          const COLLIDE: bool = {};\n{IMPLICIT}\n",
         prelude(c),
         if wet { adhesion() } else { String::new() },
         cohesion(passes),
+        if c.bdf2 { BDF2 } else { EULER_START },
         c.max_points.max(2),
         c.iterations.max(1),
         passes.contains(&Pass::Collide),
     );
     if forces {
         let mut body = String::new();
-        if passes.contains(&Pass::Drag) {
-            body.push_str("    drag(v, &f);\n");
-        }
         if wet {
             body.push_str(
                 "    var near = 0.0;\n    f += adhesion(x, wet, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n",

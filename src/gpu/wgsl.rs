@@ -162,7 +162,10 @@ pub fn prelude() -> String {
         }
         s.push_str("}\n");
     }
-    // The head transform (column-major 4x4, SUBSTEP_HEAD_BYTES) then the placed colliders.
-    s.push_str("struct Substep {\n    head: mat4x4<f32>,\n    colliders: array<Collider, NC>,\n}\n");
+    // The head transform (column-major 4x4) and the implicit solve's blend (SUBSTEP_HEAD_BYTES
+    // together), then the placed colliders.
+    s.push_str(
+        "struct Substep {\n    head: mat4x4<f32>,\n    blend: vec4<f32>,\n    colliders: array<Collider, NC>,\n}\n",
+    );
     s
 }

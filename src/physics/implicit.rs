@@ -4,8 +4,11 @@
 //!
 //! `E(x) = Σ m/(2h²) |x - x̃|² + Σ_springs ½ k (|x_b - x_a| - l)² + Σ_springs (c/2h) |P Δd|²`,
 //!
-//! with `x̃ = x + h v + h² (f_ext/m + g)` (drag and adhesion stay explicit), `Δd` the change of a
+//! with `x̃ = x + h v + h² (f_ext/m + g)` (adhesion and cohesion stay explicit), `Δd` the change of a
 //! spring's vector over the step and `P` its damping projector (`n nᵀ` axial, `I` the paper's).
+//! Air drag `c (w - v)` toward the wind `w` is implicit: its potential `c/(2h) |x - x₀ - h w|²`
+//! is a diagonal quadratic, so it folds into the inertial term as a heavier mass `m + h c` and a
+//! target moved toward `x₀ + h w` (stable at any drag, and second order under BDF2).
 //! Each iteration takes a Newton step `H d = -∇E`; `H = M/h² + K + C/h` has a spring's 3×3
 //! blocks two points apart, so it is banded (half-bandwidth 8) and, with the lateral term
 //! `1 - l/|d|` clamped at 0, symmetric positive definite: a banded Cholesky solves it in
@@ -157,6 +160,7 @@ fn strand_terms<const AXIAL: bool>(
     rows: &[ParamRow],
     bend: bool,
     h: f64,
+    hc: f64,
     grad: &mut [LaneD],
     mut band: Option<&mut [[LaneD; BAND + 1]]>,
 ) -> LaneD {
@@ -164,8 +168,7 @@ fn strand_terms<const AXIAL: bool>(
     let mut energy = [0.0f64; W];
     for i in 0..p {
         for l in 0..W {
-            let w = rows[i].inv_mass[l] as f64;
-            let m = if w > 0.0 { 1.0 / w } else { 0.0 };
+            let m = inertia(rows[i].inv_mass[l], hc);
             for c in 0..3 {
                 let e = x[3 * i + c][l] - target[3 * i + c][l];
                 energy[l] += 0.5 * m * e * e;
@@ -176,8 +179,8 @@ fn strand_terms<const AXIAL: bool>(
             for c in 0..3 {
                 band[3 * i + c] = [[0.0; W]; BAND + 1];
                 for l in 0..W {
-                    let w = rows[i].inv_mass[l] as f64;
-                    band[3 * i + c][0][l] = if w > 0.0 { 1.0 / w } else { 1.0 };
+                    let m = inertia(rows[i].inv_mass[l], hc);
+                    band[3 * i + c][0][l] = if m > 0.0 { m } else { 1.0 };
                 }
             }
         }
@@ -192,10 +195,21 @@ fn strand_terms<const AXIAL: bool>(
     energy
 }
 
+/// The inertial term's mass of a point with inverse mass `w` under drag `hc = h c`: `m + h c`
+/// (0 for a pinned point).
+#[inline(always)]
+fn inertia(w: f32, hc: f64) -> f64 {
+    if w > 0.0 {
+        1.0 / w as f64 + hc
+    } else {
+        0.0
+    }
+}
+
 /// Advances one block of `W` strands by `h` with implicit Euler: `iterations` Newton steps on
 /// the incremental potential, each with a per-strand backtracking line search. `f_ext` holds
-/// the explicit forces (drag, adhesion); `target(i)` the head's target for rows with pinned
-/// lanes.
+/// the explicit forces (adhesion, cohesion); `drag` pulls toward `wind` implicitly;
+/// `target(i)` the head's target for rows with pinned lanes.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn implicit_euler_block<const AXIAL: bool>(
@@ -205,6 +219,7 @@ pub fn implicit_euler_block<const AXIAL: bool>(
     target: &dyn Fn(usize) -> Option<L3>,
     bend: bool,
     g: [f32; 3],
+    (drag, wind): (f32, [f32; 3]),
     h: f32,
     iterations: u32,
     sc: &mut BandScratch,
@@ -212,6 +227,7 @@ pub fn implicit_euler_block<const AXIAL: bool>(
     let p = state.len();
     let n = 3 * p;
     let hd = h as f64;
+    let hc = hd * drag as f64;
     // Inertial target x̃, and the start iterate x = x + h v (free points; far more accurate
     // than starting where they were, which makes one iteration damp rotation), pinned points on
     // the head's target, where they stay.
@@ -224,9 +240,14 @@ pub fn implicit_euler_block<const AXIAL: bool>(
             let vs = [st.v.x[l], st.v.y[l], st.v.z[l]];
             let fs = [f.x[l], f.y[l], f.z[l]];
             let pin = t.as_ref().filter(|_| w == 0.0).map(|t| [t.x[l], t.y[l], t.z[l]]);
+            // With drag: the target weighted toward x0 + h wind by h c against m.
+            let m = if w > 0.0 { 1.0 / w as f64 } else { 0.0 };
+            let mw = m / (m + hc).max(f64::MIN_POSITIVE);
             for c in 0..3 {
                 let x0 = xs[c] as f64;
-                sc.target[3 * i + c][l] = x0 + hd * vs[c] as f64 + hd * hd * (fs[c] * w + g[c]) as f64;
+                let inertial = x0 + hd * vs[c] as f64 + hd * hd * (fs[c] * w + g[c]) as f64;
+                let dragged = x0 + hd * wind[c] as f64;
+                sc.target[3 * i + c][l] = mw * inertial + (1.0 - mw) * dragged;
                 sc.x[3 * i + c][l] = pin.map_or(x0 + hd * vs[c] as f64, |t| t[c] as f64);
             }
         }
@@ -239,6 +260,7 @@ pub fn implicit_euler_block<const AXIAL: bool>(
             rows,
             bend,
             hd,
+            hc,
             &mut sc.grad[..n],
             Some(&mut sc.a[..n]),
         );
@@ -290,6 +312,7 @@ pub fn implicit_euler_block<const AXIAL: bool>(
                 rows,
                 bend,
                 hd,
+                hc,
                 &mut sc.grad[..n],
                 None,
             );

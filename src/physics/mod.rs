@@ -4,6 +4,7 @@
 
 pub mod absorb;
 pub mod adhesion;
+pub mod bdf2;
 pub mod clumping;
 pub mod collide;
 pub mod counting_sort;

@@ -101,10 +101,11 @@ pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -
     if wet {
         v.push(Pass::WaterGrid);
     }
-    if p.air_drag > 0.0 {
+    let explicit = integrator == Integrator::SYMPLECTIC_EULER;
+    // The implicit solve takes drag itself (implicitly, in its inertial term).
+    if p.air_drag > 0.0 && !integrator.is_implicit() {
         v.push(Pass::Drag);
     }
-    let explicit = integrator == Integrator::SYMPLECTIC_EULER;
     if explicit && has_stretch(p) {
         v.push(Pass::StretchSprings);
     }
@@ -117,9 +118,10 @@ pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -
     if hw.bridges() {
         v.push(Pass::Cohesion);
     }
-    v.push(match integrator {
-        Integrator::IMPLICIT_EULER => Pass::ImplicitSolve,
-        _ => Pass::Integrate,
+    v.push(if integrator.is_implicit() {
+        Pass::ImplicitSolve
+    } else {
+        Pass::Integrate
     });
     if integrator == Integrator::XPBD {
         v.push(Pass::ProjectConstraints);

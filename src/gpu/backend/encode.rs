@@ -7,7 +7,8 @@ use super::super::pipelines as pl;
 use super::stamps::close;
 use super::GpuBackend;
 use crate::error::Result;
-use crate::params::{Readback, VertexAttributes};
+use crate::params::{Integrator, Readback, VertexAttributes};
+use crate::physics::bdf2::Bdf2Blend;
 use crate::physics::collide::Placed;
 use crate::physics::grid::MAX_CELLS;
 use crate::timers::Stage;
@@ -87,14 +88,24 @@ impl GpuBackend {
 
     /// Uploads each substep's head transform and placed colliders (from `self.heads`, through
     /// `self.sub_bytes`: no allocation per step).
-    pub(super) fn write_substeps(&mut self) {
+    pub(super) fn write_substeps(&mut self, h: f32) {
         let nc = self.params.colliders.len();
         let bytes = &mut self.sub_bytes;
+        // BDF2's blends for the first substep and the others, as the CPU picks them.
+        let bdf2 = if self.integrator == Integrator::BDF2 {
+            self.bdf2.frame(h, self.heads.len() as u32)
+        } else {
+            (Bdf2Blend::euler(h), Bdf2Blend::euler(h))
+        };
         for (s, head) in self.heads.iter().enumerate() {
             let at = s * self.sub_stride as usize;
             let m = glam::Mat4::from(*head).to_cols_array();
+            bytes[at..at + 64].copy_from_slice(bytemuck::cast_slice(&m));
+            // The implicit solve's start blend and step.
+            let blend = if s == 0 { bdf2.0 } else { bdf2.1 };
+            let b = [blend.a, blend.b, blend.h, 1.0 / blend.h];
             let head_end = at + SUBSTEP_HEAD_BYTES as usize;
-            bytes[at..head_end].copy_from_slice(bytemuck::cast_slice(&m));
+            bytes[at + 64..head_end].copy_from_slice(bytemuck::cast_slice(&b));
             for (c, shape) in self.params.colliders.iter().enumerate() {
                 let pl: Placed = shape.place(head);
                 let rec = ColliderGpu {
@@ -115,7 +126,7 @@ impl GpuBackend {
         self.dev.check()?;
         let h = dt / self.n_sub as f32;
         crate::physics::head::substep_heads_into(from, to, &mut self.heads);
-        self.write_substeps();
+        self.write_substeps(h);
         let incoming = self.water.as_ref().map_or(0, |w| w.pending);
         self.write_params(h, incoming, to);
         let mut enc = self.dev.device.create_command_encoder(&Default::default());

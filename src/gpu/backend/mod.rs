@@ -21,6 +21,7 @@ use super::pipelines::{self as pl, SceneConsts, Slot};
 use crate::error::{Error, Result};
 use crate::groom::Groom;
 use crate::params::{Integrator, SimParams};
+use crate::physics::bdf2::Bdf2Clock;
 use crate::plan::{has_bend, pass_list, Pass, WaterDomain};
 use bridges::BridgesGpu;
 use glam::{Affine3A, Vec3};
@@ -58,6 +59,8 @@ pub struct GpuBackend {
     pub(super) wind: Vec3,
     consts: SceneConsts,
     integrator: Integrator,
+    /// BDF2's clock: which frames keep the history (the CPU backend holds the same).
+    bdf2: Bdf2Clock,
     points: u32,
     strands: u32,
     strand_first: Vec<u32>,
@@ -75,7 +78,8 @@ pub struct GpuBackend {
     /// Hair bind groups: [in = A, out = B], [in = B, out = A].
     hair_bg: [wgpu::BindGroup; 2],
     dry_hair: HairKernels,
-    /// The strand table's layout and bind group (implicit Euler only).
+    /// The strand table's (and BDF2's history's) layout and bind group (implicit Euler and
+    /// BDF2 only).
     strands_layout: Option<wgpu::BindGroupLayout>,
     strands_bg: Option<wgpu::BindGroup>,
     output: wgpu::ComputePipeline,
@@ -132,12 +136,12 @@ impl GpuBackend {
         integrator: Integrator,
         head: &Affine3A,
     ) -> Result<Self> {
-        if !matches!(integrator, Integrator::SYMPLECTIC_EULER | Integrator::IMPLICIT_EULER) {
+        if integrator == Integrator::XPBD {
             return Err(Error::Unsupported(format!(
-                "the GPU backend runs symplectic and implicit Euler; {integrator:?} runs on the CPU backend"
+                "the GPU backend runs symplectic Euler, implicit Euler and BDF2; {integrator:?} runs on the CPU backend"
             )));
         }
-        if integrator == Integrator::IMPLICIT_EULER && groom.max_strand_points() > MAX_IMPLICIT_POINTS {
+        if integrator.is_implicit() && groom.max_strand_points() > MAX_IMPLICIT_POINTS {
             return Err(Error::Unsupported(format!(
                 "the GPU's implicit solve takes strands of up to {MAX_IMPLICIT_POINTS} points (this groom has {}); \
                  longer strands run implicit Euler on the CPU backend",
@@ -215,6 +219,7 @@ impl GpuBackend {
             bend,
             max_points: rows as u32,
             iterations: params.solver_iterations,
+            bdf2: integrator == Integrator::BDF2,
         };
         let n_sub = params.substeps as usize;
         let align = dev.limits.min_uniform_buffer_offset_alignment as u64;
@@ -286,13 +291,21 @@ impl GpuBackend {
         };
         let output_bg = [mk_out(0), mk_out(1)];
         let dry_passes = pass_list(params, integrator, bend, false);
-        let strand_table = (integrator == Integrator::IMPLICIT_EULER).then(|| {
+        let strand_table = integrator.is_implicit().then(|| {
             let buf = b::buffer(d, "strand_first", groom.strand_first.len() as u64 * 4, STORAGE);
             dev.queue
                 .write_buffer(&buf, 0, bytemuck::cast_slice(&groom.strand_first));
-            let layout = pl::layout(d, "strands", &[Slot::Read]);
-            let bg = pl::bind(d, "strands", &layout, &[&buf], None);
-            (layout, bg)
+            if integrator == Integrator::BDF2 {
+                // Each point's state at the last substep's start (written before it is read).
+                let history = b::buffer(d, "bdf2_history", state_bytes, STORAGE);
+                let layout = pl::layout(d, "strands", &[Slot::Read, Slot::ReadWrite]);
+                let bg = pl::bind(d, "strands", &layout, &[&buf, &history], None);
+                (layout, bg)
+            } else {
+                let layout = pl::layout(d, "strands", &[Slot::Read]);
+                let bg = pl::bind(d, "strands", &layout, &[&buf], None);
+                (layout, bg)
+            }
         });
         let dry_hair = HairKernels::new(
             d,
@@ -310,6 +323,7 @@ impl GpuBackend {
             params: params.clone(),
             consts,
             integrator,
+            bdf2: Bdf2Clock::default(),
             points,
             strands,
             strand_first: groom.strand_first.clone(),
@@ -479,6 +493,7 @@ impl GpuBackend {
             .queue
             .write_buffer(&self.state[0], 0, bytemuck::cast_slice(&st));
         self.cur = 0;
+        self.bdf2 = Bdf2Clock::default();
         self.dev
             .queue
             .write_buffer(&self.status, 0, bytemuck::cast_slice(&[0u32, 0, u32::MAX, 0])); // no failed point

@@ -1,10 +1,14 @@
 // Pass implicit_solve (physics/implicit.rs `implicit_euler_block`): backward Euler by Newton
 // on the incremental potential, one invocation per strand, the strand's banded system in
 // private memory (f32 here; the CPU solves in f64). `hair_forces` has left the explicit forces
-// (drag, adhesion) and the new wetness in state_out, which this pass then overwrites.
+// (adhesion, cohesion) and the new wetness in state_out, which this pass then overwrites; drag
+// is implicit here, in the inertial term. The solve starts from `start_of` (prepended: the state
+// as it is, or BDF2's blend with the last substep's, physics/bdf2.rs) and takes the substep's
+// solve step `S.blend.z` (1 / it in `S.blend.w`).
 // Prepended constants: P_MAX (longest strand), ITERATIONS, HAS_FORCES, COLLIDE.
 
-// Group 1 is the water's (bound only by hair_forces); the strand table sits in group 2.
+// Group 1 is the water's (bound only by hair_forces); the strand table (and BDF2's history)
+// sits in group 2.
 @group(2) @binding(0) var<storage, read> strand_first: array<u32>;
 
 const N_MAX: u32 = 3u * P_MAX;
@@ -15,6 +19,8 @@ var<private> tgt: array<f32, N_MAX>;
 var<private> xi: array<f32, N_MAX>;
 var<private> trial: array<f32, N_MAX>;
 var<private> grad: array<f32, N_MAX>;
+// The solve's start positions (BDF2: the blend).
+var<private> x0: array<f32, N_MAX>;
 
 fn dof3(x: ptr<private, array<f32, N_MAX>>, i: u32) -> vec3<f32> {
     return vec3<f32>((*x)[3u * i], (*x)[3u * i + 1u], (*x)[3u * i + 2u]);
@@ -29,12 +35,12 @@ fn spring_terms(x: ptr<private, array<f32, N_MAX>>, base: u32, a: u32, b: u32, k
     let inv = select(0.0, 1.0 / len, ok);
     let n = d * inv;
     // Damping potential about the spring's vector at the start of the step.
-    let d0 = state_in[base + b].x.xyz - state_in[base + a].x.xyz;
+    let d0 = dof3(&x0, b) - dof3(&x0, a);
     let len0 = sqrt(dot(d0, d0));
     let n0 = select(vec3<f32>(0.0), d0 / len0, len0 > MIN_LENGTH);
     let dd = d - d0;
-    let ch = P.h * c;
-    let hh = P.h * P.h;
+    let ch = S.blend.z * c;
+    let hh = S.blend.z * S.blend.z;
     let stretch = select(0.0, len - rest, ok);
     var pdd = dd;
     var damp_e = dot(dd, dd);
@@ -74,7 +80,7 @@ fn strand_terms(x: ptr<private, array<f32, N_MAX>>, base: u32, p: u32, hess: boo
     var e = 0.0;
     for (var i = 0u; i < p; i++) {
         let w = points[base + i].inv_mass;
-        let m = select(0.0, 1.0 / w, w > 0.0);
+        let m = inertia(w);
         for (var c = 0u; c < 3u; c++) {
             let r = 3u * i + c;
             let d = (*x)[r] - tgt[r];
@@ -144,7 +150,10 @@ fn implicit_solve(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
     let n = 3u * p;
     // Inertial target, and the start iterate x + h v (pinned points on the head's target).
     for (var i = 0u; i < p; i++) {
-        let st = state_in[base + i];
+        let st = start_of(base + i, state_in[base + i]);
+        for (var c = 0u; c < 3u; c++) {
+            x0[3u * i + c] = st.x[c];
+        }
         let pt = points[base + i];
         var f = vec3<f32>(0.0);
         if (HAS_FORCES) {
@@ -154,7 +163,7 @@ fn implicit_solve(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
         for (var c = 0u; c < 3u; c++) {
             tgt[3u * i + c] = t[c];
         }
-        var x = st.x.xyz + P.h * st.v.xyz;
+        var x = st.x.xyz + S.blend.z * st.v.xyz;
         if (pt.inv_mass == 0.0) {
             x = (S.head * vec4<f32>(pt.rest, 1.0)).xyz;
         }
@@ -216,7 +225,7 @@ fn implicit_solve(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
         let idx = base + i;
         let st = state_in[idx];
         var x = dof3(&xi, i);
-        var v = (x - st.x.xyz) * P.inv_h;
+        var v = (x - dof3(&x0, i)) * S.blend.w;
         var wet = st.x.w;
         if (HAS_FORCES) {
             wet = state_out[idx].x.w;
@@ -231,7 +240,17 @@ fn implicit_solve(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
     }
 }
 
-// x~ = x + h v + h^2 (f / m + g) for a free point (pinned points: unused).
+// The inertial term's mass under implicit drag, m + h c (0 pinned).
+fn inertia(w: f32) -> f32 {
+    return select(0.0, 1.0 / w + S.blend.z * P.drag, w > 0.0);
+}
+
+// x~ = x + h v + h^2 (f / m + g) for a free point, weighted toward x + h wind by the drag's
+// share h c / (m + h c) (pinned points: unused).
 fn tgt_of(pt: Point, st: State, f: vec3<f32>) -> vec3<f32> {
-    return st.x.xyz + P.h * st.v.xyz + P.h * P.h * (f * pt.inv_mass + P.g.xyz);
+    let h = S.blend.z;
+    let inertial = st.x.xyz + h * st.v.xyz + h * h * (f * pt.inv_mass + P.g.xyz);
+    let m = select(0.0, 1.0 / pt.inv_mass, pt.inv_mass > 0.0);
+    let mw = m / max(m + h * P.drag, 1e-38);
+    return mw * inertial + (1.0 - mw) * (st.x.xyz + h * P.wind.xyz);
 }
