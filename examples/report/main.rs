@@ -10,9 +10,14 @@
 //! and time step (1/480 s to 1/15 s) on the swinging chain.
 //!
 //! Usage: cargo run --release --example report -- [--quick] [--out DIR]   (default docs/report)
-//! Writes DIR/work_precision.csv, DIR/work_precision.svg, DIR/stability.csv,
-//! DIR/stability.svg, and prints markdown tables.
+//! On the wet scenes, which are chaotic, each run's statistics (clumping, energy, strand
+//! centres) are also judged against the band of an ensemble of references with the water
+//! nudged by 1e-7 m (`ensemble.rs`).
+//!
+//! Writes DIR/work_precision.csv, DIR/work_precision.svg, DIR/ensemble.csv,
+//! DIR/stability.csv, DIR/stability.svg, and prints markdown tables.
 
+mod ensemble;
 mod svg;
 
 use std::fmt::Write as _;
@@ -81,6 +86,8 @@ struct Measure {
     stretch: f64,
     drift: f64,
     diverged: bool,
+    /// The statistics of the hair at 1 s (for the ensemble's band), unless diverged.
+    stats: Option<ensemble::Statistics>,
 }
 
 fn strains(x: &[glam::DVec3], groom: &wethair::groom::Groom) -> Vec<f64> {
@@ -133,6 +140,7 @@ fn measure(sc: &ReportScene, m: Method, substeps: u32, reference: &Reference, e_
             stretch: f64::NAN,
             drift: f64::NAN,
             diverged: true,
+            stats: None,
         };
     };
     // The runs are deterministic: the repeats only time.
@@ -157,6 +165,7 @@ fn measure(sc: &ReportScene, m: Method, substeps: u32, reference: &Reference, e_
         drift,
         // A run that stays finite but leaves the scene's reach is diverged too.
         diverged: max > 1.0,
+        stats: Some(ensemble::Statistics::of(sc, &x, sim.energy().total())),
     }
 }
 
@@ -235,6 +244,9 @@ fn main() {
     let mut csv = String::from("scene,integrator,substeps,ms_per_simulated_s,rms_error_m,max_error_m,stretch_error,energy_drift_over_MgL,diverged,reference_error_m,ms_min,ms_max\n");
     let mut body = String::new();
     let mut summary = String::from("| scene | integrator | substeps | ms per simulated s, median (min–max of 5) | RMS error (m) | max error (m) | stretch error | energy drift |\n|---|---|---|---|---|---|---|---|\n");
+    let members = if quick { 4 } else { 8 };
+    let mut ens_csv = String::from("scene,integrator,substeps,ms_per_simulated_s,clumping_m,clumping_in_band,energy_j,energy_in_band,centre_distance_m,centre_spread_m,centres_in_band,converged\n");
+    let mut ens_summary = String::from("| scene | integrator | substeps whose statistics lie in the ensemble's band | least ms per simulated s among them |\n|---|---|---|---|\n");
     for (k, sc) in scenes.iter().enumerate() {
         // The reference at h and h/2: their difference is its own error bound.
         // RK4 steps small enough that halving them moves the 1 s result by < 1e-9 m (printed).
@@ -272,11 +284,54 @@ fn main() {
             * 9.81;
         let e_scale = weight * sc.groom.max_strand_length() as f64;
         let _ = e_start;
+        // Wet scenes are chaotic: an ensemble of references with the water nudged sets the
+        // band of each statistic (examples/report/ensemble.rs); the main reference joins it.
+        let band = (!sc.water.is_empty()).then(|| {
+            let t0 = Instant::now();
+            let mut members = ensemble::run(sc, members, 1.0, 2.0 * h_ref);
+            members.push(ensemble::Statistics::of(sc, half.hair_positions(), half.energy()));
+            let band = ensemble::Band::new(&members);
+            println!(
+                "ensemble {}: {} references (water nudged by {:.0e} m): clumping {:.4e}..{:.4e} m, energy {:.6e}..{:.6e} J, strand centres spread {:.2e} m ({:.1} s)",
+                sc.name,
+                members.len(),
+                ensemble::NUDGE,
+                band.clumping.0,
+                band.clumping.1,
+                band.energy.0,
+                band.energy.1,
+                band.centre_spread,
+                t0.elapsed().as_secs_f64()
+            );
+            band
+        });
         let mut series = vec![];
         for (j, m) in METHODS.iter().enumerate() {
             let mut pts = vec![];
+            let mut converged = vec![];
             for &n in substeps {
                 let r = measure(sc, *m, n, &half, e_scale);
+                if let (Some(b), Some(st)) = (&band, &r.stats) {
+                    let v = b.judge(st);
+                    let _ = writeln!(
+                        ens_csv,
+                        "{},\"{}\",{n},{:.4},{:.6e},{},{:.8e},{},{:.3e},{:.3e},{},{}",
+                        sc.name,
+                        m.label,
+                        r.ms_per_sim_s.0,
+                        st.clumping,
+                        v.clumping,
+                        st.energy,
+                        v.energy,
+                        v.centre_distance,
+                        b.centre_spread,
+                        v.centres,
+                        v.converged()
+                    );
+                    if v.converged() {
+                        converged.push((n, r.ms_per_sim_s.0));
+                    }
+                }
                 let _ = writeln!(
                     csv,
                     "{},\"{}\",{n},{:.4},{:.3e},{:.3e},{:.3e},{:.3e},{},{ref_err:.2e},{:.4},{:.4}",
@@ -317,6 +372,25 @@ fn main() {
                     );
                 }
             }
+            if band.is_some() {
+                let least = converged.iter().map(|c| c.1).fold(f64::INFINITY, f64::min);
+                let _ = writeln!(
+                    ens_summary,
+                    "| {} | {} | {} | {} |",
+                    sc.name,
+                    m.label,
+                    if converged.is_empty() {
+                        "none".to_string()
+                    } else {
+                        converged.iter().map(|c| c.0.to_string()).collect::<Vec<_>>().join(", ")
+                    },
+                    if converged.is_empty() {
+                        "-".to_string()
+                    } else {
+                        format!("{least:.2}")
+                    }
+                );
+            }
             series.push(svg::Series {
                 label: m.label.to_string(),
                 colour: svg::COLOURS[j],
@@ -336,7 +410,9 @@ fn main() {
     }
     std::fs::write(format!("{out}/work_precision.csv"), &csv).expect("write csv");
     std::fs::write(format!("{out}/work_precision.svg"), svg::document(1560.0, 800.0, &body)).expect("write svg");
+    std::fs::write(format!("{out}/ensemble.csv"), &ens_csv).expect("write csv");
     println!("\n{summary}");
+    println!("{ens_summary}");
 
     // Stability maps.
     let mults = [0.25, 1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6];
@@ -411,7 +487,7 @@ fn main() {
     std::fs::write(format!("{out}/stability.csv"), &csv).expect("write csv");
     std::fs::write(format!("{out}/stability.svg"), svg::document(1340.0, 350.0, &body)).expect("write svg");
     println!(
-        "wrote {out}/work_precision.csv, work_precision.svg, stability.csv, stability.svg in {:.1} s",
+        "wrote {out}/work_precision.csv, work_precision.svg, ensemble.csv, stability.csv, stability.svg in {:.1} s",
         started.elapsed().as_secs_f64()
     );
 }
