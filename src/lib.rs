@@ -46,4 +46,4 @@ pub use params::{
 };
 pub use physics::collide::Shape;
 pub use physics::spring::DampingModel;
-pub use sim::{BackendInfo, Energy, Simulation, Stats};
+pub use sim::{BackendInfo, Energy, ErrorEstimate, Simulation, Stats};

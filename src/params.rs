@@ -273,6 +273,11 @@ pub struct SimParams {
     /// The wind blowing past hair and particles (calm by default); changeable every frame
     /// through [`crate::Simulation::set_wind`].
     pub wind: Wind,
+    /// The live error estimate ([`crate::Stats::error_estimate`]): 0 leaves it out (the
+    /// default); N > 0 runs every N-th strand a second time, on the CPU at twice the substeps,
+    /// and extrapolates the difference (`sim/estimate.rs`). Its cost is about `2 T / N` of a
+    /// step on T threads (64 on 2 threads: about 6%; 1: the whole groom again, twice over).
+    pub error_estimate_stride: u32,
 }
 
 impl Default for SimParams {
@@ -332,6 +337,7 @@ impl SimParams {
             readback: Readback::LATEST,
             held_water: HeldWater::OFF,
             wind: Wind::CALM,
+            error_estimate_stride: 0,
         }
     }
 

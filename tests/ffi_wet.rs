@@ -218,7 +218,8 @@ fn an_older_desc_without_the_wet_fields_runs_dry() {
 
 #[test]
 fn the_desc_grows_by_whole_fields_past_every_older_size() {
-    // Every field added since a size starts at or after it: 128 (0.1.0), 152 (material).
+    // Every field added since a size starts at or after it: 128 (0.1.0), 152 (material),
+    // 216 (0.2.0).
     let d = std::mem::MaybeUninit::<WetHairSimDesc>::zeroed();
     let base = d.as_ptr() as usize;
     let at = |p: *const u8| p as usize - base;
@@ -228,6 +229,47 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
         assert!(at(std::ptr::addr_of!((*d).held_water) as *const u8) >= 152);
         assert!(at(std::ptr::addr_of!((*d).wind) as *const u8) >= 152);
     }
-    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 216, "no padding at the end");
-    assert_eq!(std::mem::size_of::<WetHairStats>(), 104);
+    unsafe {
+        assert!(at(std::ptr::addr_of!((*d).error_estimate_stride) as *const u8) >= 216);
+    }
+    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 224, "no padding at the end");
+    assert_eq!(std::mem::size_of::<WetHairStats>(), 112);
+}
+
+/// The live error estimate through C: -1 unless `error_estimate_stride` asks for it (and for
+/// a 0.2.0 host, whose desc ends before the field), a positive figure in metres when it does.
+#[test]
+fn the_error_estimate_reaches_c_hosts() {
+    let g = paper(16);
+    for (stride, size, estimated) in [(0, 224, false), (4, 224, true), (4, 216, false)] {
+        let mut d = wet_desc(g);
+        d.held_water.enabled = 0;
+        d.error_estimate_stride = stride;
+        d.struct_size = size;
+        let mut s = null_mut();
+        assert_eq!(
+            unsafe { wethair_sim_create(&d, &mut s) },
+            WETHAIR_OK,
+            "{}",
+            last_error()
+        );
+        assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
+        let st = stats(s);
+        if estimated {
+            assert!(
+                st.error_estimate > 0.0 && st.error_estimate_max >= st.error_estimate && st.error_estimate_max < 0.01,
+                "stride {stride}: {} / {} m",
+                st.error_estimate,
+                st.error_estimate_max
+            );
+        } else {
+            assert_eq!(
+                (st.error_estimate, st.error_estimate_max),
+                (-1.0, -1.0),
+                "stride {stride}, size {size}"
+            );
+        }
+        unsafe { wethair_sim_destroy(s) };
+    }
+    unsafe { wethair_groom_destroy(g) };
 }

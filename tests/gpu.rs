@@ -1165,3 +1165,34 @@ fn wet_frames_are_bit_identical_run_after_run() {
         assert_eq!((particles, ledger), (particles_b, ledger_b));
     }
 }
+
+/// The live error estimate on the GPU backend: the shadow runs on the CPU and compares with the
+/// GPU's positions; on a dry patch it agrees with the CPU backend's estimate (their difference
+/// is the backends' parity, far below the error being estimated).
+#[test]
+fn the_error_estimate_runs_beside_the_gpu_as_on_the_cpu() {
+    let _serial = serial();
+    let sc = wethair::scenes::paper_slice(12, 0, 1.0);
+    for integrator in [wethair::Integrator::SYMPLECTIC_EULER, wethair::Integrator::BDF2] {
+        let params = SimParams {
+            integrator,
+            solver_iterations: 2,
+            error_estimate_stride: 3,
+            ..sc.params.clone()
+        };
+        let Some(mut g) = gpu(&sc.groom, params.clone()) else {
+            return;
+        };
+        let mut c = cpu(&sc.groom, params);
+        for _ in 0..30 {
+            g.step(1.0 / 60.0).unwrap();
+            c.step(1.0 / 60.0).unwrap();
+        }
+        let (eg, ec) = (g.stats().error_estimate.unwrap(), c.stats().error_estimate.unwrap());
+        let gap = max_diff(&g.positions(), &c.positions());
+        assert!(
+            (eg.rms - ec.rms).abs() <= 0.1 * ec.rms + 2.0 * gap,
+            "{integrator:?}: GPU estimate {eg:?}, CPU {ec:?}, backends {gap:.2e} m apart"
+        );
+    }
+}

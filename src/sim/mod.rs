@@ -1,5 +1,9 @@
 //! [`Simulation`]: the Rust API every front end (C ABI, examples, tests) goes through.
 
+mod estimate;
+
+pub use estimate::ErrorEstimate;
+
 pub use crate::engine::BackendInfo;
 use crate::engine::Engine;
 use crate::error::{invalid, Error, Result};
@@ -43,6 +47,10 @@ pub struct Stats {
     /// place along its strand, averaged over the quarter points (tips included), m: the
     /// clumping of long hair, which bundles along its length before its tips gather.
     pub clumping_along: f32,
+    /// How far the positions are from the exact solution of the model, m, estimated on every
+    /// N-th strand ([`SimParams::error_estimate_stride`]); `None` when off, and while water
+    /// couples strands (particles, liquid bridges: see `sim/estimate.rs`).
+    pub error_estimate: Option<ErrorEstimate>,
 }
 
 /// Per-point data in the host's order, for diagnostics that both backends share.
@@ -107,6 +115,8 @@ pub struct Simulation {
     emit_pos: Vec<Vec3>,
     emit_vel: Vec<Vec3>,
     failed: Option<Error>,
+    /// The live error estimate's shadow (none unless asked for).
+    shadow: Option<estimate::Shadow>,
 }
 
 impl Simulation {
@@ -114,14 +124,15 @@ impl Simulation {
     pub fn new(groom: &Groom, params: SimParams) -> Result<Self> {
         params.validate()?;
         let (engine, info) = crate::engine::create(groom, &params, &Affine3A::IDENTITY)?;
-        Ok(Self::with_engine(groom, params, engine, info))
+        Self::with_engine(groom, params, engine, info)
     }
 
     /// A simulation at rest under the identity head transform, on `engine`.
-    fn with_engine(groom: &Groom, params: SimParams, engine: Box<dyn Engine>, info: BackendInfo) -> Self {
+    fn with_engine(groom: &Groom, params: SimParams, engine: Box<dyn Engine>, info: BackendInfo) -> Result<Self> {
         let head = Affine3A::IDENTITY;
         let host = HostPoints::new(groom, &params);
-        Simulation {
+        let shadow = estimate::Shadow::new(groom, &params, engine.integrator())?;
+        Ok(Simulation {
             params,
             engine,
             info,
@@ -136,7 +147,8 @@ impl Simulation {
             emit_pos: Vec::new(),
             emit_vel: Vec::new(),
             failed: None,
-        }
+            shadow,
+        })
     }
 
     /// Creates a simulation on the host's own VkDevice (feature `vulkan`): the GPU backend runs
@@ -154,7 +166,7 @@ impl Simulation {
         let integrator = crate::plan::resolve_integrator(&params, groom);
         let dev = crate::gpu::vulkan::open(host)?;
         let (engine, info) = crate::engine::create_gpu(dev, groom, &params, integrator, &Affine3A::IDENTITY)?;
-        Ok(Self::with_engine(groom, params, engine, info))
+        Self::with_engine(groom, params, engine, info)
     }
 
     /// The vertex buffer as the host's Vulkan sees it, holding the last step's vertices, and
@@ -214,7 +226,11 @@ impl Simulation {
     /// Adds water particles at `pos` with velocities `vel` (empty: at rest).
     pub fn add_water(&mut self, pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
         self.check_device()?;
-        self.engine.add_water(pos, vel)
+        self.engine.add_water(pos, vel)?;
+        if let (Some(sh), false) = (&mut self.shadow, pos.is_empty()) {
+            sh.couple();
+        }
+        Ok(())
     }
 
     /// Removes every water particle (hair stays as wet as it is).
@@ -258,6 +274,9 @@ impl Simulation {
             self.engine.set_wind(self.params.wind.at(self.time));
         }
         let r = self.engine.step(dt, &self.head_prev, &self.head);
+        if let (Some(sh), true) = (&mut self.shadow, r.is_ok()) {
+            sh.step(dt, self.head);
+        }
         self.time += dt as f64;
         self.last_step_ms = t0.elapsed().as_secs_f32() * 1e3;
         self.head_prev = self.head;
@@ -281,6 +300,9 @@ impl Simulation {
     pub fn reset(&mut self) -> Result<()> {
         self.check_device()?;
         self.engine.reset(&self.head);
+        if let Some(sh) = &mut self.shadow {
+            sh.reset(self.head);
+        }
         self.head_prev = self.head;
         self.failed = None;
         self.steps = 0;
@@ -326,6 +348,9 @@ impl Simulation {
         if n == 0 {
             return Ok(());
         }
+        if let Some(sh) = &mut self.shadow {
+            sh.couple();
+        }
         match self.engine.add_water(&self.emit_pos[..n], &self.emit_vel[..n]) {
             Err(Error::Capacity(_)) => Ok(()), // a count that lags on the GPU: next frame
             r => r,
@@ -338,6 +363,9 @@ impl Simulation {
         wind.validate()?;
         self.params.wind = wind;
         self.engine.set_wind(wind.at(self.time));
+        if let Some(sh) = &mut self.shadow {
+            sh.set_wind(wind);
+        }
         Ok(())
     }
 
@@ -398,6 +426,9 @@ impl Simulation {
             )));
         }
         let r = self.engine.soak(s);
+        if let (Some(sh), true) = (&mut self.shadow, r.is_ok()) {
+            sh.soak(s);
+        }
         self.settle(r)
     }
 
@@ -501,6 +532,12 @@ impl Simulation {
             threads: c.threads,
             integrator: self.engine.integrator(),
             backend: self.engine.kind(),
+            // Particles couple strands (drips from held water among them): no estimate now.
+            error_estimate: self
+                .shadow
+                .as_ref()
+                .filter(|_| c.particles == 0)
+                .and_then(|sh| sh.estimate(&x)),
         }
     }
 

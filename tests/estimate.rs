@@ -1,0 +1,150 @@
+//! The live error estimate (`SimParams::error_estimate_stride`, `Stats::error_estimate`):
+//! against the true error from the f64 reference, on the scenes where pointwise error means
+//! something, and withheld where strands couple.
+
+use glam::Vec3;
+use wethair::reference::Reference;
+use wethair::scenes::{paper_slice, swinging_chain, ReportScene};
+use wethair::{Backend, Integrator, SimParams, Simulation};
+
+/// Runs `sc` for `t` s at 60 Hz and returns (estimated RMS error, true RMS error).
+fn estimate_and_truth(sc: &ReportScene, integrator: Integrator, substeps: u32, stride: u32, t: f64) -> (f32, f64) {
+    let params = SimParams {
+        integrator,
+        solver_iterations: 2,
+        substeps,
+        threads: 1,
+        backend: Backend::CPU,
+        error_estimate_stride: stride,
+        ..sc.params.clone()
+    };
+    let mut sim = Simulation::new(&sc.groom, params).expect("valid");
+    let frames = (t * 60.0).round() as usize;
+    for _ in 0..frames {
+        sim.step(1.0 / 60.0).expect("stable");
+    }
+    let est = sim.stats().error_estimate.expect("estimated on a dry scene").rms;
+    let mut r = Reference::new(&sc.groom, &sc.params, &sc.water);
+    r.run_to(frames as f64 / 60.0, 1.0 / 32_000.0);
+    let x = sim.positions();
+    let sq: f64 = x
+        .iter()
+        .zip(r.hair_positions())
+        .map(|(p, q)| (p.as_dvec3() - *q).length_squared())
+        .sum();
+    (est, (sq / x.len() as f64).sqrt())
+}
+
+fn assert_within_3x(what: &str, (est, truth): (f32, f64)) {
+    let ratio = est as f64 / truth;
+    assert!(
+        (1.0 / 3.0..=3.0).contains(&ratio),
+        "{what}: estimate {est:.3e} m, true RMS error {truth:.3e} m (ratio {ratio:.2})"
+    );
+}
+
+#[test]
+fn the_estimate_is_within_3x_of_the_true_error_on_the_chain() {
+    let sc = swinging_chain();
+    for (i, n) in [
+        (Integrator::SYMPLECTIC_EULER, 8),
+        (Integrator::SYMPLECTIC_EULER, 32),
+        (Integrator::IMPLICIT_EULER, 8),
+        (Integrator::BDF2, 8),
+    ] {
+        assert_within_3x(
+            &format!("chain, {i:?} at {n} substeps"),
+            estimate_and_truth(&sc, i, n, 1, 1.0),
+        );
+    }
+}
+
+#[test]
+fn the_estimate_is_within_3x_of_the_true_error_on_the_dry_patch() {
+    let sc = paper_slice(12, 0, 1.0);
+    for (i, n, stride) in [
+        (Integrator::SYMPLECTIC_EULER, 4, 1),
+        (Integrator::SYMPLECTIC_EULER, 4, 4),
+        (Integrator::IMPLICIT_EULER, 4, 1),
+        (Integrator::BDF2, 4, 1),
+    ] {
+        assert_within_3x(
+            &format!("dry patch, {i:?} at {n} substeps, every {stride}. strand"),
+            estimate_and_truth(&sc, i, n, stride, 0.5),
+        );
+    }
+}
+
+#[test]
+fn the_estimate_falls_with_the_integrators_order() {
+    // Doubling the substeps at least halves a first-order method's estimate and quarters
+    // BDF2's (symplectic Euler does better on the chain: its positions are a leapfrog's, whose
+    // only first-order error is the start, which the damping forgets).
+    let sc = swinging_chain();
+    for (i, expect) in [(Integrator::SYMPLECTIC_EULER, 2.0), (Integrator::BDF2, 4.0)] {
+        let a = estimate_and_truth(&sc, i, 32, 1, 1.0).0;
+        let b = estimate_and_truth(&sc, i, 64, 1, 1.0).0;
+        let ratio = a / b;
+        assert!(
+            ratio >= expect * 0.8,
+            "{i:?}: 32 substeps {a:.3e} m, 64 substeps {b:.3e} m: ratio {ratio:.2}, expected at least {expect}"
+        );
+    }
+}
+
+#[test]
+fn no_estimate_unless_asked_and_none_while_water_couples_strands() {
+    let sc = paper_slice(8, 0, 1.0);
+    let mut off = Simulation::new(&sc.groom, sc.params.clone()).unwrap();
+    off.step(1.0 / 60.0).unwrap();
+    assert_eq!(off.stats().error_estimate, None, "off by default");
+
+    let params = SimParams {
+        error_estimate_stride: 2,
+        ..sc.params.clone()
+    };
+    let mut sim = Simulation::new(&sc.groom, params).unwrap();
+    assert_eq!(
+        sim.stats().error_estimate.map(|e| e.rms),
+        Some(0.0),
+        "at rest, before any step, nothing is off"
+    );
+    sim.step(1.0 / 60.0).unwrap();
+    let e = sim.stats().error_estimate.expect("dry: estimated");
+    assert!(e.rms > 0.0 && e.max >= e.rms && e.max.is_finite(), "{e:?}");
+    let tip = sc.groom.positions()[5];
+    sim.add_water(&[tip + Vec3::new(0.0, 0.0, 0.003)], &[]).unwrap();
+    sim.step(1.0 / 60.0).unwrap();
+    assert_eq!(sim.stats().error_estimate, None, "water couples strands");
+    sim.clear_water().unwrap();
+    sim.step(1.0 / 60.0).unwrap();
+    assert_eq!(sim.stats().error_estimate, None, "the water's pull stays in the state");
+    sim.reset().unwrap();
+    sim.step(1.0 / 60.0).unwrap();
+    assert_eq!(
+        sim.stats().error_estimate,
+        Some(e),
+        "a reset starts the shadow over: the same first step gives the same estimate"
+    );
+}
+
+#[test]
+fn the_shadow_follows_the_head() {
+    // A moving head moves the roots of both runs; the estimate stays small (the roots follow
+    // the head exactly in both) and tracks the motion's error, not the head's displacement.
+    let sc = paper_slice(8, 0, 1.0);
+    let params = SimParams {
+        error_estimate_stride: 1,
+        substeps: 16,
+        ..sc.params.clone()
+    };
+    let mut sim = Simulation::new(&sc.groom, params).unwrap();
+    for f in 0..30 {
+        let x = 0.05 * (f as f32 * 0.2).sin();
+        sim.set_head_transform(glam::Mat4::from_translation(Vec3::new(x, 0.0, 0.0)))
+            .unwrap();
+        sim.step(1.0 / 60.0).unwrap();
+    }
+    let e = sim.stats().error_estimate.unwrap();
+    assert!(e.max < 5e-3, "{e:?}: the shadow must move with the head");
+}
