@@ -500,6 +500,14 @@ typedef struct WetHairSimDesc {
   // extrapolates the difference. Costs about 2 T / N of a step on T threads (64 on 2
   // threads: about 6%).
   uint32_t error_estimate_stride;
+  // An error budget, m (since 0.3.0; 0: off, the default): after each step the substeps
+  // double while the estimate's largest point error exceeds it and halve while half as
+  // many would keep it under half of it, between the created `substeps` (1 for the
+  // implicit integrators) and `max_substeps`. Uses the estimate (every 64th strand when
+  // `error_estimate_stride` is 0). `WetHairStats::substeps` says what it chose.
+  float tolerance;
+  // The most substeps the budget may choose, `substeps..=512`. Default 64.
+  uint32_t max_substeps;
   // Unused; keep 0 (the layout's end, so that fields added later start after it).
   uint32_t reserved4;
 } WetHairSimDesc;
@@ -574,6 +582,11 @@ typedef struct WetHairStats {
   float error_estimate;
   // The largest error over the sampled strands' points, m (-1 as `error_estimate`).
   float error_estimate_max;
+  // Since 0.3.0: the substeps the last step ran (the error budget's choice, else the
+  // desc's).
+  uint32_t substeps;
+  // Unused (the layout's end).
+  uint32_t reserved;
 } WetHairStats;
 
 // Which backend runs a simulation, on what, and why AUTO chose it.

@@ -96,6 +96,17 @@ pub trait Engine: std::fmt::Debug + Send {
     fn step(&mut self, dt: f32, from: &Affine3A, to: &Affine3A) -> Result<f32>;
     /// Back to the rest pose at `head`: zero velocity, dry, no water.
     fn reset(&mut self, head: &Affine3A);
+    /// Runs `n` substeps per step from the next step on (the error budget's choice; `n` is at
+    /// most the larger of the created substeps and `SimParams::max_substeps`).
+    fn set_substeps(&mut self, n: u32);
+    /// The positions of the points `idx` (host order) into `out` (cleared first). The default
+    /// reads every point; the CPU reads only those asked for.
+    fn positions_of(&self, idx: &[u32], out: &mut Vec<Vec3>) -> Result<()> {
+        let all = self.point_states()?;
+        out.clear();
+        out.extend(idx.iter().map(|&i| all[i as usize].0));
+        Ok(())
+    }
     /// Writes the attributes the parameters ask for, of every point, into `dst`: exactly
     /// `points * params.attributes.stride()` floats.
     fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()>;

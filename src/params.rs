@@ -278,6 +278,28 @@ pub struct SimParams {
     /// and extrapolates the difference (`sim/estimate.rs`). Its cost is about `2 T / N` of a
     /// step on T threads (64 on 2 threads: about 6%; 1: the whole groom again, twice over).
     pub error_estimate_stride: u32,
+    /// An error budget, m (0: off, the default): after each step the simulation doubles its
+    /// substeps while the estimate's largest point error exceeds this, and halves them while
+    /// even half as many would keep it below half of it (`sim/budget.rs`). Uses the estimate
+    /// (every [`DEFAULT_BUDGET_STRIDE`]-th strand when `error_estimate_stride` is 0).
+    pub tolerance: f32,
+    /// The most substeps the budget may choose (at least `substeps`, at most half of
+    /// [`MAX_SUBSTEPS`], the estimate's shadow running twice as many).
+    pub max_substeps: u32,
+}
+
+/// The estimate's stride an error budget uses when the host set none.
+pub const DEFAULT_BUDGET_STRIDE: u32 = 64;
+
+impl SimParams {
+    /// The strand stride of the error estimate: the host's, or the budget's default when a
+    /// tolerance is set without one (0: no estimate).
+    pub fn estimate_stride(&self) -> u32 {
+        match (self.error_estimate_stride, self.tolerance > 0.0) {
+            (0, true) => DEFAULT_BUDGET_STRIDE,
+            (n, _) => n,
+        }
+    }
 }
 
 impl Default for SimParams {
@@ -338,6 +360,8 @@ impl SimParams {
             held_water: HeldWater::OFF,
             wind: Wind::CALM,
             error_estimate_stride: 0,
+            tolerance: 0.0,
+            max_substeps: 64,
         }
     }
 
@@ -375,6 +399,15 @@ impl SimParams {
         check_non_negative("air drag", self.air_drag)?;
         if self.substeps == 0 || self.substeps > MAX_SUBSTEPS {
             return Err(invalid!("substeps must be 1..={MAX_SUBSTEPS}, got {}", self.substeps));
+        }
+        check_non_negative("tolerance", self.tolerance)?;
+        if self.tolerance > 0.0 && !(self.substeps..=MAX_SUBSTEPS / 2).contains(&self.max_substeps) {
+            return Err(invalid!(
+                "max_substeps must be {}..={} with a tolerance, got {}",
+                self.substeps,
+                MAX_SUBSTEPS / 2,
+                self.max_substeps
+            ));
         }
         if self.solver_iterations == 0 || self.solver_iterations > 64 {
             return Err(invalid!(

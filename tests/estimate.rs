@@ -148,3 +148,80 @@ fn the_shadow_follows_the_head() {
     let e = sim.stats().error_estimate.unwrap();
     assert!(e.max < 5e-3, "{e:?}: the shadow must move with the head");
 }
+
+/// Runs `sc` for `t` s at 60 Hz under an error budget; returns the substeps chosen at the end,
+/// the largest true point error (against the f64 reference) and the substeps seen on the way.
+fn budgeted(sc: &ReportScene, integrator: Integrator, substeps: u32, tolerance: f32, t: f64) -> (u32, f64, Vec<u32>) {
+    let params = SimParams {
+        integrator,
+        solver_iterations: 2,
+        substeps,
+        threads: 1,
+        backend: Backend::CPU,
+        tolerance,
+        max_substeps: 128,
+        error_estimate_stride: 1,
+        ..sc.params.clone()
+    };
+    let mut sim = Simulation::new(&sc.groom, params).expect("valid");
+    let frames = (t * 60.0).round() as usize;
+    let mut seen = vec![];
+    for _ in 0..frames {
+        sim.step(1.0 / 60.0).expect("stable");
+        let n = sim.stats().substeps;
+        if seen.last() != Some(&n) {
+            seen.push(n);
+        }
+    }
+    let mut r = Reference::new(&sc.groom, &sc.params, &sc.water);
+    r.run_to(frames as f64 / 60.0, 1.0 / 32_000.0);
+    let max = sim
+        .positions()
+        .iter()
+        .zip(r.hair_positions())
+        .map(|(p, q)| (p.as_dvec3() - *q).length())
+        .fold(0.0, f64::max);
+    eprintln!("{integrator:?} under {tolerance:e} m: substeps {seen:?}, largest true error {max:.3e} m");
+    (seen[seen.len() - 1], max, seen)
+}
+
+#[test]
+fn a_tight_budget_raises_the_substeps_until_the_error_fits() {
+    let sc = paper_slice(12, 0, 1.0);
+    let free = estimate_and_truth(&sc, Integrator::SYMPLECTIC_EULER, 4, 1, 1.0);
+    let tolerance = 1e-4;
+    let (n, err, seen) = budgeted(&sc, Integrator::SYMPLECTIC_EULER, 4, tolerance, 1.5);
+    assert!(n > 4, "substeps {seen:?}: the 4-substep run's error is {free:?}");
+    assert!(
+        err <= 2.0 * tolerance as f64,
+        "budget {tolerance:e} m: largest true error {err:.3e} m after choosing {seen:?}"
+    );
+}
+
+#[test]
+fn a_loose_budget_lets_an_implicit_integrator_drop_substeps() {
+    let sc = paper_slice(12, 0, 1.0);
+    let tolerance = 1e-3;
+    let (n, err, seen) = budgeted(&sc, Integrator::BDF2, 8, tolerance, 1.0);
+    assert!(n < 8, "BDF2 kept {seen:?} substeps under a {tolerance:e} m budget");
+    assert!(
+        err <= 2.0 * tolerance as f64,
+        "budget {tolerance:e} m: largest true error {err:.3e} m after choosing {seen:?}"
+    );
+}
+
+#[test]
+fn a_budget_needs_room_and_a_sane_tolerance() {
+    let sc = paper_slice(4, 0, 1.0);
+    for (tolerance, max_substeps) in [(f32::NAN, 64), (-1e-3, 64), (f32::INFINITY, 64), (1e-3, 2), (1e-3, 600)] {
+        let p = SimParams {
+            tolerance,
+            max_substeps,
+            ..sc.params.clone()
+        };
+        assert!(
+            Simulation::new(&sc.groom, p).is_err(),
+            "tolerance {tolerance}, max_substeps {max_substeps} accepted"
+        );
+    }
+}

@@ -232,8 +232,8 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
     unsafe {
         assert!(at(std::ptr::addr_of!((*d).error_estimate_stride) as *const u8) >= 216);
     }
-    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 224, "no padding at the end");
-    assert_eq!(std::mem::size_of::<WetHairStats>(), 112);
+    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 232, "no padding at the end");
+    assert_eq!(std::mem::size_of::<WetHairStats>(), 120);
 }
 
 /// The live error estimate through C: -1 unless `error_estimate_stride` asks for it (and for
@@ -241,7 +241,7 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
 #[test]
 fn the_error_estimate_reaches_c_hosts() {
     let g = paper(16);
-    for (stride, size, estimated) in [(0, 224, false), (4, 224, true), (4, 216, false)] {
+    for (stride, size, estimated) in [(0, 232, false), (4, 232, true), (4, 216, false)] {
         let mut d = wet_desc(g);
         d.held_water.enabled = 0;
         d.error_estimate_stride = stride;
@@ -272,4 +272,53 @@ fn the_error_estimate_reaches_c_hosts() {
         unsafe { wethair_sim_destroy(s) };
     }
     unsafe { wethair_groom_destroy(g) };
+}
+
+/// The error budget through C: a NaN or negative tolerance, or a cap below the substeps, is
+/// refused by name; a tight budget raises `WetHairStats::substeps` above the desc's.
+#[test]
+fn the_error_budget_reaches_c_hosts() {
+    let g = paper(16);
+    for (tolerance, max_substeps, name) in [
+        (f32::NAN, 64, "tolerance"),
+        (-1.0, 64, "tolerance"),
+        (1e-4, 2, "max_substeps"),
+    ] {
+        let mut d = wet_desc(g);
+        d.tolerance = tolerance;
+        d.max_substeps = max_substeps;
+        let mut s = null_mut();
+        assert_eq!(
+            unsafe { wethair_sim_create(&d, &mut s) },
+            WETHAIR_ERROR_INVALID_ARGUMENT
+        );
+        assert!(s.is_null() && last_error().contains(name), "{}", last_error());
+    }
+    let mut d = wet_desc(g);
+    d.held_water.enabled = 0;
+    d.integrator = wethair::Integrator::SYMPLECTIC_EULER as u32;
+    d.substeps = 4;
+    d.tolerance = 1e-5;
+    let mut s = null_mut();
+    assert_eq!(
+        unsafe { wethair_sim_create(&d, &mut s) },
+        WETHAIR_OK,
+        "{}",
+        last_error()
+    );
+    assert_eq!(stats(s).substeps, 4);
+    for _ in 0..30 {
+        assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
+    }
+    let st = stats(s);
+    assert!(
+        st.substeps > 4 && st.error_estimate > 0.0,
+        "substeps {}, estimate {}",
+        st.substeps,
+        st.error_estimate
+    );
+    unsafe {
+        wethair_sim_destroy(s);
+        wethair_groom_destroy(g);
+    }
 }

@@ -1196,3 +1196,33 @@ fn the_error_estimate_runs_beside_the_gpu_as_on_the_cpu() {
         );
     }
 }
+
+/// The error budget on the GPU backend: the substeps change between steps (the substep buffer
+/// has room for the cap) and the choice matches the CPU's, the positions staying within the
+/// dry parity tolerance of the CPU's run.
+#[test]
+fn the_error_budget_changes_gpu_substeps_as_on_the_cpu() {
+    let _serial = serial();
+    let sc = wethair::scenes::paper_slice(12, 0, 1.0);
+    let params = SimParams {
+        tolerance: 1e-4,
+        max_substeps: 32,
+        error_estimate_stride: 2,
+        ..sc.params.clone()
+    };
+    let Some(mut g) = gpu(&sc.groom, params.clone()) else {
+        return;
+    };
+    let mut c = cpu(&sc.groom, params);
+    let (mut sg, mut sc_) = (vec![], vec![]);
+    for _ in 0..60 {
+        g.step(1.0 / 60.0).unwrap();
+        c.step(1.0 / 60.0).unwrap();
+        sg.push(g.stats().substeps);
+        sc_.push(c.stats().substeps);
+    }
+    assert!(sg.iter().any(|&n| n > 4), "GPU substeps {sg:?}");
+    assert_eq!(sg, sc_, "the GPU's choices against the CPU's");
+    let gap = max_diff(&g.positions(), &c.positions());
+    assert!(gap < 1e-4, "GPU and CPU {gap:e} m apart after the same choices");
+}

@@ -88,6 +88,9 @@ struct Measure {
     diverged: bool,
     /// The statistics of the hair at 1 s (for the ensemble's band), unless diverged.
     stats: Option<ensemble::Statistics>,
+    /// The live error estimate at 1 s (every strand shadowed), m; `None` where withheld
+    /// (water couples strands) or diverged.
+    estimate: Option<f64>,
 }
 
 fn strains(x: &[glam::DVec3], groom: &wethair::groom::Groom) -> Vec<f64> {
@@ -121,9 +124,14 @@ fn measure(sc: &ReportScene, m: Method, substeps: u32, reference: &Reference, e_
         backend: Backend::CPU,
         ..sc.params.clone()
     };
-    // One run: the simulation after 1 s (None: it diverged) and its wall time in ms.
-    let run = || {
-        let mut sim = Simulation::new(&sc.groom, params.clone()).expect("valid scene");
+    // One run: the simulation after 1 s (None: it diverged) and its wall time in ms. The
+    // estimating run (every strand shadowed) gives the positions; the timed runs estimate nothing.
+    let run = |error_estimate_stride: u32| {
+        let params = SimParams {
+            error_estimate_stride,
+            ..params.clone()
+        };
+        let mut sim = Simulation::new(&sc.groom, params).expect("valid scene");
         if !sc.water.is_empty() {
             sim.add_water(&sc.water, &[]).expect("water fits");
         }
@@ -131,8 +139,9 @@ fn measure(sc: &ReportScene, m: Method, substeps: u32, reference: &Reference, e_
         let ok = (0..60).all(|_| sim.step(1.0 / 60.0).is_ok());
         (ok.then_some(sim), t0.elapsed().as_secs_f64() * 1e3)
     };
-    let (sim, first) = run();
+    let (sim, _) = run(1);
     let Some(sim) = sim else {
+        let first = run(0).1;
         return Measure {
             ms_per_sim_s: (first, first, first),
             rms: f64::NAN,
@@ -141,10 +150,11 @@ fn measure(sc: &ReportScene, m: Method, substeps: u32, reference: &Reference, e_
             drift: f64::NAN,
             diverged: true,
             stats: None,
+            estimate: None,
         };
     };
     // The runs are deterministic: the repeats only time.
-    let mut times: Vec<f64> = std::iter::once(first).chain((1..REPEATS).map(|_| run().1)).collect();
+    let mut times: Vec<f64> = (0..REPEATS).map(|_| run(0).1).collect();
     let ms_per_sim_s = spread(&mut times);
     let x: Vec<glam::DVec3> = sim.positions().iter().map(|p| p.as_dvec3()).collect();
     let err: Vec<f64> = x
@@ -166,6 +176,7 @@ fn measure(sc: &ReportScene, m: Method, substeps: u32, reference: &Reference, e_
         // A run that stays finite but leaves the scene's reach is diverged too.
         diverged: max > 1.0,
         stats: Some(ensemble::Statistics::of(sc, &x, sim.energy().total())),
+        estimate: sim.stats().error_estimate.map(|e| e.rms as f64),
     }
 }
 
@@ -241,12 +252,15 @@ fn main() {
     } else {
         &[1, 2, 4, 8, 16, 32, 64, 128]
     };
-    let mut csv = String::from("scene,integrator,substeps,ms_per_simulated_s,rms_error_m,max_error_m,stretch_error,energy_drift_over_MgL,diverged,reference_error_m,ms_min,ms_max\n");
+    let mut csv = String::from("scene,integrator,substeps,ms_per_simulated_s,rms_error_m,max_error_m,stretch_error,energy_drift_over_MgL,diverged,reference_error_m,ms_min,ms_max,estimated_rms_error_m\n");
     let mut body = String::new();
     let mut summary = String::from("| scene | integrator | substeps | ms per simulated s, median (min–max of 5) | RMS error (m) | max error (m) | stretch error | energy drift |\n|---|---|---|---|---|---|---|---|\n");
     let members = if quick { 4 } else { 8 };
     let mut ens_csv = String::from("scene,integrator,substeps,ms_per_simulated_s,clumping_m,clumping_in_band,energy_j,energy_in_band,centre_distance_m,centre_spread_m,centres_in_band,converged\n");
     let mut ens_summary = String::from("| scene | integrator | substeps whose statistics lie in the ensemble's band | least ms per simulated s among them |\n|---|---|---|---|\n");
+    // Per scene and method: runs estimated, of them within 3x of the true RMS error, and the
+    // smallest and largest estimate / true ratio.
+    let mut est_tally = std::collections::BTreeMap::new();
     for (k, sc) in scenes.iter().enumerate() {
         // The reference at h and h/2: their difference is its own error bound.
         // RK4 steps small enough that halving them moves the 1 s result by < 1e-9 m (printed).
@@ -334,7 +348,7 @@ fn main() {
                 }
                 let _ = writeln!(
                     csv,
-                    "{},\"{}\",{n},{:.4},{:.3e},{:.3e},{:.3e},{:.3e},{},{ref_err:.2e},{:.4},{:.4}",
+                    "{},\"{}\",{n},{:.4},{:.3e},{:.3e},{:.3e},{:.3e},{},{ref_err:.2e},{:.4},{:.4},{:.3e}",
                     sc.name,
                     m.label,
                     r.ms_per_sim_s.0,
@@ -344,8 +358,19 @@ fn main() {
                     r.drift,
                     r.diverged,
                     r.ms_per_sim_s.1,
-                    r.ms_per_sim_s.2
+                    r.ms_per_sim_s.2,
+                    r.estimate.unwrap_or(f64::NAN)
                 );
+                if let (Some(e), false) = (r.estimate, r.diverged) {
+                    let ratio = e / r.rms;
+                    let t = est_tally
+                        .entry((sc.name, m.label))
+                        .or_insert((0, 0, f64::INFINITY, 0.0f64));
+                    t.0 += 1;
+                    t.1 += (1.0 / 3.0..=3.0).contains(&ratio) as usize;
+                    t.2 = t.2.min(ratio);
+                    t.3 = t.3.max(ratio);
+                }
                 if !r.diverged {
                     pts.push((r.ms_per_sim_s.0, r.rms));
                 }
@@ -413,6 +438,11 @@ fn main() {
     std::fs::write(format!("{out}/ensemble.csv"), &ens_csv).expect("write csv");
     println!("\n{summary}");
     println!("{ens_summary}");
+    println!("| scene | integrator | runs estimated | within 3x of the true RMS error | estimate / true, least–most |\n|---|---|---|---|---|");
+    for ((scene, label), (n, inside, lo, hi)) in &est_tally {
+        println!("| {scene} | {label} | {n} | {inside} | {lo:.2}–{hi:.2} |");
+    }
+    println!("(wet scenes: withheld, water couples the strands)\n");
 
     // Stability maps.
     let mults = [0.25, 1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6];

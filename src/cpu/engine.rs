@@ -46,6 +46,16 @@ impl Engine for CpuBackend {
         CpuBackend::reset(self, head)
     }
 
+    fn set_substeps(&mut self, n: u32) {
+        CpuBackend::set_substeps(self, n)
+    }
+
+    fn positions_of(&self, idx: &[u32], out: &mut Vec<Vec3>) -> Result<()> {
+        out.clear();
+        out.extend(idx.iter().map(|&i| self.position_of(i as usize)));
+        Ok(())
+    }
+
     fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()> {
         let t = self.clock.start();
         CpuBackend::write_vertices(self, dst);

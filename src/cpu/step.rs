@@ -264,6 +264,23 @@ impl CpuBackend {
         }
     }
 
+    /// The position of host point `i`.
+    pub fn position_of(&self, i: usize) -> Vec3 {
+        let f = &self.lay.strand_first;
+        let s = f.partition_point(|&a| a as usize <= i) - 1;
+        let (b, l) = self.lay.lane_of(s);
+        self.state[b * self.lay.rows + i - f[s] as usize].x.get(l)
+    }
+
+    /// Runs `n` substeps per step from the next step on (allocates only when `n` grows).
+    pub fn set_substeps(&mut self, n: u32) {
+        let n_sub = n as usize;
+        self.params.substeps = n;
+        self.heads.resize(n_sub, Affine3A::IDENTITY);
+        self.placed
+            .resize(n_sub * self.params.colliders.len(), Placed::default());
+    }
+
     /// Sets the wind of the next step.
     pub fn set_wind(&mut self, wind: Vec3) {
         self.wind = wind;

@@ -277,6 +277,8 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
             water_evaporated: ledger.evaporated,
             error_estimate: st.error_estimate.map_or(-1.0, |e| e.rms),
             error_estimate_max: st.error_estimate.map_or(-1.0, |e| e.max),
+            substeps: st.substeps,
+            reserved: 0,
         });
         Ok(())
     })

@@ -46,8 +46,8 @@ sized!(
     // 0.2.0 (WetHairStats grew to 104 bytes: clumping_along, the water ledger;
     // WetHairSimDesc to 216: spring_model, material, held_water, wind)
     WetHairLoadDesc = 32,
-    // 0.3.0: WetHairSimDesc grew to 224 (error_estimate_stride), WetHairStats to 112
-    // (error_estimate, error_estimate_max)
+    // 0.3.0: WetHairSimDesc grew to 232 (error_estimate_stride, tolerance, max_substeps),
+    // WetHairStats to 120 (error_estimate, error_estimate_max, substeps)
 );
 
 impl DefStruct for WetHairSimDesc {

@@ -174,6 +174,14 @@ pub struct WetHairSimDesc {
     /// extrapolates the difference. Costs about 2 T / N of a step on T threads (64 on 2
     /// threads: about 6%).
     pub error_estimate_stride: u32,
+    /// An error budget, m (since 0.3.0; 0: off, the default): after each step the substeps
+    /// double while the estimate's largest point error exceeds it and halve while half as
+    /// many would keep it under half of it, between the created `substeps` (1 for the
+    /// implicit integrators) and `max_substeps`. Uses the estimate (every 64th strand when
+    /// `error_estimate_stride` is 0). `WetHairStats::substeps` says what it chose.
+    pub tolerance: f32,
+    /// The most substeps the budget may choose, `substeps..=512`. Default 64.
+    pub max_substeps: u32,
     /// Unused; keep 0 (the layout's end, so that fields added later start after it).
     pub reserved4: u32,
 }
@@ -352,6 +360,11 @@ pub struct WetHairStats {
     pub error_estimate: f32,
     /// The largest error over the sampled strands' points, m (-1 as `error_estimate`).
     pub error_estimate_max: f32,
+    /// Since 0.3.0: the substeps the last step ran (the error budget's choice, else the
+    /// desc's).
+    pub substeps: u32,
+    /// Unused (the layout's end).
+    pub reserved: u32,
 }
 
 /// Which backend runs a simulation, on what, and why AUTO chose it.
@@ -427,6 +440,8 @@ impl WetHairSimDesc {
             wind: p.wind.into(),
             reserved3: 0,
             error_estimate_stride: p.error_estimate_stride,
+            tolerance: p.tolerance,
+            max_substeps: p.max_substeps,
             reserved4: 0,
         }
     }
@@ -509,6 +524,8 @@ impl WetHairSimDesc {
             held_water: self.held_water.params()?,
             wind: self.wind.into(),
             error_estimate_stride: self.error_estimate_stride,
+            tolerance: self.tolerance,
+            max_substeps: self.max_substeps,
         })
     }
 }

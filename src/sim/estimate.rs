@@ -52,7 +52,7 @@ pub(super) struct Shadow {
 }
 
 /// The order of accuracy in positions of each integrator (after AUTO is resolved).
-fn order(i: Integrator) -> i32 {
+pub(super) fn order(i: Integrator) -> i32 {
     match i {
         Integrator::BDF2 => 2,
         _ => 1,
@@ -64,7 +64,7 @@ impl Shadow {
     /// estimate is off or cannot be made (bridges couple every strand; the substeps cannot
     /// double past [`MAX_SUBSTEPS`]).
     pub(super) fn new(groom: &Groom, p: &SimParams, integrator: Integrator) -> Result<Option<Shadow>> {
-        let stride = p.error_estimate_stride as usize;
+        let stride = p.estimate_stride() as usize;
         if stride == 0 || p.held_water.bridges() || p.substeps * 2 > MAX_SUBSTEPS {
             return Ok(None);
         }
@@ -89,6 +89,7 @@ impl Shadow {
             backend: Backend::CPU,
             attributes: VertexAttributes(VertexAttributes::POSITION),
             error_estimate_stride: 0,
+            tolerance: 0.0,
             ..p.clone()
         };
         let sim = Simulation::new(&sample, params)?;
@@ -110,6 +111,21 @@ impl Shadow {
         if self.sim.step(dt).is_err() {
             self.withheld = Some(Withheld::Failed);
         }
+    }
+
+    /// Runs twice `n` substeps from the next step on, as the simulation runs `n`.
+    pub(super) fn set_substeps(&mut self, n: u32) {
+        self.sim.engine.set_substeps(2 * n);
+    }
+
+    /// The host indices of the sampled points (the simulation reads its positions there).
+    pub(super) fn points(&self) -> &[u32] {
+        &self.points
+    }
+
+    /// Whether the estimate is withheld now.
+    pub(super) fn withheld(&self) -> bool {
+        self.withheld.is_some()
     }
 
     /// Water reached the simulation: strands may act on one another from now on.
@@ -138,13 +154,21 @@ impl Shadow {
     /// The estimate from the simulation's positions `x` (every point, host order), or `None`
     /// while withheld.
     pub(super) fn estimate(&self, x: &[Vec3]) -> Option<ErrorEstimate> {
-        if self.withheld.is_some() || x.is_empty() {
+        if x.is_empty() {
+            return None;
+        }
+        self.estimate_at(self.points.iter().map(|&i| x[i as usize]))
+    }
+
+    /// The estimate from the simulation's positions at the sampled points, in order.
+    pub(super) fn estimate_at(&self, x: impl Iterator<Item = Vec3>) -> Option<ErrorEstimate> {
+        if self.withheld.is_some() {
             return None;
         }
         let y = self.sim.point_states().ok()?;
         let (mut sum, mut max) = (0.0f64, 0.0f32);
-        for (&i, s) in self.points.iter().zip(&y) {
-            let d = (x[i as usize] - s.0).length();
+        for (p, s) in x.zip(&y) {
+            let d = (p - s.0).length();
             sum += d as f64 * d as f64;
             max = max.max(d);
         }

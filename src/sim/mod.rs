@@ -1,5 +1,6 @@
 //! [`Simulation`]: the Rust API every front end (C ABI, examples, tests) goes through.
 
+mod budget;
 mod estimate;
 
 pub use estimate::ErrorEstimate;
@@ -51,6 +52,9 @@ pub struct Stats {
     /// N-th strand ([`SimParams::error_estimate_stride`]); `None` when off, and while water
     /// couples strands (particles, liquid bridges: see `sim/estimate.rs`).
     pub error_estimate: Option<ErrorEstimate>,
+    /// The substeps the last step ran: the error budget's choice ([`SimParams::tolerance`]),
+    /// else [`SimParams::substeps`].
+    pub substeps: u32,
 }
 
 /// Per-point data in the host's order, for diagnostics that both backends share.
@@ -117,6 +121,13 @@ pub struct Simulation {
     failed: Option<Error>,
     /// The live error estimate's shadow (none unless asked for).
     shadow: Option<estimate::Shadow>,
+    /// The error budget (none without a tolerance) and the substeps it reads the sampled
+    /// positions into (no allocation per step once grown).
+    budget: Option<budget::Budget>,
+    budget_x: Vec<Vec3>,
+    /// Substeps of the next step, and of the last.
+    substeps: u32,
+    last_substeps: u32,
 }
 
 impl Simulation {
@@ -132,6 +143,8 @@ impl Simulation {
         let head = Affine3A::IDENTITY;
         let host = HostPoints::new(groom, &params);
         let shadow = estimate::Shadow::new(groom, &params, engine.integrator())?;
+        let budget = budget::Budget::new(&params, engine.integrator()).filter(|_| shadow.is_some());
+        let substeps = params.substeps;
         Ok(Simulation {
             params,
             engine,
@@ -148,6 +161,10 @@ impl Simulation {
             emit_vel: Vec::new(),
             failed: None,
             shadow,
+            budget,
+            budget_x: Vec::new(),
+            substeps,
+            last_substeps: substeps,
         })
     }
 
@@ -278,10 +295,36 @@ impl Simulation {
             sh.step(dt, self.head);
         }
         self.time += dt as f64;
+        self.last_substeps = self.substeps;
+        if r.is_ok() {
+            let b = self.spend_budget();
+            self.settle(b)?;
+        }
         self.last_step_ms = t0.elapsed().as_secs_f32() * 1e3;
         self.head_prev = self.head;
         self.steps += 1;
         self.settle(r).map(|v| self.max_speed = v)
+    }
+
+    /// The error budget's choice of the next step's substeps, from the estimate after this
+    /// one (reads the sampled points: on the GPU, a wait for the step).
+    fn spend_budget(&mut self) -> Result<()> {
+        let (Some(b), Some(sh)) = (&mut self.budget, &mut self.shadow) else {
+            return Ok(());
+        };
+        let err = if sh.withheld() {
+            None
+        } else {
+            self.engine.positions_of(sh.points(), &mut self.budget_x)?;
+            sh.estimate_at(self.budget_x.iter().copied()).map(|e| e.max)
+        };
+        let n = b.next(self.substeps, err);
+        if n != self.substeps {
+            self.substeps = n;
+            self.engine.set_substeps(n);
+            sh.set_substeps(n);
+        }
+        Ok(())
     }
 
     /// Records a failure so that later calls repeat it.
@@ -303,6 +346,17 @@ impl Simulation {
         if let Some(sh) = &mut self.shadow {
             sh.reset(self.head);
         }
+        if let Some(b) = &mut self.budget {
+            b.reset();
+            if self.substeps != self.params.substeps {
+                self.substeps = self.params.substeps;
+                self.engine.set_substeps(self.substeps);
+                if let Some(sh) = &mut self.shadow {
+                    sh.set_substeps(self.substeps);
+                }
+            }
+        }
+        self.last_substeps = self.substeps;
         self.head_prev = self.head;
         self.failed = None;
         self.steps = 0;
@@ -538,6 +592,7 @@ impl Simulation {
                 .as_ref()
                 .filter(|_| c.particles == 0)
                 .and_then(|sh| sh.estimate(&x)),
+            substeps: self.last_substeps,
         }
     }
 

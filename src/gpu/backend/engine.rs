@@ -53,6 +53,10 @@ impl Engine for GpuBackend {
         GpuBackend::ledger(self)
     }
 
+    fn set_substeps(&mut self, n: u32) {
+        GpuBackend::set_substeps(self, n)
+    }
+
     fn reset(&mut self, head: &Affine3A) {
         GpuBackend::reset(self, head)
     }

@@ -228,7 +228,13 @@ impl GpuBackend {
         let sub_stride = sub_size.next_multiple_of(align);
         let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
         let params_buf = b::buffer(d, "params", std::mem::size_of::<Params>() as u64, uniform);
-        let sub_buf = b::buffer(d, "substeps", sub_stride * n_sub as u64, uniform);
+        // Room for the most substeps an error budget may choose (`set_substeps`).
+        let most_sub = if params.tolerance > 0.0 {
+            n_sub.max(params.max_substeps as usize)
+        } else {
+            n_sub
+        };
+        let sub_buf = b::buffer(d, "substeps", sub_stride * most_sub as u64, uniform);
         let points_buf = b::buffer(d, "points", std::mem::size_of_val(pts.as_slice()) as u64, STORAGE);
         dev.queue.write_buffer(&points_buf, 0, bytemuck::cast_slice(&pts));
         let state = [
@@ -552,6 +558,20 @@ impl GpuBackend {
             });
         }
         true
+    }
+
+    /// Runs `n` substeps per step from the next step on (at most what `substeps` has room
+    /// for: the error budget's cap).
+    pub fn set_substeps(&mut self, n: u32) {
+        let n_sub = n as usize;
+        debug_assert!(self.sub_buf.size() >= self.sub_stride * n as u64);
+        self.n_sub = n_sub;
+        self.params.substeps = n;
+        self.heads.resize(n_sub, Affine3A::IDENTITY);
+        self.sub_bytes.resize(self.sub_stride as usize * n_sub, 0);
+        if self.stamps.is_some() {
+            self.stamps = Some(PassStamps::new(&self.dev.device, &self.dev.queue, n_sub));
+        }
     }
 
     /// Switches per-stage GPU timing on (totals from zero) or off. Returns false where the
