@@ -94,7 +94,7 @@ fn timed_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> (f64, u32
 }
 
 fn section(name: &str) -> bool {
-    const SECTIONS: [&str; 5] = ["frames", "integrators", "wet", "particles", "copy"];
+    const SECTIONS: [&str; 6] = ["frames", "integrators", "wet", "particles", "copy", "estimate"];
     // Run unless named: every section but `particles` (a quarter of an hour here).
     const BY_NAME_ONLY: [&str; 1] = ["particles"];
     let named: Vec<String> = std::env::args().filter(|a| SECTIONS.contains(&a.as_str())).collect();
@@ -119,6 +119,69 @@ fn main() {
     }
     if section("copy") {
         copy_path_cost(cores, quick);
+    }
+    if section("estimate") {
+        estimate_cost(cores, frames, warmup);
+    }
+}
+
+/// The live error estimate's cost: the paper scene dry at every core, without it and with
+/// every 128th and 32nd strand shadowed (frames interleaved: each configuration steps one frame
+/// in turn, so a slow spell of the machine lands on all of them alike).
+fn estimate_cost(cores: u32, frames: usize, warmup: usize) {
+    let paper = paper_scene(10_000, 6).expect("paper scene");
+    println!();
+    println!("Live error estimate, paper 10000x6 dry, CPU backend, {cores} threads, median of {frames} frames (interleaved):");
+    println!();
+    println!("| integrator | stride | ms/frame | over no estimate | estimate (RMS, max) after the frames, m |");
+    println!("|---|---|---|---|---|");
+    for integrator in [Integrator::SYMPLECTIC_EULER, Integrator::BDF2] {
+        let strides = [0u32, 128, 32];
+        let mut sims: Vec<Simulation> = strides
+            .iter()
+            .map(|&error_estimate_stride| {
+                Simulation::new(
+                    &paper,
+                    SimParams {
+                        integrator,
+                        solver_iterations: 2,
+                        threads: cores,
+                        error_estimate_stride,
+                        ..SimParams::paper()
+                    },
+                )
+                .expect("sim")
+            })
+            .collect();
+        let mut times = vec![Vec::with_capacity(frames); strides.len()];
+        for f in 0..warmup + frames {
+            for (sim, t) in sims.iter_mut().zip(&mut times) {
+                let t0 = Instant::now();
+                sim.step(1.0 / 60.0).expect("step");
+                if f >= warmup {
+                    t.push(t0.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+        }
+        let ms: Vec<f64> = times.into_iter().map(median).collect();
+        for (k, sim) in sims.iter().enumerate() {
+            let e = sim.stats().error_estimate;
+            println!(
+                "| {integrator:?} | {} | {:.3} | {} | {} |",
+                if strides[k] == 0 {
+                    "off".to_string()
+                } else {
+                    strides[k].to_string()
+                },
+                ms[k],
+                if k == 0 {
+                    "–".to_string()
+                } else {
+                    format!("{:+.1}%", 100.0 * (ms[k] / ms[0] - 1.0))
+                },
+                e.map_or("–".to_string(), |e| format!("{:.2e}, {:.2e}", e.rms, e.max))
+            );
+        }
     }
 }
 

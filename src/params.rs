@@ -276,7 +276,8 @@ pub struct SimParams {
     /// The live error estimate ([`crate::Stats::error_estimate`]): 0 leaves it out (the
     /// default); N > 0 runs every N-th strand a second time, on the CPU at twice the substeps,
     /// and extrapolates the difference (`sim/estimate.rs`). Its cost is about `2 T / N` of a
-    /// step on T threads (64 on 2 threads: about 6%; 1: the whole groom again, twice over).
+    /// step on T threads (128 on 2 threads: 3.5% measured with BDF2, `benches/frame.rs`
+    /// `estimate`; 1: the whole groom again, twice over).
     pub error_estimate_stride: u32,
     /// An error budget, m (0: off, the default): after each step the simulation doubles its
     /// substeps while the estimate's largest point error exceeds this, and halves them while
@@ -289,7 +290,7 @@ pub struct SimParams {
 }
 
 /// The estimate's stride an error budget uses when the host set none.
-pub const DEFAULT_BUDGET_STRIDE: u32 = 64;
+pub const DEFAULT_BUDGET_STRIDE: u32 = 128;
 
 impl SimParams {
     /// The strand stride of the error estimate: the host's, or the budget's default when a

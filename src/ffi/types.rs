@@ -171,13 +171,13 @@ pub struct WetHairSimDesc {
     pub reserved3: u32,
     /// The live error estimate (since 0.3.0; `WetHairStats::error_estimate`): 0 leaves it out
     /// (the default); N > 0 runs every N-th strand again on the CPU at twice the substeps and
-    /// extrapolates the difference. Costs about 2 T / N of a step on T threads (64 on 2
-    /// threads: about 6%).
+    /// extrapolates the difference. Costs about 2 T / N of a step on T threads (128 on 2
+    /// threads: about 3%, measured).
     pub error_estimate_stride: u32,
     /// An error budget, m (since 0.3.0; 0: off, the default): after each step the substeps
     /// double while the estimate's largest point error exceeds it and halve while half as
     /// many would keep it under half of it, between the created `substeps` (1 for the
-    /// implicit integrators) and `max_substeps`. Uses the estimate (every 64th strand when
+    /// implicit integrators) and `max_substeps`. Uses the estimate (every 128th strand when
     /// `error_estimate_stride` is 0). `WetHairStats::substeps` says what it chose.
     pub tolerance: f32,
     /// The most substeps the budget may choose, `substeps..=512`. Default 64.
