@@ -114,6 +114,28 @@ impl Reference {
         }
     }
 
+    /// The same scene with every hair point holding `saturation` of its capacity, held still
+    /// (the wet model with no flow, drip, drying or absorption): a free point weighs its dry
+    /// mass times `1 + saturation × capacity_ratio`, and every bend spring's stiffness (not its
+    /// damping) is scaled by `1 - (1 - wet_bend_ratio) × saturation` (docs/WET_MODEL.md §3-§4,
+    /// written here again in f64).
+    pub fn soaked(mut self, saturation: f64, held: &crate::params::HeldWater) -> Self {
+        let gain = 1.0 + saturation * held.capacity_ratio as f64;
+        for i in 0..self.hair {
+            if self.inv_mass[i] > 0.0 {
+                self.mass[i] *= gain;
+                self.inv_mass[i] = 1.0 / self.mass[i];
+            }
+        }
+        let limp = 1.0 - (1.0 - held.wet_bend_ratio as f64) * saturation.clamp(0.0, 1.0);
+        for sp in &mut self.springs {
+            if sp.b == sp.a + 2 {
+                sp.k *= limp;
+            }
+        }
+        self
+    }
+
     /// Accelerations of every point at `s`.
     fn accel(&self, s: &State, out: &mut [DVec3]) {
         let f = out;

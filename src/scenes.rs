@@ -61,6 +61,34 @@ pub struct ReportScene {
     pub params: crate::SimParams,
     /// Water particles, at rest, added at t = 0.
     pub water: Vec<Vec3>,
+    /// Saturation every hair point is soaked to at t = 0 (`Simulation::soak`; 0: dry). Only
+    /// with `params.held_water` on.
+    pub soak: f32,
+}
+
+impl ReportScene {
+    /// A simulation of the scene at t = 0 with `params` (the scene's, changed as the caller
+    /// likes): water added, hair soaked.
+    pub fn simulation(&self, params: crate::SimParams) -> crate::Result<crate::Simulation> {
+        let mut sim = crate::Simulation::new(&self.groom, params)?;
+        if !self.water.is_empty() {
+            sim.add_water(&self.water, &[])?;
+        }
+        if self.soak > 0.0 {
+            sim.soak(self.soak)?;
+        }
+        Ok(sim)
+    }
+
+    /// The f64 reference of the scene at t = 0 (soaked as the scene is).
+    pub fn reference(&self) -> crate::reference::Reference {
+        let r = crate::reference::Reference::new(&self.groom, &self.params, &self.water);
+        if self.soak > 0.0 {
+            r.soaked(self.soak as f64, &self.params.held_water)
+        } else {
+            r
+        }
+    }
 }
 
 /// One strand of 10 points released horizontally from a pinned root: a swinging chain.
@@ -72,7 +100,27 @@ pub fn swinging_chain() -> ReportScene {
         groom,
         params: crate::SimParams::paper(),
         water: vec![],
+        soak: 0.0,
     }
+}
+
+/// The swinging chain soaked: every point holds twice its dry mass of water (a wisp holding
+/// water between its fibres as well as in them), held still (no flow, drip, drying or
+/// absorption), with the default limpness: the wet model's weight and limp bending, the one
+/// wet case where pointwise error means something (no particles, no chaos).
+pub fn soaked_chain() -> ReportScene {
+    let mut sc = swinging_chain();
+    sc.name = "soaked_chain";
+    sc.params.held_water = crate::HeldWater {
+        capacity_ratio: 2.0,
+        dry_time: 0.0,
+        absorb_rate: 0.0,
+        bridge_tension: 0.0,
+        flow_mobility: 0.0,
+        ..crate::HeldWater::ON
+    };
+    sc.soak = 1.0;
+    sc
 }
 
 /// A patch of the paper scene: the `strands` strands whose roots are nearest the side of the
@@ -111,5 +159,6 @@ pub fn paper_slice(strands: usize, particles: usize, stiffness: f32) -> ReportSc
         groom,
         params,
         water,
+        soak: 0.0,
     }
 }

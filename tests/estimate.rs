@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use wethair::reference::Reference;
-use wethair::scenes::{paper_slice, swinging_chain, ReportScene};
+use wethair::scenes::{paper_slice, soaked_chain, swinging_chain, ReportScene};
 use wethair::{Backend, Integrator, SimParams, Simulation};
 
 /// Runs `sc` for `t` s at 60 Hz and returns (estimated RMS error, true RMS error).
@@ -224,4 +224,69 @@ fn a_budget_needs_room_and_a_sane_tolerance() {
             "tolerance {tolerance}, max_substeps {max_substeps} accepted"
         );
     }
+}
+
+/// The wet model's weight and limpness against the f64 reference (`Reference::soaked`): the
+/// soaked chain converges to it, its energy counts the water, and the estimate follows the
+/// true error there as on the dry chain.
+#[test]
+fn the_soaked_chain_converges_to_the_wet_reference_and_the_estimate_sees_it() {
+    let sc = soaked_chain();
+    let params = |integrator, substeps| SimParams {
+        integrator,
+        solver_iterations: 2,
+        substeps,
+        threads: 1,
+        backend: Backend::CPU,
+        error_estimate_stride: 1,
+        ..sc.params.clone()
+    };
+    let mut r = sc.reference();
+    r.run_to(1.0, 1.0 / 32_000.0);
+    let mut dry = swinging_chain().reference();
+    dry.run_to(1.0, 1.0 / 32_000.0);
+    let rms = |x: &[Vec3], q: &[glam::DVec3]| {
+        (x.iter()
+            .zip(q)
+            .map(|(p, q)| (p.as_dvec3() - *q).length_squared())
+            .sum::<f64>()
+            / x.len() as f64)
+            .sqrt()
+    };
+    let water_moves = rms(
+        &dry.hair_positions().iter().map(|p| p.as_vec3()).collect::<Vec<_>>(),
+        r.hair_positions(),
+    );
+    let mut errs = vec![];
+    for (i, n) in [
+        (Integrator::SYMPLECTIC_EULER, 16),
+        (Integrator::SYMPLECTIC_EULER, 64),
+        (Integrator::BDF2, 16),
+        (Integrator::BDF2, 64),
+    ] {
+        let mut sim = sc.simulation(params(i, n)).unwrap();
+        for _ in 0..60 {
+            sim.step(1.0 / 60.0).unwrap();
+        }
+        let truth = rms(&sim.positions(), r.hair_positions());
+        let est = sim.stats().error_estimate.expect("no particles: estimated").rms;
+        assert_within_3x(&format!("soaked chain, {i:?} at {n} substeps"), (est, truth));
+        // The energy counts the water's weight, as the reference's does (M g L: the wet
+        // chain's weight times its length).
+        let mgl = 9.0 * 3e-3 * 9.81 * 0.18;
+        let (e_sim, e_ref) = (sim.energy().total(), r.energy());
+        assert!(
+            (e_sim - e_ref).abs() < 0.02 * mgl,
+            "{i:?} at {n} substeps: energy {e_sim} J, reference {e_ref} J"
+        );
+        errs.push(truth);
+    }
+    assert!(
+        errs[1] < errs[0] / 2.0 && errs[3] < errs[2] / 4.0,
+        "converging: {errs:?}"
+    );
+    assert!(
+        water_moves > 10.0 * errs[1],
+        "the water's weight and limpness move the chain {water_moves:.2e} m, errors {errs:?}"
+    );
 }

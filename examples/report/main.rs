@@ -1,7 +1,8 @@
 //! The work-precision report and the stability maps (issue: "report error against run time,
 //! check numerical stability on stiff and extreme cases").
 //!
-//! For each scene (a swinging chain; a damped slice of the paper scene, dry and with 1,000x
+//! For each scene (a swinging chain; the chain soaked, holding twice its mass of water and
+//! bending limply, against a reference that carries the same water; a damped slice of the paper scene, dry and with 1,000x
 //! stiffer springs; the slice with water clumping, and the same stiffer) and each integrator,
 //! sweeps the substeps per 1/60 s frame, simulates 1 s single-threaded on the CPU backend, and
 //! measures against the f64 RK4 reference: RMS and maximum position error at t = 1 s, strand
@@ -25,7 +26,7 @@ mod svg;
 use std::fmt::Write as _;
 use std::time::Instant;
 use wethair::reference::Reference;
-use wethair::scenes::{paper_slice, swinging_chain, ReportScene};
+use wethair::scenes::{paper_slice, soaked_chain, swinging_chain, ReportScene};
 use wethair::{Backend, Integrator, SimParams, Simulation, SpringParams};
 
 /// An integrator configuration of the sweep.
@@ -133,10 +134,7 @@ fn measure(sc: &ReportScene, m: Method, substeps: u32, reference: &Reference, e_
             error_estimate_stride,
             ..params.clone()
         };
-        let mut sim = Simulation::new(&sc.groom, params).expect("valid scene");
-        if !sc.water.is_empty() {
-            sim.add_water(&sc.water, &[]).expect("water fits");
-        }
+        let mut sim = sc.simulation(params).expect("valid scene");
         let t0 = Instant::now();
         let ok = (0..60).all(|_| sim.step(1.0 / 60.0).is_ok());
         (ok.then_some(sim), t0.elapsed().as_secs_f64() * 1e3)
@@ -244,6 +242,7 @@ fn main() {
     let (strands, drops) = if quick { (20, 6) } else { (40, 10) };
     let scenes = [
         swinging_chain(),
+        soaked_chain(),
         paper_slice(strands, 0, 1.0),
         paper_slice(strands, 0, 1000.0),
         paper_slice(strands, drops, 1.0),
@@ -271,7 +270,7 @@ fn main() {
             (true, false) => 1.0 / 32_000.0,
             (false, false) => 1.0 / 128_000.0,
         };
-        let mut reference = Reference::new(&sc.groom, &sc.params, &sc.water);
+        let mut reference = sc.reference();
         let mut half = reference.clone();
         let e_start = reference.energy();
         reference.run_to(1.0, h_ref);

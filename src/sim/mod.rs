@@ -596,15 +596,28 @@ impl Simulation {
         }
     }
 
-    /// Total linear momentum of free hair points and water particles, kg·m/s.
+    /// The mass of host point `i` holding saturation `wetness`, kg: its dry mass, plus its water
+    /// under the wet model (`capacity_ratio` of the dry mass when saturated).
+    fn point_mass(&self, i: usize, wetness: f32) -> f64 {
+        let m = self.host.mass[i] as f64;
+        let hw = &self.params.held_water;
+        if hw.enabled {
+            m * (1.0 + wetness as f64 * hw.capacity_ratio as f64)
+        } else {
+            m
+        }
+    }
+
+    /// Total linear momentum of free hair points (with the water they hold) and water
+    /// particles, kg·m/s.
     pub fn momentum(&self) -> DVec3 {
         let hair: DVec3 = self
-            .velocities()
+            .point_states()
+            .unwrap_or_default()
             .iter()
-            .zip(&self.host.mass)
-            .zip(&self.host.pinned)
-            .filter(|(_, &p)| !p)
-            .map(|((v, &m), _)| v.as_dvec3() * m as f64)
+            .enumerate()
+            .filter(|(i, _)| !self.host.pinned[*i])
+            .map(|(i, p)| p.1.as_dvec3() * self.point_mass(i, p.2))
             .sum();
         let m_w = self.params.water.particle_mass as f64;
         hair + self
@@ -615,7 +628,8 @@ impl Simulation {
             .sum::<DVec3>()
     }
 
-    /// Kinetic, spring and gravitational energy (f64 sums).
+    /// Kinetic, spring and gravitational energy (f64 sums; hair points weigh the water they
+    /// hold and bend as limply as their saturation makes them).
     pub fn energy(&self) -> Energy {
         let g = self.params.gravity.as_dvec3();
         let mut e = Energy::default();
@@ -626,7 +640,7 @@ impl Simulation {
             for i in a..b.min(st.len()) {
                 let (x, v, _) = st[i];
                 if !h.pinned[i] {
-                    let m = h.mass[i] as f64;
+                    let m = self.point_mass(i, st[i].2);
                     e.kinetic += 0.5 * m * v.as_dvec3().length_squared();
                     e.gravity -= m * g.dot(x.as_dvec3());
                 }
@@ -635,7 +649,15 @@ impl Simulation {
                     e.spring += spring_energy(sp.stretch.stiffness, sp.rest[0], (st[i + 1].0 - x).length());
                 }
                 if i + 2 < b {
-                    e.spring += spring_energy(sp.bend.stiffness, sp.rest[1], (st[i + 2].0 - x).length());
+                    // Limp where wet, as the step's bend springs are (`wet::bend_scale`).
+                    let hw = &self.params.held_water;
+                    let k = if hw.limp() {
+                        let s = 0.5 * (st[i].2 + st[i + 2].2);
+                        sp.bend.stiffness * crate::physics::wet::bend_scale(s, hw.wet_bend_ratio)
+                    } else {
+                        sp.bend.stiffness
+                    };
+                    e.spring += spring_energy(k, sp.rest[1], (st[i + 2].0 - x).length());
                 }
             }
         }
