@@ -146,6 +146,13 @@ namespace WetHair
         /// <summary>Since 0.2.0: the wind at the start (calm by default).</summary>
         public WetHairWind wind;
         public uint reserved3;
+        /// <summary>Since 0.3.0: the live error estimate, every N-th strand shadowed (0: off).</summary>
+        public uint error_estimate_stride;
+        /// <summary>Since 0.3.0: the error budget, m (0: off); the substeps follow it up to
+        /// max_substeps.</summary>
+        public float tolerance;
+        public uint max_substeps;
+        public uint reserved4;
     }
 
     /// <summary>The vertex buffer's layout (byte offsets, -1 when absent).</summary>
@@ -186,6 +193,13 @@ namespace WetHair
         public ulong water_held;
         public ulong water_left;
         public ulong water_evaporated;
+        /// <summary>Since 0.3.0: the estimated position error, m, RMS and largest over the
+        /// sampled strands (-1 when off or withheld).</summary>
+        public float error_estimate;
+        public float error_estimate_max;
+        /// <summary>Since 0.3.0: the substeps the last step ran.</summary>
+        public uint substeps;
+        public uint reserved;
     }
 
     /// <summary>Which backend runs the simulation, its device, and why AUTO chose it.</summary>
