@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 . scripts/env.sh
-step() { printf '\n== %s\n' "$*"; }
+step() { printf '\n== %s (at %d s)\n' "$*" "$SECONDS"; }
 
 # One build for everything: the default features plus the Unity plugin entry points.
 features=(--features unity)
@@ -189,4 +189,4 @@ grep -q "^wet model .* ms/frame" target/main.log
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
 c_checks=37  # peer bench harness, build-tree links shared and static, 0.1.0 host, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback + wet model, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
-printf '\nwethair tests: %d passed, 0 failed\n' "$((rust + c_checks))"
+printf "\nwethair tests: %d passed, 0 failed (%d s)\n" "$((rust + c_checks))" "$SECONDS"
