@@ -166,7 +166,10 @@ enum WetHairIntegrator
   // one Gauss-Seidel sweep per substep; stiff springs act as inextensible ones.
   WETHAIR_INTEGRATOR_XPBD = 2,
   // Symplectic Euler when it is stable for the scene's stiffness, masses and substep
-  // (with a 10% margin), else implicit Euler; resolved at create.
+  // (with a 10% margin), else implicit Euler; resolved at create. Under an error budget
+  // ([`SimParams::tolerance`]) it starts with BDF2 instead of implicit Euler and moves
+  // between symplectic Euler and BDF2 frame by frame, whichever keeps the error under the
+  // tolerance at the least cost (`sim/auto.rs`; [`crate::Stats::integrator`] says which).
   WETHAIR_INTEGRATOR_AUTO = 3,
   // BDF2 on implicit Euler's solver: a backward Euler solve from the blend of this substep's
   // start and the one before (`physics/bdf2.rs`), so second order in the springs at the cost
@@ -503,8 +506,10 @@ typedef struct WetHairSimDesc {
   // An error budget, m (since 0.3.0; 0: off, the default): after each step the substeps
   // double while the estimate's largest point error exceeds it and halve while half as
   // many would keep it under half of it, between the created `substeps` (1 for the
-  // implicit integrators) and `max_substeps`. Uses the estimate (every 128th strand when
-  // `error_estimate_stride` is 0). `WetHairStats::substeps` says what it chose.
+  // implicit integrators) and `max_substeps`; with `WETHAIR_INTEGRATOR_AUTO` it also moves
+  // between symplectic Euler and BDF2, whichever is cheaper for the tolerance. Uses the
+  // estimate (every 128th strand when `error_estimate_stride` is 0).
+  // `WetHairStats::substeps` and `integrator` say what it chose.
   float tolerance;
   // The most substeps the budget may choose, `substeps..=512`. Default 64.
   uint32_t max_substeps;

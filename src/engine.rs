@@ -99,6 +99,10 @@ pub trait Engine: std::fmt::Debug + Send {
     /// Runs `n` substeps per step from the next step on (the error budget's choice; `n` is at
     /// most the larger of the created substeps and `SimParams::max_substeps`).
     fn set_substeps(&mut self, n: u32);
+    /// Runs `integrator` from the next step on, from the current state (the error budget's
+    /// AUTO choice between symplectic Euler and BDF2; BDF2 starts from a backward Euler step).
+    /// Refused where the backend cannot run it for this groom.
+    fn set_integrator(&mut self, integrator: Integrator) -> Result<()>;
     /// The positions of the points `idx` (host order) into `out` (cleared first). The default
     /// reads every point; the CPU reads only those asked for.
     fn positions_of(&self, idx: &[u32], out: &mut Vec<Vec3>) -> Result<()> {

@@ -41,7 +41,10 @@ pub enum Integrator {
     /// one Gauss-Seidel sweep per substep; stiff springs act as inextensible ones.
     XPBD = 2,
     /// Symplectic Euler when it is stable for the scene's stiffness, masses and substep
-    /// (with a 10% margin), else implicit Euler; resolved at create.
+    /// (with a 10% margin), else implicit Euler; resolved at create. Under an error budget
+    /// ([`SimParams::tolerance`]) it starts with BDF2 instead of implicit Euler and moves
+    /// between symplectic Euler and BDF2 frame by frame, whichever keeps the error under the
+    /// tolerance at the least cost (`sim/auto.rs`; [`crate::Stats::integrator`] says which).
     AUTO = 3,
     /// BDF2 on implicit Euler's solver: a backward Euler solve from the blend of this substep's
     /// start and the one before (`physics/bdf2.rs`), so second order in the springs at the cost
@@ -65,10 +68,17 @@ impl Integrator {
 /// below 4. `λ ≈ 4 k_s / m` is the largest eigenvalue of K/M for a chain (bend springs add
 /// `16 (k_b - k_s/4) / m` only when `k_b > k_s / 4`), and `γ` the same for the dampers.
 pub fn explicit_limit(stretch: SpringParams, bend: SpringParams, m: f32, h: f32) -> f32 {
-    let rate = |ks: f32, kb: f32| (4.0 * ks + 16.0 * (kb - 0.25 * ks).max(0.0)) / m;
-    let lambda = rate(stretch.stiffness, bend.stiffness);
-    let gamma = rate(stretch.damping, bend.damping);
+    let (lambda, gamma) = explicit_rates(stretch, bend, m);
     h * h * lambda + 2.0 * h * gamma
+}
+
+/// `(λ, γ)` of [`explicit_limit`]: the stiffness and damping rates, 1/s² and 1/s.
+pub fn explicit_rates(stretch: SpringParams, bend: SpringParams, m: f32) -> (f32, f32) {
+    let rate = |ks: f32, kb: f32| (4.0 * ks + 16.0 * (kb - 0.25 * ks).max(0.0)) / m;
+    (
+        rate(stretch.stiffness, bend.stiffness),
+        rate(stretch.damping, bend.damping),
+    )
 }
 
 /// How each spring's stiffness and damping follow from the parameters
@@ -281,8 +291,9 @@ pub struct SimParams {
     pub error_estimate_stride: u32,
     /// An error budget, m (0: off, the default): after each step the simulation doubles its
     /// substeps while the estimate's largest point error exceeds this, and halves them while
-    /// even half as many would keep it below half of it (`sim/budget.rs`). Uses the estimate
-    /// (every [`DEFAULT_BUDGET_STRIDE`]-th strand when `error_estimate_stride` is 0).
+    /// even half as many would keep it below half of it (`sim/budget.rs`); with
+    /// [`Integrator::AUTO`] it also picks symplectic Euler or BDF2 (`sim/auto.rs`). Uses the
+    /// estimate (every [`DEFAULT_BUDGET_STRIDE`]-th strand when `error_estimate_stride` is 0).
     pub tolerance: f32,
     /// The most substeps the budget may choose (at least `substeps`, at most half of
     /// [`MAX_SUBSTEPS`], the estimate's shadow running twice as many).

@@ -150,8 +150,16 @@ fn the_shadow_follows_the_head() {
 }
 
 /// Runs `sc` for `t` s at 60 Hz under an error budget; returns the substeps chosen at the end,
-/// the largest true point error (against the f64 reference) and the substeps seen on the way.
-fn budgeted(sc: &ReportScene, integrator: Integrator, substeps: u32, tolerance: f32, t: f64) -> (u32, f64, Vec<u32>) {
+/// the largest true point error (against the f64 reference) and the integrators and substeps
+/// seen on the way.
+fn budgeted(
+    sc: &ReportScene,
+    integrator: Integrator,
+    substeps: u32,
+    tolerance: f32,
+    max_substeps: u32,
+    t: f64,
+) -> (u32, f64, Vec<(Integrator, u32)>) {
     let params = SimParams {
         integrator,
         solver_iterations: 2,
@@ -159,7 +167,7 @@ fn budgeted(sc: &ReportScene, integrator: Integrator, substeps: u32, tolerance: 
         threads: 1,
         backend: Backend::CPU,
         tolerance,
-        max_substeps: 128,
+        max_substeps,
         error_estimate_stride: 1,
         ..sc.params.clone()
     };
@@ -168,9 +176,10 @@ fn budgeted(sc: &ReportScene, integrator: Integrator, substeps: u32, tolerance: 
     let mut seen = vec![];
     for _ in 0..frames {
         sim.step(1.0 / 60.0).expect("stable");
-        let n = sim.stats().substeps;
-        if seen.last() != Some(&n) {
-            seen.push(n);
+        let s = sim.stats();
+        let now = (s.integrator, s.substeps);
+        if seen.last() != Some(&now) {
+            seen.push(now);
         }
     }
     let mut r = Reference::new(&sc.groom, &sc.params, &sc.water);
@@ -181,8 +190,8 @@ fn budgeted(sc: &ReportScene, integrator: Integrator, substeps: u32, tolerance: 
         .zip(r.hair_positions())
         .map(|(p, q)| (p.as_dvec3() - *q).length())
         .fold(0.0, f64::max);
-    eprintln!("{integrator:?} under {tolerance:e} m: substeps {seen:?}, largest true error {max:.3e} m");
-    (seen[seen.len() - 1], max, seen)
+    eprintln!("{integrator:?} under {tolerance:e} m: chose {seen:?}, largest true error {max:.3e} m");
+    (seen[seen.len() - 1].1, max, seen)
 }
 
 #[test]
@@ -190,7 +199,7 @@ fn a_tight_budget_raises_the_substeps_until_the_error_fits() {
     let sc = paper_slice(12, 0, 1.0);
     let free = estimate_and_truth(&sc, Integrator::SYMPLECTIC_EULER, 4, 1, 1.0);
     let tolerance = 1e-4;
-    let (n, err, seen) = budgeted(&sc, Integrator::SYMPLECTIC_EULER, 4, tolerance, 1.5);
+    let (n, err, seen) = budgeted(&sc, Integrator::SYMPLECTIC_EULER, 4, tolerance, 128, 1.5);
     assert!(n > 4, "substeps {seen:?}: the 4-substep run's error is {free:?}");
     assert!(
         err <= 2.0 * tolerance as f64,
@@ -202,8 +211,47 @@ fn a_tight_budget_raises_the_substeps_until_the_error_fits() {
 fn a_loose_budget_lets_an_implicit_integrator_drop_substeps() {
     let sc = paper_slice(12, 0, 1.0);
     let tolerance = 1e-3;
-    let (n, err, seen) = budgeted(&sc, Integrator::BDF2, 8, tolerance, 1.0);
+    let (n, err, seen) = budgeted(&sc, Integrator::BDF2, 8, tolerance, 128, 1.0);
     assert!(n < 8, "BDF2 kept {seen:?} substeps under a {tolerance:e} m budget");
+    assert!(
+        err <= 2.0 * tolerance as f64,
+        "budget {tolerance:e} m: largest true error {err:.3e} m after choosing {seen:?}"
+    );
+}
+
+#[test]
+fn auto_moves_to_bdf2_where_stability_alone_makes_symplectic_euler_dear() {
+    // Springs 4000x the paper's: symplectic Euler needs about 256 substeps of a 60 Hz frame
+    // to be stable at all, BDF2 far fewer for a 1e-5 m tolerance.
+    let sc = paper_slice(12, 0, 4000.0);
+    let tolerance = 1e-4;
+    let (n, err, seen) = budgeted(&sc, Integrator::AUTO, 256, tolerance, 256, 2.0);
+    assert_eq!(
+        seen[0],
+        (Integrator::SYMPLECTIC_EULER, 256),
+        "AUTO starts symplectic where it is stable"
+    );
+    assert_eq!(seen.last().unwrap().0, Integrator::BDF2, "chose {seen:?}");
+    assert!(n <= 3, "BDF2 at {n} substeps costs more than symplectic Euler at 256");
+    assert!(
+        err <= 2.0 * tolerance as f64,
+        "budget {tolerance:e} m: largest true error {err:.3e} m after choosing {seen:?}"
+    );
+}
+
+#[test]
+fn auto_moves_to_symplectic_euler_where_it_is_stable_and_cheaper() {
+    let sc = paper_slice(12, 0, 1.0);
+    let tolerance = 1e-4;
+    // One substep: symplectic Euler is unstable there, so AUTO starts with BDF2.
+    let (n, err, seen) = budgeted(&sc, Integrator::AUTO, 1, tolerance, 128, 3.0);
+    assert_eq!(seen[0], (Integrator::BDF2, 1), "chose {seen:?}");
+    let last = *seen.last().unwrap();
+    assert_eq!(last.0, Integrator::SYMPLECTIC_EULER, "chose {seen:?}");
+    assert!(
+        n < 40,
+        "a BDF2 substep costs about 80 symplectic ones here; chose {seen:?}"
+    );
     assert!(
         err <= 2.0 * tolerance as f64,
         "budget {tolerance:e} m: largest true error {err:.3e} m after choosing {seen:?}"

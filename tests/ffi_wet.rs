@@ -317,6 +317,31 @@ fn the_error_budget_reaches_c_hosts() {
         st.substeps,
         st.error_estimate
     );
+    // AUTO under the budget: at one substep symplectic Euler is unstable on the paper groom,
+    // so it starts with BDF2, then moves to symplectic Euler, stable and far cheaper there.
+    unsafe { wethair_sim_destroy(s) };
+    d.integrator = wethair::Integrator::AUTO as u32;
+    d.substeps = 1;
+    d.tolerance = 1e-4;
+    assert_eq!(
+        unsafe { wethair_sim_create(&d, &mut s) },
+        WETHAIR_OK,
+        "{}",
+        last_error()
+    );
+    assert_eq!(stats(s).integrator, wethair::Integrator::BDF2 as u32);
+    let mut seen = vec![];
+    for _ in 0..30 {
+        assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
+        let st = stats(s);
+        seen.push((st.integrator, st.substeps));
+    }
+    assert_eq!(seen[0], (wethair::Integrator::BDF2 as u32, 1), "chose {seen:?}");
+    assert_eq!(
+        seen[29].0,
+        wethair::Integrator::SYMPLECTIC_EULER as u32,
+        "chose {seen:?}"
+    );
     unsafe {
         wethair_sim_destroy(s);
         wethair_groom_destroy(g);

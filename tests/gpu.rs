@@ -9,7 +9,7 @@ use wethair::groom::{paper_scene, Groom};
 use wethair::physics::grid::Grid;
 use wethair::plan::Pass;
 use wethair::scenes::{on_hair, Lcg};
-use wethair::{Backend, Error, Readback, SimParams, Simulation};
+use wethair::{Backend, Error, Integrator, Readback, SimParams, Simulation};
 
 /// Tests in this file run one at a time: each starts worker pools and (software) GPU devices
 /// whose threads, run side by side on a 2-core machine, starve one another.
@@ -1200,6 +1200,61 @@ fn the_error_estimate_runs_beside_the_gpu_as_on_the_cpu() {
 /// The error budget on the GPU backend: the substeps change between steps (the substep buffer
 /// has room for the cap) and the choice matches the CPU's, the positions staying within the
 /// dry parity tolerance of the CPU's run.
+#[test]
+fn auto_switches_gpu_integrators_as_on_the_cpu() {
+    let _serial = serial();
+    // Springs 4000x the paper's: symplectic Euler is stable at 256 substeps, and AUTO under a
+    // budget moves to BDF2 (tests/estimate.rs); the GPU compiles BDF2's kernels on the switch.
+    let sc = wethair::scenes::paper_slice(12, 0, 4000.0);
+    let params = SimParams {
+        integrator: Integrator::AUTO,
+        solver_iterations: 2,
+        substeps: 256,
+        tolerance: 1e-4,
+        max_substeps: 256,
+        error_estimate_stride: 2,
+        ..sc.params.clone()
+    };
+    let Some(mut g) = gpu(&sc.groom, params.clone()) else {
+        return;
+    };
+    let mut c = cpu(&sc.groom, params);
+    let (mut sg, mut sc_) = (vec![], vec![]);
+    for _ in 0..60 {
+        g.step(1.0 / 60.0).unwrap();
+        c.step(1.0 / 60.0).unwrap();
+        let (a, b) = (g.stats(), c.stats());
+        sg.push((a.integrator, a.substeps));
+        sc_.push((b.integrator, b.substeps));
+    }
+    assert_eq!(sg[0].0, Integrator::SYMPLECTIC_EULER, "GPU choices {sg:?}");
+    assert!(sg.iter().any(|c| c.0 == Integrator::BDF2), "GPU choices {sg:?}");
+    // The same choices in the same order, each within two frames of the CPU's: the GPU solves
+    // BDF2 in f32, so an estimate near a threshold may cross it a frame apart.
+    let changes = |s: &[(Integrator, u32)]| -> Vec<(usize, (Integrator, u32))> {
+        (0..s.len())
+            .filter(|&f| f == 0 || s[f] != s[f - 1])
+            .map(|f| (f, s[f]))
+            .collect()
+    };
+    let (cg, cc) = (changes(&sg), changes(&sc_));
+    assert_eq!(
+        cg.iter().map(|c| c.1).collect::<Vec<_>>(),
+        cc.iter().map(|c| c.1).collect::<Vec<_>>(),
+        "the GPU's choices against the CPU's"
+    );
+    assert!(
+        cg.iter().zip(&cc).all(|(a, b)| a.0.abs_diff(b.0) <= 2),
+        "GPU changes at {cg:?}, CPU at {cc:?}"
+    );
+    let gap = max_diff(&g.positions(), &c.positions());
+    assert!(gap < 1e-4, "GPU and CPU {gap:e} m apart after the same choices");
+    // A reset goes back to the integrator and substeps AUTO started with.
+    g.reset().unwrap();
+    g.step(1.0 / 60.0).unwrap();
+    assert_eq!((g.stats().integrator, g.stats().substeps), sg[0]);
+}
+
 #[test]
 fn the_error_budget_changes_gpu_substeps_as_on_the_cpu() {
     let _serial = serial();

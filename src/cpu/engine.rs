@@ -50,6 +50,11 @@ impl Engine for CpuBackend {
         CpuBackend::set_substeps(self, n)
     }
 
+    fn set_integrator(&mut self, integrator: Integrator) -> Result<()> {
+        CpuBackend::set_integrator(self, integrator);
+        Ok(())
+    }
+
     fn positions_of(&self, idx: &[u32], out: &mut Vec<Vec3>) -> Result<()> {
         out.clear();
         out.extend(idx.iter().map(|&i| self.position_of(i as usize)));

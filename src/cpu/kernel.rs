@@ -37,6 +37,20 @@ pub struct Worker {
     pub(super) demands: Vec<absorb::Demand>,
 }
 
+impl Worker {
+    /// Allocates the scratch `integrator` needs for blocks of `rows` rows (what is there
+    /// stays: a switch back needs it again).
+    pub(super) fn scratch_for(&mut self, integrator: Integrator, rows: usize) {
+        if integrator.is_implicit() && self.band.is_none() {
+            self.band = Some(BandScratch::new(rows));
+        }
+        if integrator == Integrator::XPBD && self.prev.is_empty() {
+            self.prev = vec![L3::ZERO; rows];
+            self.lambda = vec![[0.0; W]; 2 * rows];
+        }
+    }
+}
+
 /// Constant inputs of one substep.
 pub(super) struct Ctx<'a> {
     pub(super) integrator: Integrator,

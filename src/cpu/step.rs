@@ -12,7 +12,6 @@ use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
 use crate::physics::bdf2::{Bdf2Blend, Bdf2Clock};
 use crate::physics::collide::Placed;
-use crate::physics::implicit::BandScratch;
 use crate::physics::integrate::blown_up;
 use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::spring::DampingModel;
@@ -81,20 +80,13 @@ impl CpuBackend {
         };
         let integrator = resolve_integrator(params, groom);
         let workers = (0..threads)
-            .map(|_| Worker {
-                f: vec![L3::ZERO; lay.rows],
-                band: integrator.is_implicit().then(|| BandScratch::new(lay.rows)),
-                prev: if integrator == Integrator::XPBD {
-                    vec![L3::ZERO; lay.rows]
-                } else {
-                    Vec::new()
-                },
-                lambda: if integrator == Integrator::XPBD {
-                    vec![[0.0; W]; 2 * lay.rows]
-                } else {
-                    Vec::new()
-                },
-                ..Default::default()
+            .map(|_| {
+                let mut w = Worker {
+                    f: vec![L3::ZERO; lay.rows],
+                    ..Default::default()
+                };
+                w.scratch_for(integrator, lay.rows);
+                w
             })
             .collect();
         let n_sub = params.substeps as usize;
@@ -279,6 +271,19 @@ impl CpuBackend {
         self.heads.resize(n_sub, Affine3A::IDENTITY);
         self.placed
             .resize(n_sub * self.params.colliders.len(), Placed::default());
+    }
+
+    /// Runs `integrator` from the next step on, from the current state: gives the workers its
+    /// scratch and BDF2 its history, and starts BDF2 again from a backward Euler step.
+    pub fn set_integrator(&mut self, integrator: Integrator) {
+        for w in &mut self.workers {
+            w.scratch_for(integrator, self.lay.rows);
+        }
+        if integrator == Integrator::BDF2 && self.history.is_empty() {
+            self.history = vec![StateRow::default(); self.state.len()];
+        }
+        self.bdf2.0 = Bdf2Clock::default();
+        self.integrator = integrator;
     }
 
     /// Sets the wind of the next step.

@@ -177,8 +177,10 @@ pub struct WetHairSimDesc {
     /// An error budget, m (since 0.3.0; 0: off, the default): after each step the substeps
     /// double while the estimate's largest point error exceeds it and halve while half as
     /// many would keep it under half of it, between the created `substeps` (1 for the
-    /// implicit integrators) and `max_substeps`. Uses the estimate (every 128th strand when
-    /// `error_estimate_stride` is 0). `WetHairStats::substeps` says what it chose.
+    /// implicit integrators) and `max_substeps`; with `WETHAIR_INTEGRATOR_AUTO` it also moves
+    /// between symplectic Euler and BDF2, whichever is cheaper for the tolerance. Uses the
+    /// estimate (every 128th strand when `error_estimate_stride` is 0).
+    /// `WetHairStats::substeps` and `integrator` say what it chose.
     pub tolerance: f32,
     /// The most substeps the budget may choose, `substeps..=512`. Default 64.
     pub max_substeps: u32,

@@ -90,13 +90,21 @@ pub fn point_springs(g: &Groom, p: &SimParams) -> Vec<PointSprings> {
 /// The largest [`crate::params::explicit_limit`] over the groom's free points for substep `h`:
 /// each point with the stiffest stretch and bend spring it touches.
 pub fn explicit_limit_max(g: &Groom, springs: &[PointSprings], h: f32) -> f32 {
-    let mut worst = 0.0f32;
-    for s in 0..g.strand_count() {
+    point_rates(g, springs).fold(0.0f32, |worst, (l, c)| worst.max(h * h * l + 2.0 * h * c))
+}
+
+/// The largest stiffness and damping rates ([`crate::params::explicit_rates`]) over the
+/// groom's free points, each on its own: `h² λ + 2 h γ` with these bounds every point's
+/// [`crate::params::explicit_limit`] at any `h`.
+pub fn explicit_rates_max(g: &Groom, springs: &[PointSprings]) -> (f32, f32) {
+    point_rates(g, springs).fold((0.0f32, 0.0f32), |(a, b), (l, c)| (a.max(l), b.max(c)))
+}
+
+/// Each free point's rates, with the stiffest stretch and bend spring it touches.
+fn point_rates<'a>(g: &'a Groom, springs: &'a [PointSprings]) -> impl Iterator<Item = (f32, f32)> + 'a {
+    (0..g.strand_count()).flat_map(move |s| {
         let r = g.strand_range(s);
-        for i in r.clone() {
-            if g.pinned()[i] {
-                continue;
-            }
+        r.clone().filter(|&i| !g.pinned()[i]).map(move |i| {
             let (mut st, mut bd) = (SpringParams::default(), SpringParams::default());
             let take = |into: &mut SpringParams, sp: SpringParams| {
                 into.stiffness = into.stiffness.max(sp.stiffness);
@@ -110,8 +118,7 @@ pub fn explicit_limit_max(g: &Groom, springs: &[PointSprings], h: f32) -> f32 {
             if i >= r.start + 2 {
                 take(&mut bd, springs[i - 2].bend);
             }
-            worst = worst.max(crate::params::explicit_limit(st, bd, g.masses()[i], h));
-        }
-    }
-    worst
+            crate::params::explicit_rates(st, bd, g.masses()[i])
+        })
+    })
 }

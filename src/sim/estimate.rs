@@ -118,6 +118,15 @@ impl Shadow {
         self.sim.engine.set_substeps(2 * n);
     }
 
+    /// Runs `integrator` from the next step on, as the simulation does (AUTO's choice).
+    pub(super) fn set_integrator(&mut self, integrator: Integrator) {
+        if self.sim.engine.set_integrator(integrator).is_err() {
+            self.withheld = Some(Withheld::Failed);
+        }
+        let q = 2f32.powi(order(integrator));
+        self.richardson = q / (q - 1.0);
+    }
+
     /// The host indices of the sampled points (the simulation reads its positions there).
     pub(super) fn points(&self) -> &[u32] {
         &self.points

@@ -1,5 +1,6 @@
 //! [`Simulation`]: the Rust API every front end (C ABI, examples, tests) goes through.
 
+mod auto;
 mod budget;
 mod estimate;
 
@@ -40,7 +41,8 @@ pub struct Stats {
     pub clumping: f32,
     /// Worker threads.
     pub threads: u32,
-    /// The integrator in use (`Auto` resolved).
+    /// The integrator the last step ran (`Auto` resolved; under an error budget AUTO may
+    /// change it from one frame to the next: `sim/auto.rs`).
     pub integrator: crate::Integrator,
     /// The backend in use (`Auto` resolved).
     pub backend: Backend,
@@ -128,6 +130,8 @@ pub struct Simulation {
     /// Substeps of the next step, and of the last.
     substeps: u32,
     last_substeps: u32,
+    /// The integrator of the last step (AUTO under a budget may change it for the next).
+    last_integrator: crate::Integrator,
 }
 
 impl Simulation {
@@ -143,8 +147,12 @@ impl Simulation {
         let head = Affine3A::IDENTITY;
         let host = HostPoints::new(groom, &params);
         let shadow = estimate::Shadow::new(groom, &params, engine.integrator())?;
-        let budget = budget::Budget::new(&params, engine.integrator()).filter(|_| shadow.is_some());
+        let budget = budget::Budget::new(&params, engine.integrator(), || {
+            crate::plan::integrator::explicit_max_substep(&params, groom)
+        })
+        .filter(|_| shadow.is_some());
         let substeps = params.substeps;
+        let engine_integrator = engine.integrator();
         Ok(Simulation {
             params,
             engine,
@@ -165,6 +173,7 @@ impl Simulation {
             budget_x: Vec::new(),
             substeps,
             last_substeps: substeps,
+            last_integrator: engine_integrator,
         })
     }
 
@@ -286,6 +295,10 @@ impl Simulation {
             return Err(invalid!("dt must be finite, > 0 and <= {MAX_DT} s, got {dt}"));
         }
         let t0 = Instant::now();
+        if let Some(b) = &self.budget {
+            let n = b.before(self.engine.integrator(), self.substeps, dt);
+            self.use_substeps(n);
+        }
         self.emit(dt)?;
         if self.params.wind.blows() {
             self.engine.set_wind(self.params.wind.at(self.time));
@@ -296,8 +309,9 @@ impl Simulation {
         }
         self.time += dt as f64;
         self.last_substeps = self.substeps;
+        self.last_integrator = self.engine.integrator();
         if r.is_ok() {
-            let b = self.spend_budget();
+            let b = self.spend_budget(dt);
             self.settle(b)?;
         }
         self.last_step_ms = t0.elapsed().as_secs_f32() * 1e3;
@@ -306,9 +320,10 @@ impl Simulation {
         self.settle(r).map(|v| self.max_speed = v)
     }
 
-    /// The error budget's choice of the next step's substeps, from the estimate after this
-    /// one (reads the sampled points: on the GPU, a wait for the step).
-    fn spend_budget(&mut self) -> Result<()> {
+    /// The error budget's choice of the next step's substeps (and AUTO's integrator), from
+    /// the estimate after this one of `dt` (reads the sampled points: on the GPU, a wait for
+    /// the step).
+    fn spend_budget(&mut self, dt: f32) -> Result<()> {
         let (Some(b), Some(sh)) = (&mut self.budget, &mut self.shadow) else {
             return Ok(());
         };
@@ -318,13 +333,31 @@ impl Simulation {
             self.engine.positions_of(sh.points(), &mut self.budget_x)?;
             sh.estimate_at(self.budget_x.iter().copied()).map(|e| e.max)
         };
-        let n = b.next(self.substeps, err);
+        let cur = self.engine.integrator();
+        let c = b.next(cur, self.substeps, err, dt);
+        if c.integrator != cur {
+            match self.engine.set_integrator(c.integrator) {
+                Ok(()) => sh.set_integrator(c.integrator),
+                Err(Error::Unsupported(_)) => {
+                    b.refuse(c.integrator);
+                    return Ok(());
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        self.use_substeps(c.substeps);
+        Ok(())
+    }
+
+    /// Runs `n` substeps from the next step on (engine and shadow).
+    fn use_substeps(&mut self, n: u32) {
         if n != self.substeps {
             self.substeps = n;
             self.engine.set_substeps(n);
-            sh.set_substeps(n);
+            if let Some(sh) = &mut self.shadow {
+                sh.set_substeps(n);
+            }
         }
-        Ok(())
     }
 
     /// Records a failure so that later calls repeat it.
@@ -348,15 +381,16 @@ impl Simulation {
         }
         if let Some(b) = &mut self.budget {
             b.reset();
-            if self.substeps != self.params.substeps {
-                self.substeps = self.params.substeps;
-                self.engine.set_substeps(self.substeps);
+            if let Some(start) = b.start().filter(|&i| i != self.engine.integrator()) {
+                self.engine.set_integrator(start)?;
                 if let Some(sh) = &mut self.shadow {
-                    sh.set_substeps(self.substeps);
+                    sh.set_integrator(start);
                 }
             }
+            self.use_substeps(self.params.substeps);
         }
         self.last_substeps = self.substeps;
+        self.last_integrator = self.engine.integrator();
         self.head_prev = self.head;
         self.failed = None;
         self.steps = 0;
@@ -584,7 +618,7 @@ impl Simulation {
             clumping: mean_nearest_tip_distance(&self.tips_of(&x)),
             clumping_along: mean_nearest_along_strands(&x, &self.host.strand_first),
             threads: c.threads,
-            integrator: self.engine.integrator(),
+            integrator: self.last_integrator,
             backend: self.engine.kind(),
             // Particles couple strands (drips from held water among them): no estimate now.
             error_estimate: self

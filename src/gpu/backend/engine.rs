@@ -57,6 +57,10 @@ impl Engine for GpuBackend {
         GpuBackend::set_substeps(self, n)
     }
 
+    fn set_integrator(&mut self, integrator: Integrator) -> Result<()> {
+        GpuBackend::set_integrator(self, integrator)
+    }
+
     fn reset(&mut self, head: &Affine3A) {
         GpuBackend::reset(self, head)
     }

@@ -4,7 +4,11 @@
 use super::super::buffers::groups;
 use super::super::pipelines::{self as pl, SceneConsts};
 use super::stamps::{close, PassStamps};
-use crate::plan::Pass;
+use super::{GpuBackend, MAX_IMPLICIT_POINTS};
+use crate::error::{Error, Result};
+use crate::params::Integrator;
+use crate::physics::bdf2::Bdf2Clock;
+use crate::plan::{pass_list, Pass};
 use crate::timers::Stage;
 
 /// The hair kernels of one scene variant (dry or wet).
@@ -102,5 +106,56 @@ impl HairKernels {
             pass.dispatch_workgroups(px, py, 1);
         }
         close(stamps, pass, Stage::Blocks);
+    }
+}
+
+impl GpuBackend {
+    /// Runs `integrator` from the next step on (the error budget's AUTO choice): compiles its
+    /// hair kernels, dry and (once water exists) wet, and gives the implicit integrators their
+    /// strand table. BDF2 starts again from a backward Euler step, as after a reset. The
+    /// compile is a one-off cost of each switch (tens of milliseconds on a driver that does
+    /// not cache pipelines). XPBD, and the implicit integrators on strands longer than
+    /// [`MAX_IMPLICIT_POINTS`], are refused as at create.
+    pub fn set_integrator(&mut self, integrator: Integrator) -> Result<()> {
+        if integrator == self.integrator {
+            return Ok(());
+        }
+        if integrator == Integrator::XPBD
+            || (integrator.is_implicit() && self.consts.max_points as usize > MAX_IMPLICIT_POINTS)
+        {
+            return Err(Error::Unsupported(format!(
+                "the GPU backend cannot switch this groom to {integrator:?}"
+            )));
+        }
+        let bdf2 = integrator == Integrator::BDF2;
+        if integrator.is_implicit() && (self.strands_bg.is_none() || (bdf2 && !self.strands_history)) {
+            let (layout, bg) = super::strand_table(&self.dev, &self.strand_first, bdf2, self.points as u64 * 32);
+            self.strands_layout = Some(layout);
+            self.strands_bg = Some(bg);
+            self.strands_history = bdf2;
+        }
+        self.consts.bdf2 = bdf2;
+        let d = &self.dev.device;
+        let cohesion = self.bridges.as_ref().map(|b| &b.cohesion_layout);
+        let kernels = |wet: bool, water: Option<&wgpu::BindGroupLayout>| {
+            HairKernels::new(
+                d,
+                self.consts,
+                &pass_list(&self.params, integrator, self.bend, wet),
+                &self.hair_layout,
+                water,
+                self.strands_layout.as_ref(),
+                cohesion,
+            )
+        };
+        let dry = kernels(false, None);
+        let wet = self.water.as_ref().map(|w| kernels(true, Some(&w.hair_layout)));
+        self.dry_hair = dry;
+        if let (Some(w), Some(k)) = (&mut self.water, wet) {
+            w.wet_hair = k;
+        }
+        self.integrator = integrator;
+        self.bdf2 = Bdf2Clock::default();
+        self.dev.check()
     }
 }

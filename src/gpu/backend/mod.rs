@@ -38,6 +38,30 @@ use water::{WaterGpu, WATER_ENTRIES};
 /// NVIDIA's driver (H100, 580.159) loses the device at 96 points (16 KiB).
 pub const MAX_IMPLICIT_POINTS: usize = 64;
 
+/// The implicit solve's strand table (each strand's first point) and, for BDF2, its history
+/// (each point's state at the last substep's start, written before it is read): the group's
+/// layout and bind group.
+fn strand_table(
+    dev: &GpuDevice,
+    strand_first: &[u32],
+    bdf2: bool,
+    state_bytes: u64,
+) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+    let d = &dev.device;
+    let buf = b::buffer(d, "strand_first", strand_first.len() as u64 * 4, STORAGE);
+    dev.queue.write_buffer(&buf, 0, bytemuck::cast_slice(strand_first));
+    if bdf2 {
+        let history = b::buffer(d, "bdf2_history", state_bytes, STORAGE);
+        let layout = pl::layout(d, "strands", &[Slot::Read, Slot::ReadWrite]);
+        let bg = pl::bind(d, "strands", &layout, &[&buf, &history], None);
+        (layout, bg)
+    } else {
+        let layout = pl::layout(d, "strands", &[Slot::Read]);
+        let bg = pl::bind(d, "strands", &layout, &[&buf], None);
+        (layout, bg)
+    }
+}
+
 /// What the last status read found.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Status {
@@ -82,6 +106,8 @@ pub struct GpuBackend {
     /// BDF2 only).
     strands_layout: Option<wgpu::BindGroupLayout>,
     strands_bg: Option<wgpu::BindGroup>,
+    /// Whether the strand table carries BDF2's history.
+    strands_history: bool,
     output: wgpu::ComputePipeline,
     output_bg: [wgpu::BindGroup; 2],
     cur: usize,
@@ -297,22 +323,9 @@ impl GpuBackend {
         };
         let output_bg = [mk_out(0), mk_out(1)];
         let dry_passes = pass_list(params, integrator, bend, false);
-        let strand_table = integrator.is_implicit().then(|| {
-            let buf = b::buffer(d, "strand_first", groom.strand_first.len() as u64 * 4, STORAGE);
-            dev.queue
-                .write_buffer(&buf, 0, bytemuck::cast_slice(&groom.strand_first));
-            if integrator == Integrator::BDF2 {
-                // Each point's state at the last substep's start (written before it is read).
-                let history = b::buffer(d, "bdf2_history", state_bytes, STORAGE);
-                let layout = pl::layout(d, "strands", &[Slot::Read, Slot::ReadWrite]);
-                let bg = pl::bind(d, "strands", &layout, &[&buf, &history], None);
-                (layout, bg)
-            } else {
-                let layout = pl::layout(d, "strands", &[Slot::Read]);
-                let bg = pl::bind(d, "strands", &layout, &[&buf], None);
-                (layout, bg)
-            }
-        });
+        let strand_table = integrator
+            .is_implicit()
+            .then(|| strand_table(&dev, &groom.strand_first, integrator == Integrator::BDF2, state_bytes));
         let dry_hair = HairKernels::new(
             d,
             consts,
@@ -348,6 +361,7 @@ impl GpuBackend {
             dry_hair,
             strands_layout: strand_table.as_ref().map(|s| s.0.clone()),
             strands_bg: strand_table.map(|s| s.1),
+            strands_history: integrator == Integrator::BDF2,
             output,
             output_bg,
             cur: 0,

@@ -35,6 +35,8 @@ pub(super) struct WaterGpu {
     pub(super) pipes: Vec<wgpu::ComputePipeline>,
     /// The hair kernels of the wet scene.
     pub(super) wet_hair: HairKernels,
+    /// The water group's layout in the hair kernels (to rebuild them for another integrator).
+    pub(super) hair_layout: wgpu::BindGroupLayout,
     /// Which particle buffer holds the particles.
     pub(super) cur: usize,
     /// An upper bound on the particles held (exact after a status read).
@@ -283,6 +285,7 @@ impl GpuBackend {
             absorb,
             pipes,
             wet_hair,
+            hair_layout,
             cur: 0,
             bound: 0,
             pending: 0,
