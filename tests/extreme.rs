@@ -7,8 +7,7 @@ use wethair::groom::{paper_scene, Groom};
 use wethair::scenes::Lcg;
 use wethair::{Backend, Error, Integrator, SimParams, Simulation};
 
-mod common;
-use common::{backends, serial};
+use crate::common::{backends, serial};
 
 /// Whether `backend` runs `integrator` (the GPU does not run XPBD).
 fn runs(backend: Backend, integrator: Integrator) -> bool {

@@ -12,8 +12,7 @@ use wethair::scenes::{shower, Lcg};
 use wethair::{Backend, Error, Integrator, SimParams, Simulation};
 use WetHairResult::*;
 
-mod common;
-use common::{backends, serial};
+use crate::common::{backends, serial};
 
 fn last_error() -> String {
     unsafe { CStr::from_ptr(wethair_last_error_message()) }

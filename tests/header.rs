@@ -39,7 +39,7 @@ fn committed_header_equals_fresh_generation() {
     let committed = std::fs::read_to_string(&path).unwrap_or_default();
     assert!(
         committed == fresh,
-        "include/wethair.h is stale: run `WETHAIR_BLESS=1 cargo test --release --test header` and commit it"
+        "include/wethair.h is stale: run `WETHAIR_BLESS=1 cargo test --release --test all header::` and commit it"
     );
 }
 

@@ -8,8 +8,7 @@ use wethair::groom::{load_file_with, Groom, LoadOptions, UpAxis};
 use wethair::params::{MaterialParams, SpringModel};
 use wethair::{Backend, SimParams, Simulation};
 
-mod common;
-use common::{backends, serial};
+use crate::common::{backends, serial};
 
 fn data(name: &str) -> std::path::PathBuf {
     std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))

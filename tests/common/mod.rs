@@ -1,13 +1,13 @@
-//! Helpers shared by the test files that run both backends (`mod common;` in each).
+//! Helpers shared by the test files that run both backends (`tests/all.rs` declares it once).
 
 use wethair::groom::paper_scene;
 use wethair::{Backend, SimParams, Simulation};
 
-/// Tests in one file run one at a time: each starts worker pools and (software) GPU devices
+/// Tests that take this lock run one at a time: each starts worker pools and (software) GPU devices
 /// whose threads, run side by side on a 2-core machine, starve one another.
 static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
-/// Holds the file's lock for the test's duration.
+/// Holds the lock for the test's duration.
 pub fn serial() -> std::sync::MutexGuard<'static, ()> {
     SERIAL.lock().unwrap_or_else(|e| e.into_inner())
 }
