@@ -111,6 +111,18 @@ pub trait Engine: std::fmt::Debug + Send {
         out.extend(idx.iter().map(|&i| all[i as usize].0));
         Ok(())
     }
+    /// From now on, keeps the positions of the points `idx` (host order) at the end of each
+    /// step for [`Engine::sampled_behind`], so that reading them need not wait for the step
+    /// just submitted. Returns false where [`Engine::positions_of`] costs no wait anyway (the
+    /// CPU, the default).
+    fn sample_every_step(&mut self, _idx: &[u32]) -> bool {
+        false
+    }
+    /// The positions kept by [`Engine::sample_every_step`] at the end of the step before the
+    /// last, into `out`; `Ok(false)` when there is none (the first step since create or reset).
+    fn sampled_behind(&mut self, _out: &mut Vec<Vec3>) -> Result<bool> {
+        Ok(false)
+    }
     /// Writes the attributes the parameters ask for, of every point, into `dst`: exactly
     /// `points * params.attributes.stride()` floats.
     fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()>;

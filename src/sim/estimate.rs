@@ -49,6 +49,11 @@ pub(super) struct Shadow {
     /// `2^p / (2^p - 1)` for the integrator's order p.
     richardson: f32,
     withheld: Option<Withheld>,
+    /// The shadow's positions before its last step, kept when the simulation reads its own
+    /// one step behind (the GPU under a budget: [`Shadow::keep_behind`]).
+    behind: Option<Vec<Vec3>>,
+    /// 0..points, to read every shadow point.
+    all: Vec<u32>,
 }
 
 /// The order of accuracy in positions of each integrator (after AUTO is resolved).
@@ -96,9 +101,11 @@ impl Shadow {
         let q = 2f32.powi(order(integrator));
         Ok(Some(Shadow {
             sim: Box::new(sim),
+            all: (0..points.len() as u32).collect(),
             points,
             richardson: q / (q - 1.0),
             withheld: None,
+            behind: None,
         }))
     }
 
@@ -107,10 +114,20 @@ impl Shadow {
         if self.withheld.is_some() {
             return;
         }
+        if let Some(b) = &mut self.behind {
+            if self.sim.engine.positions_of(&self.all, b).is_err() {
+                self.withheld = Some(Withheld::Failed);
+            }
+        }
         self.sim.head = head;
         if self.sim.step(dt).is_err() {
             self.withheld = Some(Withheld::Failed);
         }
+    }
+
+    /// Keeps the shadow's positions before each step, for [`Shadow::estimate_behind`].
+    pub(super) fn keep_behind(&mut self) {
+        self.behind = Some(Vec::new());
     }
 
     /// Runs twice `n` substeps from the next step on, as the simulation runs `n`.
@@ -156,6 +173,9 @@ impl Shadow {
 
     /// Back to rest at `head`, estimating again.
     pub(super) fn reset(&mut self, head: Affine3A) {
+        if let Some(b) = &mut self.behind {
+            b.clear();
+        }
         self.sim.head = head;
         self.withheld = self.sim.reset().err().map(|_| Withheld::Failed);
     }
@@ -175,9 +195,24 @@ impl Shadow {
             return None;
         }
         let y = self.sim.point_states().ok()?;
+        self.compare(x, y.iter().map(|s| s.0))
+    }
+
+    /// The estimate one step behind: from the simulation's positions at the sampled points
+    /// at the end of the step before the last, against the shadow's then.
+    pub(super) fn estimate_behind(&self, x: &[Vec3]) -> Option<ErrorEstimate> {
+        let y = self
+            .behind
+            .as_ref()
+            .filter(|b| b.len() == x.len() && self.withheld.is_none())?;
+        self.compare(x.iter().copied(), y.iter().copied())
+    }
+
+    /// The estimate from the simulation's positions `x` and the shadow's `y`, point by point.
+    fn compare(&self, x: impl Iterator<Item = Vec3>, y: impl Iterator<Item = Vec3>) -> Option<ErrorEstimate> {
         let (mut sum, mut max) = (0.0f64, 0.0f32);
-        for (p, s) in x.zip(&y) {
-            let d = (p - s.0).length();
+        for (p, s) in x.zip(y) {
+            let d = (p - s).length();
             sum += d as f64 * d as f64;
             max = max.max(d);
         }

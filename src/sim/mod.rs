@@ -127,6 +127,9 @@ pub struct Simulation {
     /// positions into (no allocation per step once grown).
     budget: Option<budget::Budget>,
     budget_x: Vec<Vec3>,
+    /// Whether the budget reads the sampled points one step behind (the GPU: no wait for the
+    /// step just submitted; `Engine::sample_every_step`).
+    budget_behind: bool,
     /// Substeps of the next step, and of the last.
     substeps: u32,
     last_substeps: u32,
@@ -143,14 +146,21 @@ impl Simulation {
     }
 
     /// A simulation at rest under the identity head transform, on `engine`.
-    fn with_engine(groom: &Groom, params: SimParams, engine: Box<dyn Engine>, info: BackendInfo) -> Result<Self> {
+    fn with_engine(groom: &Groom, params: SimParams, mut engine: Box<dyn Engine>, info: BackendInfo) -> Result<Self> {
         let head = Affine3A::IDENTITY;
         let host = HostPoints::new(groom, &params);
-        let shadow = estimate::Shadow::new(groom, &params, engine.integrator())?;
+        let mut shadow = estimate::Shadow::new(groom, &params, engine.integrator())?;
         let budget = budget::Budget::new(&params, engine.integrator(), || {
             crate::plan::integrator::explicit_max_substep(&params, groom)
         })
         .filter(|_| shadow.is_some());
+        let budget_behind = match (&budget, &mut shadow) {
+            (Some(_), Some(sh)) if engine.sample_every_step(sh.points()) => {
+                sh.keep_behind();
+                true
+            }
+            _ => false,
+        };
         let substeps = params.substeps;
         let engine_integrator = engine.integrator();
         Ok(Simulation {
@@ -171,6 +181,7 @@ impl Simulation {
             shadow,
             budget,
             budget_x: Vec::new(),
+            budget_behind,
             substeps,
             last_substeps: substeps,
             last_integrator: engine_integrator,
@@ -329,6 +340,13 @@ impl Simulation {
         };
         let err = if sh.withheld() {
             None
+        } else if self.budget_behind {
+            // The step before the last, which the device has finished: no wait for this one.
+            if self.engine.sampled_behind(&mut self.budget_x)? {
+                sh.estimate_behind(&self.budget_x).map(|e| e.max)
+            } else {
+                None
+            }
         } else {
             self.engine.positions_of(sh.points(), &mut self.budget_x)?;
             sh.estimate_at(self.budget_x.iter().copied()).map(|e| e.max)

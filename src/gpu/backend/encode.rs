@@ -267,10 +267,12 @@ impl GpuBackend {
             self.settle(k);
             self.encode_copy(&mut enc, k);
         }
+        self.encode_sample(&mut enc);
         self.submit(enc);
         if deferred {
             self.map(((self.frame % 2) as usize, self.frame));
         }
+        self.map_sample();
         if let Some(k) = ring_slot {
             let s = &mut self.status_ring[k];
             s.frame = Some(self.frame);

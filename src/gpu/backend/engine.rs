@@ -61,6 +61,15 @@ impl Engine for GpuBackend {
         GpuBackend::set_integrator(self, integrator)
     }
 
+    fn sample_every_step(&mut self, idx: &[u32]) -> bool {
+        GpuBackend::sample_every_step(self, idx);
+        true
+    }
+
+    fn sampled_behind(&mut self, out: &mut Vec<Vec3>) -> Result<bool> {
+        GpuBackend::sampled_behind(self, out)
+    }
+
     fn reset(&mut self, head: &Affine3A) {
         GpuBackend::reset(self, head)
     }

@@ -11,6 +11,7 @@ mod engine;
 mod held;
 mod kernels;
 mod readback;
+mod sample;
 mod share;
 mod stamps;
 mod water;
@@ -130,6 +131,8 @@ pub struct GpuBackend {
     status_ring: Vec<Staging>,
     frame: u64,
     last: Status,
+    /// The error budget's sampled points, copied every step (only under a budget).
+    sample: Option<sample::Sample>,
     /// Whether the vertex buffer holds the current state.
     vertices_current: bool,
     /// GPU timestamps around each step's compute pass (only once asked for).
@@ -378,6 +381,7 @@ impl GpuBackend {
             frame: 0,
             last: Status::default(),
             vertices_current: false,
+            sample: None,
             timing: None,
             stamps: None,
             heads: vec![*head; n_sub],
@@ -545,6 +549,7 @@ impl GpuBackend {
                 s.ready.store(false, Ordering::Release);
             }
         }
+        self.reset_sample();
         self.vertices_current = false;
     }
 

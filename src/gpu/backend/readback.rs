@@ -34,6 +34,32 @@ impl Staging {
             ready: Arc::default(),
         }
     }
+
+    /// Maps the buffer for reading once the work submitted so far is done, as holding `frame`.
+    pub(super) fn map(&mut self, frame: u64) {
+        self.frame = Some(frame);
+        let ready = self.ready.clone();
+        self.buf.map_async(wgpu::MapMode::Read, .., move |r| {
+            // A failed map leaves `ready` false; the reader then reports the device error.
+            if r.is_ok() {
+                ready.store(true, Ordering::Release);
+            }
+        });
+    }
+
+    /// Unmaps the buffer if it holds a frame (waiting for its map to finish first), so that a
+    /// copy may write it again.
+    pub(super) fn settle(&mut self, dev: &wgpu::Device) {
+        if self.frame.take().is_some() {
+            while !self.ready.load(Ordering::Acquire) {
+                if dev.poll(wgpu::PollType::wait_indefinitely()).is_err() {
+                    break;
+                }
+            }
+            self.buf.unmap();
+            self.ready.store(false, Ordering::Release);
+        }
+    }
 }
 
 impl GpuBackend {
@@ -54,16 +80,7 @@ impl GpuBackend {
 
     /// Unmaps staging slot `k` if it still holds an older frame.
     pub(super) fn settle(&mut self, k: usize) {
-        let s = &mut self.staging[k];
-        if s.frame.take().is_some() {
-            while !s.ready.load(Ordering::Acquire) {
-                if self.dev.device.poll(wgpu::PollType::wait_indefinitely()).is_err() {
-                    break;
-                }
-            }
-            s.buf.unmap();
-            s.ready.store(false, Ordering::Release);
-        }
+        self.staging[k].settle(&self.dev.device);
     }
 
     pub(super) fn encode_copy(&self, enc: &mut wgpu::CommandEncoder, k: usize) {
@@ -76,15 +93,7 @@ impl GpuBackend {
     }
 
     pub(super) fn map(&mut self, (k, frame): (usize, u64)) {
-        let s = &mut self.staging[k];
-        s.frame = Some(frame);
-        let ready = s.ready.clone();
-        s.buf.map_async(wgpu::MapMode::Read, .., move |r| {
-            // A failed map leaves `ready` false; the wait below then reports the device error.
-            if r.is_ok() {
-                ready.store(true, Ordering::Release);
-            }
-        });
+        self.staging[k].map(frame);
     }
 
     /// Waits until slot `k` is mapped; then decodes its status.
