@@ -8,7 +8,7 @@
 //!
 //! Run: `cargo bench --bench frame` (full, about a minute), or `-- --quick` (fewer frames).
 //! Name sections to run only those: `-- --quick wet copy` (sections: `frames`, `integrators`,
-//! `wet`, `particles`, `copy`).
+//! `wet`, `particles`, `copy`, `estimate`, `auto`).
 //!
 //! `particles` (run only when named: `-- --quick particles`, about seven minutes here) times the
 //! water's cost against the particle count (0 to 1,000,000) on the paper scene and a
@@ -94,7 +94,7 @@ fn timed_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> (f64, u32
 }
 
 fn section(name: &str) -> bool {
-    const SECTIONS: [&str; 6] = ["frames", "integrators", "wet", "particles", "copy", "estimate"];
+    const SECTIONS: [&str; 7] = ["frames", "integrators", "wet", "particles", "copy", "estimate", "auto"];
     // Run unless named: every section but `particles` (a quarter of an hour here).
     const BY_NAME_ONLY: [&str; 1] = ["particles"];
     let named: Vec<String> = std::env::args().filter(|a| SECTIONS.contains(&a.as_str())).collect();
@@ -122,6 +122,71 @@ fn main() {
     }
     if section("estimate") {
         estimate_cost(cores, frames, warmup);
+    }
+    if section("auto") {
+        auto_cost(cores, frames);
+    }
+}
+
+/// AUTO under an error budget against fixed integrators on a stiff patch (1,000 strands of
+/// the paper scene, springs 4000x the paper's: symplectic Euler needs 256 substeps of a
+/// 60 Hz frame to be stable). Frames interleaved; timed after 3 s, once AUTO has settled.
+fn auto_cost(cores: u32, frames: usize) {
+    let sc = wethair::scenes::paper_slice(1000, 0, 4000.0);
+    println!();
+    println!(
+        "AUTO under a 1e-4 m budget, paper patch 1000x6 at 4000x stiffness, CPU backend, {cores} threads, median of {frames} frames after 3 s (interleaved):"
+    );
+    println!();
+    println!("| run | ms/frame | chose (frame: integrator x substeps) | estimate (RMS, max), m |");
+    println!("|---|---|---|---|");
+    let runs = [
+        ("symplectic Euler x256", Integrator::SYMPLECTIC_EULER, 256, 0.0),
+        ("BDF2 x1, fixed", Integrator::BDF2, 1, 0.0),
+        ("AUTO, tolerance 1e-4 m", Integrator::AUTO, 256, 1e-4f32),
+    ];
+    let mut sims: Vec<Simulation> = runs
+        .iter()
+        .map(|&(_, integrator, substeps, tolerance)| {
+            let p = SimParams {
+                integrator,
+                solver_iterations: 2,
+                substeps,
+                tolerance,
+                max_substeps: 256,
+                error_estimate_stride: 128,
+                threads: cores,
+                backend: wethair::Backend::CPU,
+                ..sc.params.clone()
+            };
+            Simulation::new(&sc.groom, p).expect("sim")
+        })
+        .collect();
+    let mut times = vec![Vec::with_capacity(frames); runs.len()];
+    let mut chose = vec![vec![]; runs.len()];
+    for f in 0..180 + frames {
+        for (k, sim) in sims.iter_mut().enumerate() {
+            let t0 = Instant::now();
+            sim.step(1.0 / 60.0).expect("step");
+            if f >= 180 {
+                times[k].push(t0.elapsed().as_secs_f64() * 1e3);
+            }
+            let s = sim.stats();
+            if chose[k].last().map(|c: &(usize, Integrator, u32)| (c.1, c.2)) != Some((s.integrator, s.substeps)) {
+                chose[k].push((f, s.integrator, s.substeps));
+            }
+        }
+    }
+    for (k, sim) in sims.iter().enumerate() {
+        let c: Vec<String> = chose[k].iter().map(|(f, i, n)| format!("{f}: {i:?} x{n}")).collect();
+        let e = sim.stats().error_estimate;
+        println!(
+            "| {} | {:.3} | {} | {} |",
+            runs[k].0,
+            median(std::mem::take(&mut times[k])),
+            c.join(", "),
+            e.map_or("–".to_string(), |e| format!("{:.2e}, {:.2e}", e.rms, e.max))
+        );
     }
 }
 
