@@ -1200,6 +1200,27 @@ fn the_error_estimate_runs_beside_the_gpu_as_on_the_cpu() {
 /// The error budget on the GPU backend: the substeps change between steps (the substep buffer
 /// has room for the cap) and the choice matches the CPU's, the positions staying within the
 /// dry parity tolerance of the CPU's run.
+/// Runs `params` under a budget on the GPU (none: no adapter, allowed unless required) and the
+/// CPU side by side for `frames` 60 Hz frames; returns both and each frame's choices.
+#[allow(clippy::type_complexity)]
+fn budget_side_by_side(
+    groom: &Groom,
+    params: SimParams,
+    frames: usize,
+) -> Option<(Simulation, Simulation, Vec<(Integrator, u32)>, Vec<(Integrator, u32)>)> {
+    let mut g = gpu(groom, params.clone())?;
+    let mut c = cpu(groom, params);
+    let (mut sg, mut sc) = (vec![], vec![]);
+    for _ in 0..frames {
+        g.step(1.0 / 60.0).unwrap();
+        c.step(1.0 / 60.0).unwrap();
+        let (a, b) = (g.stats(), c.stats());
+        sg.push((a.integrator, a.substeps));
+        sc.push((b.integrator, b.substeps));
+    }
+    Some((g, c, sg, sc))
+}
+
 /// Each change of (integrator, substeps) in a run of per-frame choices, with its frame.
 fn changes(s: &[(Integrator, u32)]) -> Vec<(usize, (Integrator, u32))> {
     (0..s.len())
@@ -1239,18 +1260,9 @@ fn auto_switches_gpu_integrators_as_on_the_cpu() {
         error_estimate_stride: 2,
         ..sc.params.clone()
     };
-    let Some(mut g) = gpu(&sc.groom, params.clone()) else {
+    let Some((mut g, c, sg, sc_)) = budget_side_by_side(&sc.groom, params, 60) else {
         return;
     };
-    let mut c = cpu(&sc.groom, params);
-    let (mut sg, mut sc_) = (vec![], vec![]);
-    for _ in 0..60 {
-        g.step(1.0 / 60.0).unwrap();
-        c.step(1.0 / 60.0).unwrap();
-        let (a, b) = (g.stats(), c.stats());
-        sg.push((a.integrator, a.substeps));
-        sc_.push((b.integrator, b.substeps));
-    }
     assert_eq!(sg[0].0, Integrator::SYMPLECTIC_EULER, "GPU choices {sg:?}");
     assert!(sg.iter().any(|c| c.0 == Integrator::BDF2), "GPU choices {sg:?}");
     // The switch itself is the same, within two frames. The substeps BDF2 settles on may
@@ -1281,18 +1293,9 @@ fn the_error_budget_changes_gpu_substeps_as_on_the_cpu() {
         error_estimate_stride: 2,
         ..sc.params.clone()
     };
-    let Some(mut g) = gpu(&sc.groom, params.clone()) else {
+    let Some((g, c, sg, sc_)) = budget_side_by_side(&sc.groom, params, 60) else {
         return;
     };
-    let mut c = cpu(&sc.groom, params);
-    let (mut sg, mut sc_) = (vec![], vec![]);
-    for _ in 0..60 {
-        g.step(1.0 / 60.0).unwrap();
-        c.step(1.0 / 60.0).unwrap();
-        let (a, b) = (g.stats(), c.stats());
-        sg.push((a.integrator, a.substeps));
-        sc_.push((b.integrator, b.substeps));
-    }
     assert!(sg.iter().any(|&(_, n)| n > 4), "GPU substeps {sg:?}");
     assert_same_choices(&sg, &sc_);
     let gap = max_diff(&g.positions(), &c.positions());
