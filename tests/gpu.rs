@@ -1284,6 +1284,62 @@ fn auto_switches_gpu_integrators_as_on_the_cpu() {
 }
 
 #[test]
+fn the_gpu_refuses_autos_bdf2_past_64_points_and_keeps_symplectic_euler() {
+    let _serial = serial();
+    // The paper slice's strands drawn out to 65 points (the GPU's implicit solve holds at most
+    // 64 in private memory), springs 4000x: AUTO under a budget asks for BDF2 at the first
+    // settled frame, as on the CPU; the GPU refuses it, and the budget stays with symplectic
+    // Euler at the substeps that keep it stable.
+    let sc = wethair::scenes::paper_slice(4, 0, 4000.0);
+    let src = sc.groom.positions();
+    let mut pos = Vec::new();
+    for s in 0..4 {
+        let p = &src[s * 6..s * 6 + 6];
+        pos.extend_from_slice(p);
+        let step = p[5] - p[4];
+        pos.extend((1..=59).map(|k| p[5] + step * k as f32));
+    }
+    let groom = Groom::new(pos, &[65; 4], None, None, 1e-3).unwrap();
+    let mut params = SimParams {
+        integrator: Integrator::AUTO,
+        solver_iterations: 2,
+        tolerance: 1e-4,
+        error_estimate_stride: 2,
+        ..sc.params.clone()
+    };
+    let h = wethair::plan::integrator::explicit_max_substep(&params, &groom);
+    params.substeps = ((1.0 / 60.0) / h).ceil() as u32;
+    params.max_substeps = params.substeps;
+    assert!(
+        params.substeps >= 200,
+        "{} substeps: BDF2 would not look cheaper",
+        params.substeps
+    );
+    let Some((g, c, sg, sc_)) = budget_side_by_side(&groom, params.clone(), 12) else {
+        return;
+    };
+    assert!(
+        sc_.iter().any(|c| c.0 == Integrator::BDF2),
+        "the CPU moves to BDF2: {sc_:?}"
+    );
+    let stay = (Integrator::SYMPLECTIC_EULER, params.substeps);
+    assert!(sg.iter().all(|&c| c == stay), "the GPU stays at {stay:?}: {sg:?}");
+    assert!(g.positions().iter().all(|p| p.is_finite()));
+    // The refusal is the GPU's: it says so when asked for BDF2 outright.
+    let asked = SimParams {
+        integrator: Integrator::BDF2,
+        backend: Backend::GPU,
+        tolerance: 0.0,
+        ..params
+    };
+    match Simulation::new(&groom, asked) {
+        Err(Error::Unsupported(m)) => assert!(m.contains("64"), "{m}"),
+        other => panic!("BDF2 on 65-point strands on the GPU: {other:?}"),
+    }
+    drop(c);
+}
+
+#[test]
 fn the_error_budget_changes_gpu_substeps_as_on_the_cpu() {
     let _serial = serial();
     let sc = wethair::scenes::paper_slice(12, 0, 1.0);

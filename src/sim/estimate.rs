@@ -51,8 +51,14 @@ pub(super) struct Shadow {
     withheld: Option<Withheld>,
     /// The shadow's positions before its last step, kept when the simulation reads its own
     /// one step behind (the GPU under a budget: [`Shadow::keep_behind`]).
-    behind: Option<Vec<Vec3>>,
-    /// 0..points, to read every shadow point.
+    behind: Option<Behind>,
+}
+
+/// The shadow's positions one step behind, and the indices that read them all.
+#[derive(Debug)]
+struct Behind {
+    x: Vec<Vec3>,
+    /// 0..points.
     all: Vec<u32>,
 }
 
@@ -101,7 +107,6 @@ impl Shadow {
         let q = 2f32.powi(order(integrator));
         Ok(Some(Shadow {
             sim: Box::new(sim),
-            all: (0..points.len() as u32).collect(),
             points,
             richardson: q / (q - 1.0),
             withheld: None,
@@ -115,7 +120,7 @@ impl Shadow {
             return;
         }
         if let Some(b) = &mut self.behind {
-            if self.sim.engine.positions_of(&self.all, b).is_err() {
+            if self.sim.engine.positions_of(&b.all, &mut b.x).is_err() {
                 self.withheld = Some(Withheld::Failed);
             }
         }
@@ -127,7 +132,10 @@ impl Shadow {
 
     /// Keeps the shadow's positions before each step, for [`Shadow::estimate_behind`].
     pub(super) fn keep_behind(&mut self) {
-        self.behind = Some(Vec::new());
+        self.behind = Some(Behind {
+            x: Vec::new(),
+            all: (0..self.points.len() as u32).collect(),
+        });
     }
 
     /// Runs twice `n` substeps from the next step on, as the simulation runs `n`.
@@ -174,7 +182,7 @@ impl Shadow {
     /// Back to rest at `head`, estimating again.
     pub(super) fn reset(&mut self, head: Affine3A) {
         if let Some(b) = &mut self.behind {
-            b.clear();
+            b.x.clear();
         }
         self.sim.head = head;
         self.withheld = self.sim.reset().err().map(|_| Withheld::Failed);
@@ -204,8 +212,8 @@ impl Shadow {
         let y = self
             .behind
             .as_ref()
-            .filter(|b| b.len() == x.len() && self.withheld.is_none())?;
-        self.compare(x.iter().copied(), y.iter().copied())
+            .filter(|b| b.x.len() == x.len() && self.withheld.is_none())?;
+        self.compare(x.iter().copied(), y.x.iter().copied())
     }
 
     /// The estimate from the simulation's positions `x` and the shadow's `y`, point by point.
