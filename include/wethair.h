@@ -513,9 +513,36 @@ typedef struct WetHairSimDesc {
   float tolerance;
   // The most substeps the budget may choose, `substeps..=512`. Default 64.
   uint32_t max_substeps;
-  // Unused; keep 0 (the layout's end, so that fields added later start after it).
+  // Unused; keep 0. A 232-byte layout (0.3.0) ended here.
   uint32_t reserved4;
+  // Fixed-step updates (since 0.4.0; `wethair_sim_advance`): the step, s, in (0, 1]; 0
+  // (the default) turns them off, and `wethair_sim_advance` then steps by the frame time as
+  // given. With a fixed step, hosts at any frame rate compute the same steps bit for bit.
+  float fixed_step;
+  // Longest frame time one `wethair_sim_advance` simulates, s, at least `fixed_step` and
+  // at most 4096 steps (since 0.4.0): the excess of a longer frame is dropped (and
+  // reported) rather than caught up. Default 0.25.
+  float max_frame_time;
+  // 1 (the default): the vertices show the state between the last two fixed steps, by the
+  // time left over; 0: the last step's state (since 0.4.0). Costs one copy of the
+  // positions per advance that steps.
+  uint32_t interpolate;
+  // Unused; keep 0 (the layout's end, so that fields added later start after it).
+  uint32_t reserved5;
 } WetHairSimDesc;
+
+// What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.
+typedef struct WetHairAdvance {
+  // `sizeof(WetHairAdvance)`, set by the host.
+  uint32_t struct_size;
+  // Fixed steps taken (0 when the frame was shorter than what the next step needed).
+  uint32_t steps;
+  // Where the vertices lie between the state before the last step (0) and after it (1);
+  // 1 without fixed steps or interpolation.
+  float blend;
+  // Frame time dropped by `max_frame_time`, s.
+  float dropped_time;
+} WetHairAdvance;
 
 // Where each attribute sits in the interleaved vertex buffer.
 typedef struct WetHairVertexLayout {
@@ -977,6 +1004,19 @@ WetHairResult wethair_sim_clear_water(struct WetHairSim *sim);
 // # Safety
 // `sim` is valid.
 WetHairResult wethair_sim_step(struct WetHairSim *sim, float dt);
+
+// Advances by a host frame of `frame_time` seconds (finite, >= 0) in the desc's fixed steps
+// (`WetHairSimDesc::fixed_step`): the time is added to what the simulation owes, every whole
+// step in it is taken, and the rest waits for the next frame, so hosts at 30, 60 or 144 Hz
+// compute the same steps bit for bit. The head moves from where the last step left it to
+// the transform last set, reached at the end of this frame. With `interpolate`, the vertices
+// show the state between the last two steps by the time left over. Without a fixed step
+// this is `wethair_sim_step(sim, frame_time)`. `out` (may be NULL; the host sets its
+// `struct_size`) receives what the call did, only on success.
+//
+// # Safety
+// `sim` is valid; `out` is NULL or writable.
+WetHairResult wethair_sim_advance(struct WetHairSim *sim, float frame_time, struct WetHairAdvance *out);
 
 // Returns to the rest pose at the current head transform: still, dry, no water; an
 // instability is forgotten. After a device failure it returns `WETHAIR_ERROR_DEVICE` and

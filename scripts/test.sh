@@ -149,6 +149,9 @@ step "Vulkan host: wethair on the host's VkDevice, drawn from the shared VkBuffe
 # on an image without hair.
 ./examples/c/build/vulkan_host --validate --compare --check-errors --frames 30 --out out/test-vulkan.png
 test -s out/test-vulkan.png
+# Fixed steps at 50 Hz, the last frame without a step: the buffer handed out shows the new
+# blend, equal to the copy path's.
+./examples/c/build/vulkan_host --validate --compare --fixed-step --frames 12 --out out/test-vulkan-fixed.png
 
 step "C hosts under AddressSanitizer + UBSan (leaks fail the run)"
 make -C examples/c --quiet BUILD=build-asan CFLAGS="-O1 -g -fno-omit-frame-pointer" SAN="-fsanitize=address,undefined -fno-sanitize-recover=all"

@@ -123,6 +123,16 @@ pub trait Engine: std::fmt::Debug + Send {
     fn sampled_behind(&mut self, _out: &mut Vec<Vec3>) -> Result<bool> {
         Ok(false)
     }
+    /// Keeps the positions now as where the output blend starts (fixed steps with
+    /// interpolation, before an `advance`'s last step). The first call allocates the copy;
+    /// an engine never asked keeps nothing.
+    fn keep_previous(&mut self) -> Result<()>;
+    /// The vertex output from now on: `None` the current state; `Some(a)` the positions kept
+    /// by [`Engine::keep_previous`] moved toward the current ones by `a` in [0, 1]
+    /// ([`crate::physics::lanes::L3::toward`]), tangents from the blended positions, wetness
+    /// the current. Ignored until something is kept. The next vertex read (or shared frame)
+    /// writes the blend, with or without a step between.
+    fn blend_output(&mut self, a: Option<f32>);
     /// Writes the attributes the parameters ask for, of every point, into `dst`: exactly
     /// `points * params.attributes.stride()` floats.
     fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()>;

@@ -41,9 +41,9 @@ pub use emit::{Rain, Spray};
 pub use engine::{PassTime, WaterLedger};
 pub use error::{Error, Result};
 pub use params::{
-    Backend, HeldWater, Integrator, MaterialParams, Readback, SimParams, SpringModel, SpringParams, VertexAttributes,
-    WaterParams, Wind,
+    Backend, FixedStep, HeldWater, Integrator, MaterialParams, Readback, SimParams, SpringModel, SpringParams,
+    VertexAttributes, WaterParams, Wind,
 };
 pub use physics::collide::Shape;
 pub use physics::spring::DampingModel;
-pub use sim::{BackendInfo, Energy, ErrorEstimate, Simulation, Stats};
+pub use sim::{Advance, BackendInfo, Energy, ErrorEstimate, Simulation, Stats};

@@ -6,7 +6,9 @@ use crate::physics::collide::Shape;
 use crate::physics::spring::DampingModel;
 use glam::Vec3;
 
+mod fixed;
 mod wet;
+pub use fixed::{FixedStep, MAX_STEPS_PER_ADVANCE};
 pub use wet::{HeldWater, Wind};
 
 /// Most substeps per step.
@@ -298,6 +300,8 @@ pub struct SimParams {
     /// The most substeps the budget may choose (at least `substeps`, at most half of
     /// [`MAX_SUBSTEPS`], the estimate's shadow running twice as many).
     pub max_substeps: u32,
+    /// Fixed-step updates for [`crate::Simulation::advance`] (off by default).
+    pub fixed_step: FixedStep,
 }
 
 /// The estimate's stride an error budget uses when the host set none.
@@ -374,6 +378,7 @@ impl SimParams {
             error_estimate_stride: 0,
             tolerance: 0.0,
             max_substeps: 64,
+            fixed_step: FixedStep::OFF,
         }
     }
 
@@ -392,6 +397,7 @@ impl SimParams {
     pub fn validate(&self) -> Result<()> {
         self.held_water.validate(&self.water)?;
         self.wind.validate()?;
+        self.fixed_step.validate()?;
         check_non_negative("stretch stiffness", self.stretch.stiffness)?;
         check_non_negative("stretch damping", self.stretch.damping)?;
         check_non_negative("bend stiffness", self.bend.stiffness)?;

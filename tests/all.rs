@@ -11,6 +11,7 @@ mod estimate;
 mod extreme;
 mod ffi;
 mod ffi_wet;
+mod fixed_step;
 mod gpu;
 mod grid;
 mod hardening;

@@ -163,6 +163,13 @@ public:
     void clear_water() { detail::check(wethair_sim_clear_water(h_.get())); }
     /// Advances by `dt` seconds.
     void step(float dt) { detail::check(wethair_sim_step(h_.get(), dt)); }
+    /// Advances by a host frame of `frame_time` seconds in the desc's fixed steps (the same
+    /// steps at any frame rate); without a fixed step, one step of the frame.
+    WetHairAdvance advance(float frame_time) {
+        auto a = detail::sized<WetHairAdvance>();
+        detail::check(wethair_sim_advance(h_.get(), frame_time, &a));
+        return a;
+    }
     /// Back to the rest pose, dry, at the current head transform.
     void reset() { detail::check(wethair_sim_reset(h_.get())); }
 

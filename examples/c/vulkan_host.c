@@ -8,11 +8,14 @@
  * waits for.
  *
  * usage: vulkan_host [--out FILE] [--frames N] [--particles N] [--validate] [--compare]
- *                    [--check-errors]
+ *                    [--check-errors] [--fixed-step]
  *   --validate      enable VK_LAYER_KHRONOS_validation; any error it reports fails the run
  *   --compare       read the shared buffer back and require it to equal the copy path's bytes
  *   --check-errors  check the refusals: missing instance extension, device features, bad
- *                   arguments; and create/destroy a simulation on the device before the main one */
+ *                   arguments; and create/destroy a simulation on the device before the main one
+ *   --fixed-step    fixed steps of 1/120 s, interpolated, advanced by 50 Hz frames
+ *                   (wethair_sim_advance); the last frame is too short for a step, so the
+ *                   buffer handed out must show a new blend written without a step */
 #include "png.h"
 #include "vk_common.h"
 #include "kk_frag.h"
@@ -219,17 +222,19 @@ typedef struct {
 int main(int argc, char **argv) {
     const char *out = "wethair_vulkan.png";
     uint32_t frames = 120, particles = 1000;
-    int validate = 0, compare = 0, errors = 0;
+    int validate = 0, compare = 0, errors = 0, fixed = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--validate")) validate = 1;
         else if (!strcmp(argv[i], "--compare")) compare = 1;
+        else if (!strcmp(argv[i], "--fixed-step")) fixed = 1;
         else if (!strcmp(argv[i], "--check-errors")) errors = 1;
         else if (i + 1 < argc && !strcmp(argv[i], "--out")) out = argv[++i];
         else if (i + 1 < argc && !strcmp(argv[i], "--frames")) frames = (uint32_t)atoi(argv[++i]);
         else if (i + 1 < argc && !strcmp(argv[i], "--particles")) particles = (uint32_t)atoi(argv[++i]);
         else {
             fprintf(stderr,
-                    "usage: %s [--out FILE] [--frames N] [--particles N] [--validate] [--compare] [--check-errors]\n",
+                    "usage: %s [--out FILE] [--frames N] [--particles N] [--validate] [--compare] [--check-errors] "
+                    "[--fixed-step]\n",
                     argv[0]);
             return 2;
         }
@@ -274,6 +279,17 @@ int main(int argc, char **argv) {
     WetHairCollider head = {WETHAIR_COLLIDER_SPHERE, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.1f};
     int failed_checks = errors ? check_errors(&h, &info, &wd, groom, &head) : 0;
     WetHairSimDesc desc = paper_desc(groom, &head);
+    if (fixed) {
+        /* The fixed-step fields came in 0.4.0: the whole current desc, with the paper's model. */
+        wh_check(wethair_sim_desc_init(&desc, sizeof desc), "wethair_sim_desc_init");
+        desc.groom = groom;
+        desc.colliders = &head;
+        desc.collider_count = 1;
+        desc.backend = WETHAIR_BACKEND_GPU;
+        desc.integrator = WETHAIR_INTEGRATOR_SYMPLECTIC_EULER;
+        desc.spring_model = WETHAIR_SPRING_MODEL_PER_SPRING;
+        desc.fixed_step = 1.0f / 120.0f;
+    }
     WetHairSim *sim = NULL;
     wh_check(wethair_sim_create_vulkan(&desc, &wd, &sim), "wethair_sim_create_vulkan");
     wethair_groom_destroy(groom);
@@ -410,7 +426,20 @@ int main(int argc, char **argv) {
             added += n;
         }
         double t0 = wh_now_ms();
-        wh_check(wethair_sim_step(sim, 1.0f / 60.0f), "wethair_sim_step");
+        if (fixed) {
+            /* 50 Hz frames owe 0.4, 0.8, 0.2, 0.6, 0 of a step after theirs: the last frame's
+             * 0.12 of a step never makes one. */
+            float frame = f + 1 == frames && f > 0 ? 0.001f : 1.0f / 50.0f;
+            WetHairAdvance adv = {0};
+            adv.struct_size = sizeof adv;
+            wh_check(wethair_sim_advance(sim, frame, &adv), "wethair_sim_advance");
+            if (f + 1 == frames && f > 0 && adv.steps != 0) {
+                fprintf(stderr, "the last frame took %u steps\n", adv.steps);
+                return 1;
+            }
+        } else {
+            wh_check(wethair_sim_step(sim, 1.0f / 60.0f), "wethair_sim_step");
+        }
         double t1 = wh_now_ms();
         memset(&vb, 0, sizeof vb);
         vb.struct_size = sizeof vb;

@@ -71,6 +71,11 @@ int main() {
         // Moving a simulation keeps one owner; the moved-from handle is empty and harmless.
         wethair::Simulation moved = std::move(wet);
         moved.step(1.0f / 60.0f);
+        // Without a fixed step in the desc, advance is one step of the frame.
+        if (moved.advance(1.0f / 60.0f).steps != 1) {
+            std::fprintf(stderr, "advance without a fixed step did not take one step\n");
+            return 1;
+        }
         return 0;
     } catch (const wethair::Error &e) {
         std::fprintf(stderr, "wethair error %d: %s\n", static_cast<int>(e.code()), e.what());

@@ -61,6 +61,15 @@ impl Engine for CpuBackend {
         Ok(())
     }
 
+    fn keep_previous(&mut self) -> Result<()> {
+        CpuBackend::keep_previous(self);
+        Ok(())
+    }
+
+    fn blend_output(&mut self, a: Option<f32>) {
+        CpuBackend::blend_output(self, a)
+    }
+
     fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()> {
         let t = self.clock.start();
         CpuBackend::write_vertices(self, dst);

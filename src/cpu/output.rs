@@ -23,6 +23,8 @@ struct Job<'a> {
     lay: &'a Layout,
     state: &'a [StateRow],
     wet: &'a [Lane],
+    /// The positions the output blends from, per row, and how far toward the state.
+    blend: Option<(&'a [L3], f32)>,
     stride: usize,
     pos: Option<usize>,
     tan: Option<usize>,
@@ -31,11 +33,15 @@ struct Job<'a> {
     dst: Dst,
 }
 
-/// Writes every real point's attributes into `dst` (`points * stride` floats).
+/// Writes every real point's attributes into `dst` (`points * stride` floats). With `blend`
+/// = (`from`, `a`), the positions (and the tangents made from them) are `from` moved toward
+/// the state's by `a` ([`L3::toward`]).
+#[allow(clippy::too_many_arguments)]
 pub fn write_vertices(
     lay: &Layout,
     state: &[StateRow],
     wet: &[Lane],
+    blend: Option<(&[L3], f32)>,
     attrs: VertexAttributes,
     pool: Option<&super::pool::Pool>,
     avx2: bool,
@@ -46,6 +52,7 @@ pub fn write_vertices(
         lay,
         state,
         wet,
+        blend,
         stride: attrs.stride(),
         pos: attrs.offset(VertexAttributes::POSITION),
         tan: attrs.offset(VertexAttributes::TANGENT),
@@ -112,12 +119,25 @@ fn write_blocks(job: &Job, blocks: std::ops::Range<usize>) {
     let lay = job.lay;
     let stride = job.stride;
     let mut stage = [[0.0f32; STAGE]; W];
+    // A blended output's rows, block by block (allocated once per task, and only when blending).
+    let mut mixed: Vec<StateRow> = Vec::new();
     let end = blocks.end;
     for b in blocks {
         if b + PREFETCH_AHEAD < end {
             prefetch_block(job, b + PREFETCH_AHEAD);
         }
-        let rows = &job.state[b * lay.rows..(b + 1) * lay.rows];
+        let here = b * lay.rows..(b + 1) * lay.rows;
+        let rows = match job.blend {
+            None => &job.state[here],
+            Some((from, a)) => {
+                mixed.clear();
+                mixed.extend(job.state[here.clone()].iter().zip(&from[here]).map(|(r, p)| StateRow {
+                    x: p.toward(&r.x, a),
+                    v: r.v,
+                }));
+                &mixed[..]
+            }
+        };
         // Each lane's strand: its first vertex's float offset and its point count (0: padding).
         let mut base = [0usize; W];
         let mut n = [0usize; W];
@@ -309,8 +329,8 @@ mod tests {
             let attrs = VertexAttributes(bits);
             let n = lay.mass.len() * attrs.stride();
             let (mut a, mut b) = (vec![0.0f32; n], vec![1.0f32; n]);
-            write_vertices(&lay, &state, &wet, attrs, None, false, &mut a);
-            write_vertices(&lay, &state, &wet, attrs, None, true, &mut b);
+            write_vertices(&lay, &state, &wet, None, attrs, None, false, &mut a);
+            write_vertices(&lay, &state, &wet, None, attrs, None, true, &mut b);
             let same = a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits());
             assert!(same, "attributes {bits}: the two writers differ");
         }

@@ -61,6 +61,10 @@ pub struct CpuBackend {
     bdf2: (Bdf2Clock, (Bdf2Blend, Bdf2Blend)),
     /// Wall time per stage, when the host asks for it.
     pub(super) clock: StageClock,
+    /// Positions per row where the output blend starts (fixed steps with interpolation; empty
+    /// until first kept), and the blend (`None`: the output shows the state).
+    output_from: Vec<L3>,
+    output_blend: Option<f32>,
 }
 
 impl CpuBackend {
@@ -135,6 +139,8 @@ impl CpuBackend {
             history,
             bdf2: (Bdf2Clock::default(), (Bdf2Blend::euler(0.0), Bdf2Blend::euler(0.0))),
             clock: StageClock::default(),
+            output_from: Vec::new(),
+            output_blend: None,
         };
         if hw.drips() {
             // Drops are made in the step, which never allocates: their storage comes now.
@@ -180,6 +186,9 @@ impl CpuBackend {
         ];
         if !self.wet.is_empty() {
             out.push(("wetness", bytes(&self.wet)));
+        }
+        if !self.output_from.is_empty() {
+            out.push(("output_from", bytes(&self.output_from)));
         }
         if let Some(h) = &self.held {
             out.push(("held_water", h.bytes()));
@@ -243,6 +252,7 @@ impl CpuBackend {
     /// Back to the rest pose at `head`: zero velocity, dry, no water.
     pub fn reset(&mut self, head: &Affine3A) {
         self.state = self.lay.rest_state(head);
+        self.output_blend = None;
         self.bdf2.0 = Bdf2Clock::default();
         self.wet.iter_mut().for_each(|w| *w = [0.0; W]);
         if let Some(h) = &mut self.held {
@@ -567,15 +577,32 @@ impl CpuBackend {
     /// (exactly `points * stride` floats).
     pub fn write_vertices(&self, dst: &mut [f32]) {
         let attrs = self.params.attributes;
+        let blend = self
+            .output_blend
+            .filter(|_| self.output_from.len() == self.state.len())
+            .map(|a| (self.output_from.as_slice(), a));
         super::output::write_vertices(
             &self.lay,
             &self.state,
             &self.wet,
+            blend,
             attrs,
             self.pool.as_ref(),
             self.avx2,
             dst,
         );
+    }
+
+    /// Keeps every row's positions as where the output blend starts (allocated on the first
+    /// call only).
+    pub fn keep_previous(&mut self) {
+        self.output_from.clear();
+        self.output_from.extend(self.state.iter().map(|r| r.x));
+    }
+
+    /// The output's blend from now on (see `Engine::blend_output`).
+    pub fn blend_output(&mut self, a: Option<f32>) {
+        self.output_blend = a;
     }
 }
 

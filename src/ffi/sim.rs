@@ -2,7 +2,7 @@
 
 use super::boundary::{Fail, WetHairResult};
 use super::groom::WetHairGroom;
-use super::types::{WetHairBackendInfo, WetHairSimDesc, WetHairStats, WetHairVertexLayout};
+use super::types::{WetHairAdvance, WetHairBackendInfo, WetHairSimDesc, WetHairStats, WetHairVertexLayout};
 use crate::params::{VertexAttributes, MAX_WATER_CAPACITY};
 use crate::sim::Simulation;
 use glam::{Mat4, Vec3};
@@ -124,6 +124,43 @@ pub unsafe extern "C" fn wethair_sim_clear_water(sim: *mut WetHairSim) -> WetHai
 pub unsafe extern "C" fn wethair_sim_step(sim: *mut WetHairSim, dt: f32) -> WetHairResult {
     boundary!({
         nonnull_mut!(sim, "sim").0.step(dt)?;
+        Ok(())
+    })
+}
+
+/// Advances by a host frame of `frame_time` seconds (finite, >= 0) in the desc's fixed steps
+/// (`WetHairSimDesc::fixed_step`): the time is added to what the simulation owes, every whole
+/// step in it is taken, and the rest waits for the next frame, so hosts at 30, 60 or 144 Hz
+/// compute the same steps bit for bit. The head moves from where the last step left it to
+/// the transform last set, reached at the end of this frame. With `interpolate`, the vertices
+/// show the state between the last two steps by the time left over. Without a fixed step
+/// this is `wethair_sim_step(sim, frame_time)`. `out` (may be NULL; the host sets its
+/// `struct_size`) receives what the call did, only on success.
+///
+/// # Safety
+/// `sim` is valid; `out` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_advance(
+    sim: *mut WetHairSim,
+    frame_time: f32,
+    out: *mut WetHairAdvance,
+) -> WetHairResult {
+    boundary!({
+        let s = nonnull_mut!(sim, "sim");
+        let out = if out.is_null() {
+            None
+        } else {
+            Some(check_out_size!(out, WetHairAdvance, "out"))
+        };
+        let a = s.0.advance(frame_time)?;
+        if let Some(out) = out {
+            out.write(WetHairAdvance {
+                struct_size: std::mem::size_of::<WetHairAdvance>() as u32,
+                steps: a.steps,
+                blend: a.blend,
+                dropped_time: a.dropped,
+            });
+        }
         Ok(())
     })
 }

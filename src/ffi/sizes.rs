@@ -5,7 +5,8 @@
 
 use super::boundary::{DefStruct, SizedStruct};
 use super::types::{
-    WetHairBackendInfo, WetHairGroomDesc, WetHairLoadDesc, WetHairSimDesc, WetHairStats, WetHairVertexLayout,
+    WetHairAdvance, WetHairBackendInfo, WetHairGroomDesc, WetHairLoadDesc, WetHairSimDesc, WetHairStats,
+    WetHairVertexLayout,
 };
 use super::unity::WetHairUnityStatus;
 use super::vulkan::{
@@ -48,6 +49,8 @@ sized!(
     WetHairLoadDesc = 32,
     // 0.3.0: WetHairSimDesc grew to 232 (error_estimate_stride, tolerance, max_substeps),
     // WetHairStats to 120 (error_estimate, error_estimate_max, substeps)
+    // 0.4.0 (WetHairSimDesc grew to 248: fixed_step, max_frame_time, interpolate)
+    WetHairAdvance = 16,
 );
 
 impl DefStruct for WetHairSimDesc {

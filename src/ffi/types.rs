@@ -184,8 +184,37 @@ pub struct WetHairSimDesc {
     pub tolerance: f32,
     /// The most substeps the budget may choose, `substeps..=512`. Default 64.
     pub max_substeps: u32,
-    /// Unused; keep 0 (the layout's end, so that fields added later start after it).
+    /// Unused; keep 0. A 232-byte layout (0.3.0) ended here.
     pub reserved4: u32,
+    /// Fixed-step updates (since 0.4.0; `wethair_sim_advance`): the step, s, in (0, 1]; 0
+    /// (the default) turns them off, and `wethair_sim_advance` then steps by the frame time as
+    /// given. With a fixed step, hosts at any frame rate compute the same steps bit for bit.
+    pub fixed_step: f32,
+    /// Longest frame time one `wethair_sim_advance` simulates, s, at least `fixed_step` and
+    /// at most 4096 steps (since 0.4.0): the excess of a longer frame is dropped (and
+    /// reported) rather than caught up. Default 0.25.
+    pub max_frame_time: f32,
+    /// 1 (the default): the vertices show the state between the last two fixed steps, by the
+    /// time left over; 0: the last step's state (since 0.4.0). Costs one copy of the
+    /// positions per advance that steps.
+    pub interpolate: u32,
+    /// Unused; keep 0 (the layout's end, so that fields added later start after it).
+    pub reserved5: u32,
+}
+
+/// What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WetHairAdvance {
+    /// `sizeof(WetHairAdvance)`, set by the host.
+    pub struct_size: u32,
+    /// Fixed steps taken (0 when the frame was shorter than what the next step needed).
+    pub steps: u32,
+    /// Where the vertices lie between the state before the last step (0) and after it (1);
+    /// 1 without fixed steps or interpolation.
+    pub blend: f32,
+    /// Frame time dropped by `max_frame_time`, s.
+    pub dropped_time: f32,
 }
 
 /// The host's own strands. Fill with `wethair_groom_desc_default()`.
@@ -445,6 +474,10 @@ impl WetHairSimDesc {
             tolerance: p.tolerance,
             max_substeps: p.max_substeps,
             reserved4: 0,
+            fixed_step: p.fixed_step.step,
+            max_frame_time: p.fixed_step.max_frame,
+            interpolate: p.fixed_step.interpolate as u32,
+            reserved5: 0,
         }
     }
 
@@ -528,6 +561,20 @@ impl WetHairSimDesc {
             error_estimate_stride: self.error_estimate_stride,
             tolerance: self.tolerance,
             max_substeps: self.max_substeps,
+            fixed_step: crate::FixedStep {
+                step: self.fixed_step,
+                max_frame: self.max_frame_time,
+                interpolate: match self.interpolate {
+                    0 => false,
+                    1 => true,
+                    v => {
+                        return Err(Fail(
+                            super::WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
+                            format!("interpolate must be 0 or 1, got {v}"),
+                        ))
+                    }
+                },
+            },
         })
     }
 }

@@ -89,6 +89,20 @@ gpu_record! {
 }
 
 gpu_record! {
+    /// The output blend (WGSL `Blend`, a uniform; fixed steps with interpolation only).
+    pub struct BlendGpu {
+        /// How far the output moves from the kept positions toward the state, 0..=1.
+        pub a: f32,
+        /// Unused: rounds the record to WGSL's 16-byte uniform size.
+        pub pad0: u32,
+        /// Unused.
+        pub pad1: u32,
+        /// Unused.
+        pub pad2: u32,
+    }
+}
+
+gpu_record! {
     /// Constant data of one hair point (WGSL `Point`).
     pub struct PointGpu {
         /// Rest position in head space.

@@ -3,7 +3,7 @@
 //! the top of each module ([`prelude`]). `tests/shaders.rs` reads the compiled modules back
 //! through naga and checks each struct's member offsets and size against the Rust record.
 
-use super::buffers::{self, grid_header as gh, ColliderGpu, Params, ParticleGpu, PointGpu, StateGpu};
+use super::buffers::{self, grid_header as gh, BlendGpu, ColliderGpu, Params, ParticleGpu, PointGpu, StateGpu};
 
 /// A field type with a WGSL spelling.
 pub trait WgslType {
@@ -65,7 +65,7 @@ pub(crate) use gpu_record;
 
 /// The WGSL structs the host writes or reads, by WGSL name, with their Rust records'
 /// fields and sizes.
-pub fn records() -> [(&'static str, &'static [Field], usize); 5] {
+pub fn records() -> [(&'static str, &'static [Field], usize); 6] {
     fn rec<T: GpuRecord>(name: &'static str) -> (&'static str, &'static [Field], usize) {
         (name, T::FIELDS, std::mem::size_of::<T>())
     }
@@ -75,6 +75,7 @@ pub fn records() -> [(&'static str, &'static [Field], usize); 5] {
         rec::<StateGpu>("State"),
         rec::<ParticleGpu>("Particle"),
         rec::<ColliderGpu>("Collider"),
+        rec::<BlendGpu>("Blend"),
     ]
 }
 

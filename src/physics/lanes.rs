@@ -48,6 +48,18 @@ impl L3 {
         self.y[l] += v.y;
         self.z[l] += v.z;
     }
+
+    /// `self + a (to - self)`, lane by lane: the output blend between two steps' positions
+    /// (`output.wgsl` `toward` is its GPU twin).
+    #[inline(always)]
+    pub fn toward(&self, to: &L3, a: f32) -> L3 {
+        let f = |p: &Lane, x: &Lane| std::array::from_fn(|l| p[l] + a * (x[l] - p[l]));
+        L3 {
+            x: f(&self.x, &to.x),
+            y: f(&self.y, &to.y),
+            z: f(&self.z, &to.z),
+        }
+    }
 }
 
 /// Sum of the lanes in a fixed pairwise order (a tree the compiler can keep in registers, and

@@ -3,8 +3,10 @@
 mod auto;
 mod budget;
 mod estimate;
+mod fixed;
 
 pub use estimate::ErrorEstimate;
+pub use fixed::Advance;
 
 pub use crate::engine::BackendInfo;
 use crate::engine::Engine;
@@ -135,6 +137,11 @@ pub struct Simulation {
     last_substeps: u32,
     /// The integrator of the last step (AUTO under a budget may change it for the next).
     last_integrator: crate::Integrator,
+    /// Fixed-step updates' owed time ([`Simulation::advance`]).
+    fixed: fixed::Accumulator,
+    /// Whether the engine blends its output between the last two steps (fixed steps with
+    /// interpolation, after an `advance` that stepped).
+    blending: bool,
 }
 
 impl Simulation {
@@ -185,6 +192,8 @@ impl Simulation {
             substeps,
             last_substeps: substeps,
             last_integrator: engine_integrator,
+            fixed: fixed::Accumulator::default(),
+            blending: false,
         })
     }
 
@@ -305,6 +314,17 @@ impl Simulation {
         if !(dt.is_finite() && dt > 0.0 && dt <= MAX_DT) {
             return Err(invalid!("dt must be finite, > 0 and <= {MAX_DT} s, got {dt}"));
         }
+        if self.blending {
+            // A step of the host's own shows the state it reached.
+            self.engine.blend_output(None);
+            self.blending = false;
+        }
+        self.step_to(dt, self.head)
+    }
+
+    /// One step of `dt` (checked) that moves the head from where the last step left it to
+    /// `to`.
+    fn step_to(&mut self, dt: f32, to: Affine3A) -> Result<()> {
         let t0 = Instant::now();
         if let Some(b) = &self.budget {
             let n = b.before(self.engine.integrator(), self.substeps, dt);
@@ -314,9 +334,9 @@ impl Simulation {
         if self.params.wind.blows() {
             self.engine.set_wind(self.params.wind.at(self.time));
         }
-        let r = self.engine.step(dt, &self.head_prev, &self.head);
+        let r = self.engine.step(dt, &self.head_prev, &to);
         if let (Some(sh), true) = (&mut self.shadow, r.is_ok()) {
-            sh.step(dt, self.head);
+            sh.step(dt, to);
         }
         self.time += dt as f64;
         self.last_substeps = self.substeps;
@@ -326,7 +346,7 @@ impl Simulation {
             self.settle(b)?;
         }
         self.last_step_ms = t0.elapsed().as_secs_f32() * 1e3;
-        self.head_prev = self.head;
+        self.head_prev = to;
         self.steps += 1;
         self.settle(r).map(|v| self.max_speed = v)
     }
@@ -409,6 +429,7 @@ impl Simulation {
         }
         self.last_substeps = self.substeps;
         self.last_integrator = self.engine.integrator();
+        self.reset_fixed();
         self.head_prev = self.head;
         self.failed = None;
         self.steps = 0;

@@ -153,6 +153,23 @@ namespace WetHair
         public float tolerance;
         public uint max_substeps;
         public uint reserved4;
+        /// <summary>Since 0.4.0: fixed-step updates for wethair_sim_advance, s (0: off).</summary>
+        public float fixed_step;
+        /// <summary>Since 0.4.0: the longest frame one advance simulates, s (default 0.25).</summary>
+        public float max_frame_time;
+        /// <summary>Since 0.4.0: 1 (default) shows the state between the last two fixed steps.</summary>
+        public uint interpolate;
+        public uint reserved5;
+    }
+
+    /// <summary>Since 0.4.0: what one wethair_sim_advance did.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairAdvance
+    {
+        public uint struct_size;
+        public uint steps;
+        public float blend;
+        public float dropped_time;
     }
 
     /// <summary>The vertex buffer's layout (byte offsets, -1 when absent).</summary>
@@ -301,6 +318,7 @@ namespace WetHair
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_add_water(SimulationHandle sim, float* positions, float* velocities, uint count);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_clear_water(SimulationHandle sim);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_step(SimulationHandle sim, float dt);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_advance(SimulationHandle sim, float frameTime, WetHairAdvance* result);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_reset(SimulationHandle sim);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vertex_layout(SimulationHandle sim, WetHairVertexLayout* layout);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vertex_buffer(SimulationHandle sim, float* dst, UIntPtr capacity, out UIntPtr written);

@@ -144,6 +144,16 @@ namespace WetHair
         /// <summary>Advances by dt seconds.</summary>
         public void Step(float dt) => WetHairException.Check(Native.wethair_sim_step(handle, dt));
 
+        /// <summary>Advances by a frame of <paramref name="frameTime"/> seconds in the desc's
+        /// fixed steps (Time.deltaTime from Update: the same steps at any frame rate); without
+        /// a fixed step, one step of the frame.</summary>
+        public WetHairAdvance Advance(float frameTime)
+        {
+            var r = new WetHairAdvance { struct_size = (uint)sizeof(WetHairAdvance) };
+            WetHairException.Check(Native.wethair_sim_advance(handle, frameTime, &r));
+            return r;
+        }
+
         /// <summary>Back to rest, dry, no water.</summary>
         public void Reset() => WetHairException.Check(Native.wethair_sim_reset(handle));
 

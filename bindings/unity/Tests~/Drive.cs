@@ -94,6 +94,24 @@ static class Drive
                 }
             }
         }
+        // Fixed steps (0.4.0): a 50 Hz Update's Advance takes 2 steps of 1/120 s and blends
+        // 0.4 of the next; 30 frames of 1/30 s and 144 frames of 1/144 s both take 120.
+        using (Groom gf = Groom.PaperScene(100, 6))
+        {
+            var desc = Simulation.GroomDesc();
+            desc.backend = (uint)Backend.Cpu;
+            desc.fixed_step = 1.0f / 120.0f;
+            using (var sim = new Simulation(gf, desc, new WetHairCollider[0]))
+            {
+                var a = sim.Advance(1.0f / 50.0f);
+                if (a.steps != 2 || Math.Abs(a.blend - 0.4f) > 1e-4f) return Fail("advance " + a.steps + " " + a.blend);
+                sim.Reset();
+                uint n = 0;
+                for (int f = 0; f < 144; f++) n += sim.Advance(1.0f / 144.0f).steps;
+                if (n != 120) return Fail("144 Hz took " + n + " steps");
+                Console.WriteLine("fixed steps: 2 steps and a 0.4 blend at 50 Hz, 120 steps a second at 144 Hz");
+            }
+        }
         // The wet model through the current layout: soak, a gusty wind, drying; the ledger in
         // the stats balances to the quantum, and a bad saturation is refused.
         using (Groom g3 = Groom.PaperScene(500, 6))

@@ -296,8 +296,16 @@ impl GpuBackend {
             return;
         }
         let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&self.output);
-        pass.set_bind_group(0, &self.output_bg[self.cur], &[]);
+        match self.blend.as_ref().filter(|b| b.on) {
+            Some(b) => {
+                pass.set_pipeline(&b.pipe);
+                pass.set_bind_group(0, &b.bg[self.cur], &[]);
+            }
+            None => {
+                pass.set_pipeline(&self.output);
+                pass.set_bind_group(0, &self.output_bg[self.cur], &[]);
+            }
+        }
         let (gx, gy) = groups(self.points);
         pass.dispatch_workgroups(gx, gy, 1);
         drop(pass);

@@ -74,6 +74,14 @@ impl Engine for GpuBackend {
         GpuBackend::reset(self, head)
     }
 
+    fn keep_previous(&mut self) -> Result<()> {
+        GpuBackend::keep_previous(self)
+    }
+
+    fn blend_output(&mut self, a: Option<f32>) {
+        GpuBackend::blend_output(self, a)
+    }
+
     /// The output pass writes the attributes fixed at create; this copies its floats.
     fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()> {
         self.read_vertices(dst).map(|_| ())

@@ -3,8 +3,9 @@
 //! readback, blocking or one frame behind). One concern per file: creation and the backend's
 //! state here, `kernels` (hair kernels from the pass list), `water`, `encode` (the step's
 //! command buffers), `stamps` (GPU time per stage), `share` (the host's Vulkan), `readback`,
-//! and `engine` (the seam).
+//! `blend` (fixed steps' output blend), and `engine` (the seam).
 
+mod blend;
 mod bridges;
 mod encode;
 mod engine;
@@ -111,6 +112,8 @@ pub struct GpuBackend {
     strands_history: bool,
     output: wgpu::ComputePipeline,
     output_bg: [wgpu::BindGroup; 2],
+    /// Fixed steps' output blend (once a state is kept).
+    blend: Option<blend::OutputBlend>,
     cur: usize,
     /// Held water (scenes with `SimParams::held_water` on).
     held: Option<HeldGpu>,
@@ -367,6 +370,7 @@ impl GpuBackend {
             strands_history: integrator == Integrator::BDF2,
             output,
             output_bg,
+            blend: None,
             cur: 0,
             held,
             bridges,
@@ -500,6 +504,9 @@ impl GpuBackend {
         if !self.staging.is_empty() {
             v.push(("readback", self.staging.iter().map(|s| s.buf.size() as usize).sum()));
         }
+        if let Some(bl) = &self.blend {
+            v.push(("output_from", bl.bytes()));
+        }
         v
     }
 
@@ -518,6 +525,9 @@ impl GpuBackend {
             .write_buffer(&self.state[0], 0, bytemuck::cast_slice(&st));
         self.cur = 0;
         self.bdf2 = Bdf2Clock::default();
+        if let Some(bl) = &mut self.blend {
+            bl.on = false;
+        }
         self.dev
             .queue
             .write_buffer(&self.status, 0, bytemuck::cast_slice(&[0u32, 0, u32::MAX, 0])); // no failed point
