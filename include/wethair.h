@@ -438,6 +438,27 @@ typedef struct WetHairWind {
   uint32_t seed;
 } WetHairWind;
 
+// A signed distance field collider (since 0.4.0): `values[i + nx (j + ny k)]` is the distance,
+// m, from the point `origin + cell_size (i, j, k)` of the grid's own frame to the surface,
+// negative inside. Hair points and particles inside are pushed out along the field's gradient,
+// with the analytic colliders' friction. `transform` (column-major 4×4: rotation, translation
+// and a uniform scale) places the grid in the world at the start;
+// `wethair_sim_set_sdf_transform` moves it each frame. The values are copied at create.
+typedef struct WetHairSdf {
+  // Samples along x, y and z, each >= 2; at most 16,777,216 in all.
+  uint32_t dims[3];
+  // The first sample's position in the grid's frame, m.
+  float origin[3];
+  // Spacing of the samples, m, > 0.
+  float cell_size;
+  // Unused; keep 0.
+  uint32_t reserved;
+  // `dims[0] * dims[1] * dims[2]` distances, m, x fastest, all finite.
+  const float *values;
+  // Grid frame to world at the start, column-major.
+  float transform[16];
+} WetHairSdf;
+
 // Everything a simulation is made from. Fill with `wethair_sim_desc_init(&desc, sizeof desc)`
 // (material springs, AUTO integrator: right for any groom), or with the older
 // `wethair_sim_desc_default()` (the paper scene's exact parameters in the 0.1.0 layout), then
@@ -527,8 +548,23 @@ typedef struct WetHairSimDesc {
   // time left over; 0: the last step's state (since 0.4.0). Costs one copy of the
   // positions per advance that steps.
   uint32_t interpolate;
-  // Unused; keep 0 (the layout's end, so that fields added later start after it).
+  // Unused; keep 0.
   uint32_t reserved5;
+  // SDF colliders (since 0.4.0; may be NULL when `sdf_count` is 0), at most 16; copied at
+  // create; both backends run them.
+  const struct WetHairSdf *sdfs;
+  // Number of SDF colliders.
+  uint32_t sdf_count;
+  // Unused; keep 0.
+  uint32_t reserved6;
+  // 1: roots on a skinned mesh (since 0.4.0): each strand's pinned points follow the frame
+  // `wethair_sim_set_root_frames` sets instead of the head transform (which still moves
+  // the colliders). 0 (the default): roots follow the head.
+  uint32_t skinned_roots;
+  // A root that moves farther than this in one step (or one `wethair_sim_advance` frame)
+  // carries its strand there rigidly, at rest, instead of sweeping it through the world, m;
+  // 0: never (since 0.4.0). Default 0.5.
+  float root_teleport_distance;
 } WetHairSimDesc;
 
 // What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.
@@ -983,6 +1019,25 @@ void wethair_sim_destroy(struct WetHairSim *sim);
 // # Safety
 // `sim` is valid; `matrix` is NULL or points to 16 floats.
 WetHairResult wethair_sim_set_head_transform(struct WetHairSim *sim, const float *matrix);
+
+// Sets where SDF collider `index` (of `WetHairSimDesc::sdfs`) is at the end of the next
+// step: its grid frame to the world, a column-major 4×4 of a rotation, a translation and a
+// uniform scale (16 floats). It moves there over the step's substeps, as the head does.
+//
+// # Safety
+// `sim` is valid; `matrix` is NULL or points to 16 floats.
+WetHairResult wethair_sim_set_sdf_transform(struct WetHairSim *sim, uint32_t index, const float *matrix);
+
+// Sets where every strand's root is at the end of the next step (or `wethair_sim_advance`
+// frame), for a simulation made with `skinned_roots`: `count` (the groom's strand count)
+// positions (x y z each, m, world: the strand's first point) and rotations (x y z w each, a
+// unit quaternion: the turn from the groom's rest frame to the world). Pinned points after
+// the first keep their rest offset from it, turned. The roots move there over the step's
+// substeps as the head does. All or nothing: on error no frame changes.
+//
+// # Safety
+// `sim` is valid; `positions` holds `count * 3` floats and `rotations` `count * 4`.
+WetHairResult wethair_sim_set_root_frames(struct WetHairSim *sim, const float *positions, const float *rotations, uint32_t count);
 
 // Adds `count` water particles at `positions` (x y z each, m, world space) with
 // `velocities` (x y z each, m/s; NULL = at rest). All or nothing: on error none is added.

@@ -5,6 +5,7 @@
 use crate::error::Result;
 use crate::groom::Groom;
 use crate::params::{Backend, Integrator, SimParams};
+use crate::physics::roots::RootFrame;
 use crate::plan::Pass;
 use glam::{Affine3A, Vec3};
 
@@ -123,6 +124,16 @@ pub trait Engine: std::fmt::Debug + Send {
     fn sampled_behind(&mut self, _out: &mut Vec<Vec3>) -> Result<bool> {
         Ok(false)
     }
+    /// Moves the SDF colliders from `from` to `to` (grid frame to world, one per
+    /// `SimParams::sdfs`) over the next step's substeps, as the head moves. Only called when
+    /// the scene has SDFs.
+    fn place_sdfs(&mut self, from: &[Affine3A], to: &[Affine3A]) -> Result<()>;
+    /// Moves the skinned roots from `from` to `to` (one frame per host strand) over the next
+    /// step's substeps, as the head moves. Only called when the scene has skinned roots.
+    fn place_roots(&mut self, from: &[RootFrame], to: &[RootFrame]) -> Result<()>;
+    /// Carries host strands `strands` rigidly from root frames `from` to `to` (one each) now,
+    /// velocities zeroed (a teleport, or a reset onto the frames), and starts BDF2 again.
+    fn carry_strands(&mut self, strands: &[u32], from: &[RootFrame], to: &[RootFrame]) -> Result<()>;
     /// Keeps the positions now as where the output blend starts (fixed steps with
     /// interpolation, before an `advance`'s last step). The first call allocates the copy;
     /// an engine never asked keeps nothing.

@@ -271,6 +271,10 @@ pub struct SimParams {
     pub water: WaterParams,
     /// Colliders in head space (follow the head transform).
     pub colliders: Vec<Shape>,
+    /// Signed distance field colliders, each placed by its own transform
+    /// ([`crate::Simulation::set_sdf_transform`]); at most [`crate::physics::sdf::MAX_SDFS`].
+    /// Shared, not copied, when parameters are cloned.
+    pub sdfs: Vec<std::sync::Arc<crate::physics::sdf::Sdf>>,
     /// Tangential velocity lost on collider contact, 0..=1.
     pub friction: f32,
     /// Vertex attributes written for the host.
@@ -302,6 +306,13 @@ pub struct SimParams {
     pub max_substeps: u32,
     /// Fixed-step updates for [`crate::Simulation::advance`] (off by default).
     pub fixed_step: FixedStep,
+    /// Roots on a skinned mesh (off by default): each strand's pinned points follow the root
+    /// frame set by [`crate::Simulation::set_root_frames`] instead of the head transform
+    /// (`physics/roots.rs`).
+    pub skinned_roots: bool,
+    /// A root that moves farther than this in one step teleports its strand (carried rigidly,
+    /// velocities zeroed) instead of sweeping it, m; 0: never. Skinned roots only.
+    pub root_teleport_distance: f32,
 }
 
 /// The estimate's stride an error budget uses when the host set none.
@@ -367,6 +378,9 @@ impl SimParams {
                 domain_radius: 0.0,
             },
             colliders: Vec::new(),
+            sdfs: Vec::new(),
+            skinned_roots: false,
+            root_teleport_distance: crate::physics::roots::TELEPORT_DISTANCE,
             friction: 0.2,
             attributes: VertexAttributes(
                 VertexAttributes::POSITION | VertexAttributes::TANGENT | VertexAttributes::WETNESS,
@@ -472,6 +486,22 @@ impl SimParams {
             check_finite3(&format!("collider {i} point"), pts[0].to_array())?;
             check_finite3(&format!("collider {i} point"), pts[1].to_array())?;
             check_positive(&format!("collider {i} radius"), r)?;
+        }
+        if self.sdfs.len() > crate::physics::sdf::MAX_SDFS {
+            return Err(Error::Capacity(format!(
+                "{} SDF colliders, at most {}",
+                self.sdfs.len(),
+                crate::physics::sdf::MAX_SDFS
+            )));
+        }
+        for (i, s) in self.sdfs.iter().enumerate() {
+            s.validate(&format!("SDF {i}"))?;
+        }
+        if !(self.root_teleport_distance.is_finite() && self.root_teleport_distance >= 0.0) {
+            return Err(invalid!(
+                "root_teleport_distance must be finite and >= 0 m, got {}",
+                self.root_teleport_distance
+            ));
         }
         if !(self.friction.is_finite() && (0.0..=1.0).contains(&self.friction)) {
             return Err(invalid!("friction must be in [0, 1], got {}", self.friction));

@@ -24,6 +24,8 @@ mod output;
 mod passes;
 mod physics;
 mod reference;
+mod roots;
+mod sdf;
 mod shaders;
 mod standalone;
 mod unity;

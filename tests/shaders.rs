@@ -35,7 +35,9 @@ fn kajiya_kay_wgsl_validates_with_the_vertex_layout() {
 /// with and without bend springs and colliders, before any device compiles them.
 #[test]
 fn output_modules_validate() {
-    use wethair::gpu::pipelines::{held_source, output_source, water_output_source, water_source};
+    use wethair::gpu::pipelines::{
+        held_source, output_source, sdf_hair_source, sdf_water_source, water_output_source, water_source,
+    };
     for (bend, colliders) in [(false, 0), (true, 2)] {
         let c = consts(bend, colliders);
         for (name, src, entry) in [
@@ -44,6 +46,8 @@ fn output_modules_validate() {
             ("water", water_source(c), "water_cull"),
             ("water output", water_output_source(c), "write_water_vertices"),
             ("held", held_source(c), "dry"),
+            ("sdf hair", sdf_hair_source(c, 3), "hair_sdf"),
+            ("sdf water", sdf_water_source(c, 1), "water_sdf"),
         ] {
             let module =
                 naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
@@ -67,6 +71,7 @@ fn consts(bend: bool, colliders: u32) -> wethair::gpu::pipelines::SceneConsts {
         max_points: 32,
         iterations: 2,
         bdf2: false,
+        roots: bend,
     }
 }
 
@@ -120,6 +125,7 @@ fn all_modules() -> Vec<(String, String)> {
         out.push((format!("output bend={bend}"), output_source(c)));
         out.push((format!("water output bend={bend}"), water_output_source(c)));
         out.push((format!("held bend={bend}"), held_source(c)));
+        out.push((format!("roots bend={bend}"), wethair::gpu::pipelines::roots_source(c)));
     }
     out
 }
@@ -178,7 +184,11 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
             "{name}: collider stride"
         );
     }
-    assert_eq!(checked, records().len() * 28, "every record in every module");
+    assert_eq!(
+        checked,
+        records().len() * 30,
+        "every record in every module (30 modules)"
+    );
 }
 
 /// The generated constants are the Rust values, as each module compiles them (naga evaluates

@@ -149,6 +149,14 @@ public:
 
     /// Where the head is at the end of the next step: column-major 4x4 affine matrix.
     void set_head_transform(const std::array<float, 16> &m) { detail::check(wethair_sim_set_head_transform(h_.get(), m.data())); }
+    /// Where every strand's root is at the end of the next step (a simulation made with
+    /// `skinned_roots`): x y z positions (m, world) and x y z w unit quaternions, one per strand.
+    void set_root_frames(const std::vector<float> &positions, const std::vector<float> &rotations) {
+        if (positions.size() % 3 != 0 || rotations.size() != positions.size() / 3 * 4)
+            throw Error(WETHAIR_ERROR_INVALID_ARGUMENT, "set_root_frames: xyz positions and xyzw rotations, one each per strand");
+        detail::check(wethair_sim_set_root_frames(h_.get(), positions.data(), rotations.data(),
+                                                  static_cast<uint32_t>(positions.size() / 3)));
+    }
     /// Adds `count` particles; positions and velocities hold x y z each (velocities may be null).
     void add_water(const float *positions, const float *velocities, uint32_t count) {
         detail::check(wethair_sim_add_water(h_.get(), positions, velocities, count));

@@ -5,6 +5,7 @@ use super::step::CpuBackend;
 use crate::engine::{Counters, Engine, PassTime, PointState, WaterLedger};
 use crate::error::Result;
 use crate::params::{Backend, Integrator};
+use crate::physics::roots::RootFrame;
 use crate::plan::Pass;
 use glam::{Affine3A, Vec3};
 
@@ -58,6 +59,21 @@ impl Engine for CpuBackend {
     fn positions_of(&self, idx: &[u32], out: &mut Vec<Vec3>) -> Result<()> {
         out.clear();
         out.extend(idx.iter().map(|&i| self.position_of(i as usize)));
+        Ok(())
+    }
+
+    fn place_sdfs(&mut self, from: &[Affine3A], to: &[Affine3A]) -> Result<()> {
+        CpuBackend::place_sdfs(self, from, to);
+        Ok(())
+    }
+
+    fn place_roots(&mut self, from: &[RootFrame], to: &[RootFrame]) -> Result<()> {
+        CpuBackend::place_roots(self, from, to);
+        Ok(())
+    }
+
+    fn carry_strands(&mut self, strands: &[u32], from: &[RootFrame], to: &[RootFrame]) -> Result<()> {
+        CpuBackend::carry_strands(self, strands, from, to);
         Ok(())
     }
 

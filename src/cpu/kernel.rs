@@ -5,7 +5,7 @@
 use super::layout::{Layout, StateRow};
 use crate::params::Integrator;
 use crate::physics::bdf2::{blend_rows, Bdf2Blend};
-use crate::physics::collide::{collide_row, Placed};
+use crate::physics::collide::{Colliders, Placed};
 use crate::physics::implicit::{implicit_euler_block, BandScratch};
 use crate::physics::integrate::symplectic_euler_row;
 use crate::physics::lanes::{Lane, L3, W};
@@ -73,6 +73,11 @@ pub(super) struct Ctx<'a> {
     pub(super) heads: &'a [Affine3A],
     pub(super) placed: &'a [Placed],
     pub(super) n_colliders: usize,
+    /// The SDF colliders and each substep's placements (SDFs per substep each).
+    pub(super) sdfs: &'a [std::sync::Arc<crate::physics::sdf::Sdf>],
+    pub(super) placed_sdfs: &'a [crate::physics::sdf::PlacedSdf],
+    /// Skinned roots: pinned points follow these frames instead of the head.
+    pub(super) roots: Option<&'a super::roots::Roots>,
     pub(super) friction: f32,
     pub(super) water: Option<WaterCtx<'a>>,
 }
@@ -286,11 +291,15 @@ fn block_substep_impl<const AXIAL: bool>(
             }
         }
     }
-    // Pass: integrate; pinned points take the head's target.
+    // Pass: integrate; pinned points take the head's target (or their root frame's).
     let head = &ctx.heads[s];
+    let a = (s + 1) as f32 / ctx.heads.len() as f32;
     let target = |i: usize| -> Option<L3> {
         if !lay.pinned_row[base + i] {
             return None;
+        }
+        if let Some(r) = ctx.roots {
+            return Some(r.target(lay.rows, b, i, a));
         }
         let rest = &lay.rest_local[base + i];
         let mut t = L3::ZERO;
@@ -375,12 +384,16 @@ fn block_substep_impl<const AXIAL: bool>(
     }
     let mut max_v2 = worker.max_v2;
     let mut check = 0.0f32;
+    let ns = ctx.sdfs.len();
+    let colliders = Colliders {
+        placed: &ctx.placed[s * ctx.n_colliders..(s + 1) * ctx.n_colliders],
+        sdfs: ctx.sdfs,
+        placed_sdfs: &ctx.placed_sdfs[s * ns..(s + 1) * ns],
+    };
     for i in 0..p {
         let r = &mut rows[i];
         // Pass: collide.
-        for c in &ctx.placed[s * ctx.n_colliders..(s + 1) * ctx.n_colliders] {
-            collide_row(&mut r.x, &mut r.v, &params[i].inv_mass, c, ctx.friction);
-        }
+        colliders.push_out_row(&mut r.x, &mut r.v, &params[i].inv_mass, ctx.friction);
         for l in 0..W {
             let v2 = r.v.x[l] * r.v.x[l] + r.v.y[l] * r.v.y[l] + r.v.z[l] * r.v.z[l];
             max_v2 = max_v2.max(v2);

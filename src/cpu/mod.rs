@@ -10,6 +10,7 @@ pub mod kernel;
 pub mod layout;
 pub mod output;
 pub mod pool;
+mod roots;
 pub mod step;
 #[cfg(target_arch = "x86_64")]
 mod transpose;

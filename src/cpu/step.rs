@@ -11,9 +11,12 @@ use super::water::Water;
 use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
 use crate::physics::bdf2::{Bdf2Blend, Bdf2Clock};
-use crate::physics::collide::Placed;
+use crate::physics::collide::{Colliders, Placed};
+use crate::physics::head::head_between;
 use crate::physics::integrate::blown_up;
 use crate::physics::lanes::{Lane, L3, W};
+use crate::physics::roots::RootFrame;
+use crate::physics::sdf::PlacedSdf;
 use crate::physics::spring::DampingModel;
 use crate::plan::{has_bend, pass_list, resolve_integrator, Pass, WaterDomain};
 use crate::timers::{Stage, StageClock};
@@ -51,6 +54,13 @@ pub struct CpuBackend {
     pool: Option<super::pool::Pool>,
     heads: Vec<Affine3A>,
     placed: Vec<Placed>,
+    /// The SDF colliders' transforms at the start and end of the next step, and each
+    /// substep's placement (`n_sub` × SDFs; empty without SDFs).
+    sdf_from: Vec<Affine3A>,
+    sdf_to: Vec<Affine3A>,
+    placed_sdfs: Vec<PlacedSdf>,
+    /// Skinned roots' frames (scenes with skinned roots only).
+    roots: Option<super::roots::Roots>,
     domain: WaterDomain,
     avx2: bool,
     integrator: Integrator,
@@ -133,6 +143,10 @@ impl CpuBackend {
             pool,
             heads: vec![*head; n_sub],
             placed: vec![Placed::default(); n_sub * params.colliders.len()],
+            sdf_from: params.sdfs.iter().map(|s| s.transform).collect(),
+            sdf_to: params.sdfs.iter().map(|s| s.transform).collect(),
+            placed_sdfs: Vec::new(),
+            roots: None,
             domain: WaterDomain::new(groom, params),
             avx2: cpu_has_avx2(),
             integrator,
@@ -142,6 +156,9 @@ impl CpuBackend {
             output_from: Vec::new(),
             output_blend: None,
         };
+        if params.skinned_roots {
+            cpu.roots = Some(super::roots::Roots::new(&cpu.lay));
+        }
         if hw.drips() {
             // Drops are made in the step, which never allocates: their storage comes now.
             cpu.allocate_water();
@@ -327,6 +344,14 @@ impl CpuBackend {
                 self.placed[s * nc + c] = shape.place(&self.heads[s]);
             }
         }
+        self.placed_sdfs.clear();
+        for s in 0..n_sub {
+            let a = (s + 1) as f32 / n_sub as f32;
+            for (k, sdf) in self.params.sdfs.iter().enumerate() {
+                let t = head_between(&self.sdf_from[k], &self.sdf_to[k], a);
+                self.placed_sdfs.push(PlacedSdf::new(sdf, &t));
+            }
+        }
         for w in &mut self.workers {
             w.max_v2 = 0.0;
             w.nonfinite = false;
@@ -401,7 +426,11 @@ impl CpuBackend {
                     self.params.gravity,
                     self.wind,
                     h,
-                    placed_of(&self.placed, s, nc),
+                    Colliders {
+                        placed: placed_of(&self.placed, s, nc),
+                        sdfs: &self.params.sdfs,
+                        placed_sdfs: placed_of(&self.placed_sdfs, s, self.params.sdfs.len()),
+                    },
                     self.params.friction,
                 );
                 self.clock.stop(Stage::WaterIntegrate, t);
@@ -481,6 +510,9 @@ impl CpuBackend {
             heads: &self.heads,
             placed: &self.placed,
             n_colliders: p.colliders.len(),
+            sdfs: &p.sdfs,
+            placed_sdfs: &self.placed_sdfs,
+            roots: self.roots.as_ref(),
             friction: p.friction,
             water: water.map(|w| WaterCtx {
                 grid: &w.grid,
@@ -593,6 +625,28 @@ impl CpuBackend {
         );
     }
 
+    /// Moves the SDF colliders from `from` to `to` over the next step.
+    pub fn place_sdfs(&mut self, from: &[Affine3A], to: &[Affine3A]) {
+        self.sdf_from.clear();
+        self.sdf_from.extend_from_slice(from);
+        self.sdf_to.clear();
+        self.sdf_to.extend_from_slice(to);
+    }
+
+    /// Moves the skinned roots from `from` to `to` (one per host strand) over the next step.
+    pub fn place_roots(&mut self, from: &[RootFrame], to: &[RootFrame]) {
+        if let Some(r) = &mut self.roots {
+            r.place(&self.lay, from, to);
+        }
+    }
+
+    /// Carries host strands `strands` rigidly from root frames `from` to `to` now, at rest,
+    /// and starts BDF2 again (its history held the old place).
+    pub fn carry_strands(&mut self, strands: &[u32], from: &[RootFrame], to: &[RootFrame]) {
+        super::roots::Roots::carry(&self.lay, &mut self.state, strands, from, to);
+        self.bdf2.0 = Bdf2Clock::default();
+    }
+
     /// Keeps every row's positions as where the output blend starts (allocated on the first
     /// call only).
     pub fn keep_previous(&mut self) {
@@ -606,7 +660,6 @@ impl CpuBackend {
     }
 }
 
-/// The colliders placed for substep `s` (`nc` per substep).
 /// `v` in chunks of `size`, or `n` empty slices when `v` is empty (a per-row buffer the scene
 /// does not have).
 fn chunks_or_empty<T: Send>(v: &mut [T], size: usize, n: usize) -> impl IndexedParallelIterator<Item = &mut [T]> {
@@ -617,6 +670,7 @@ fn chunks_or_empty<T: Send>(v: &mut [T], size: usize, n: usize) -> impl IndexedP
     }
 }
 
-fn placed_of(placed: &[Placed], s: usize, nc: usize) -> &[Placed] {
+/// The colliders (or SDFs) placed for substep `s` (`nc` per substep).
+fn placed_of<T>(placed: &[T], s: usize, nc: usize) -> &[T] {
     &placed[s * nc..(s + 1) * nc]
 }

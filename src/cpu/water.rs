@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::params::WaterParams;
 use crate::physics::absorb::Demand;
 use crate::physics::adhesion::Reaction;
-use crate::physics::collide::{collide_point, Placed};
+use crate::physics::collide::Colliders;
 use crate::physics::grid::Grid;
 use crate::physics::lanes::W;
 use crate::physics::wet;
@@ -216,7 +216,7 @@ impl Water {
         g: Vec3,
         wind: Vec3,
         h: f32,
-        colliders: &[Placed],
+        colliders: Colliders,
         friction: f32,
     ) {
         let inv_m0 = 1.0 / p.particle_mass;
@@ -257,9 +257,7 @@ impl Water {
             let v = self.vel[j] + h * (f * inv_m + g);
             let mut x = self.pos[j] + h * v;
             let mut v = v;
-            for c in colliders {
-                collide_point(&mut x, &mut v, c, friction);
-            }
+            colliders.push_out_point(&mut x, &mut v, friction);
             self.pos[j] = x;
             self.vel[j] = v;
         }

@@ -4,6 +4,7 @@ use super::boundary::{Fail, WetHairResult};
 use super::groom::WetHairGroom;
 use super::types::{WetHairAdvance, WetHairBackendInfo, WetHairSimDesc, WetHairStats, WetHairVertexLayout};
 use crate::params::{VertexAttributes, MAX_WATER_CAPACITY};
+use crate::physics::roots::RootFrame;
 use crate::sim::Simulation;
 use glam::{Mat4, Vec3};
 
@@ -54,6 +55,72 @@ pub unsafe extern "C" fn wethair_sim_set_head_transform(sim: *mut WetHairSim, ma
         }
         let m: [f32; 16] = std::ptr::read_unaligned(matrix as *const [f32; 16]);
         s.0.set_head_transform(Mat4::from_cols_array(&m))?;
+        Ok(())
+    })
+}
+
+/// Sets where SDF collider `index` (of `WetHairSimDesc::sdfs`) is at the end of the next
+/// step: its grid frame to the world, a column-major 4×4 of a rotation, a translation and a
+/// uniform scale (16 floats). It moves there over the step's substeps, as the head does.
+///
+/// # Safety
+/// `sim` is valid; `matrix` is NULL or points to 16 floats.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_set_sdf_transform(
+    sim: *mut WetHairSim,
+    index: u32,
+    matrix: *const f32,
+) -> WetHairResult {
+    boundary!({
+        let s = nonnull_mut!(sim, "sim");
+        if matrix.is_null() {
+            return Err(super::boundary::null("matrix"));
+        }
+        let m: [f32; 16] = std::ptr::read_unaligned(matrix as *const [f32; 16]);
+        s.0.set_sdf_transform(index as usize, Mat4::from_cols_array(&m))?;
+        Ok(())
+    })
+}
+
+/// Sets where every strand's root is at the end of the next step (or `wethair_sim_advance`
+/// frame), for a simulation made with `skinned_roots`: `count` (the groom's strand count)
+/// positions (x y z each, m, world: the strand's first point) and rotations (x y z w each, a
+/// unit quaternion: the turn from the groom's rest frame to the world). Pinned points after
+/// the first keep their rest offset from it, turned. The roots move there over the step's
+/// substeps as the head does. All or nothing: on error no frame changes.
+///
+/// # Safety
+/// `sim` is valid; `positions` holds `count * 3` floats and `rotations` `count * 4`.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_set_root_frames(
+    sim: *mut WetHairSim,
+    positions: *const f32,
+    rotations: *const f32,
+    count: u32,
+) -> WetHairResult {
+    boundary!({
+        let s = nonnull_mut!(sim, "sim");
+        if positions.is_null() {
+            return Err(super::boundary::null("positions"));
+        }
+        if rotations.is_null() {
+            return Err(super::boundary::null("rotations"));
+        }
+        // The strand count is checked before the arrays are read.
+        let strands = s.0.strand_count();
+        if count as usize != strands {
+            return Err(Fail(
+                WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
+                format!("count {count}: the groom has {strands} strands, give one frame each"),
+            ));
+        }
+        let n = count as usize;
+        let pos = std::slice::from_raw_parts(positions, n * 3);
+        let rot = std::slice::from_raw_parts(rotations, n * 4);
+        s.0.set_roots_by(n, |i| RootFrame {
+            position: Vec3::from_slice(&pos[3 * i..]),
+            rotation: glam::Quat::from_slice(&rot[4 * i..]),
+        })?;
         Ok(())
     })
 }

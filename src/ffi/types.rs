@@ -4,6 +4,7 @@ use super::boundary::Fail;
 use super::enums::read_enum;
 use crate::params::{MaterialParams, SimParams, SpringModel, SpringParams, VertexAttributes, WaterParams};
 use crate::physics::collide::Shape;
+use crate::physics::sdf::{transform_from_mat4, Sdf, MAX_SDFS, MAX_SDF_CELLS};
 use glam::Vec3;
 
 /// Collider shape (`WetHairCollider::shape`).
@@ -107,6 +108,29 @@ pub struct WetHairCollider {
     pub radius: f32,
 }
 
+/// A signed distance field collider (since 0.4.0): `values[i + nx (j + ny k)]` is the distance,
+/// m, from the point `origin + cell_size (i, j, k)` of the grid's own frame to the surface,
+/// negative inside. Hair points and particles inside are pushed out along the field's gradient,
+/// with the analytic colliders' friction. `transform` (column-major 4×4: rotation, translation
+/// and a uniform scale) places the grid in the world at the start;
+/// `wethair_sim_set_sdf_transform` moves it each frame. The values are copied at create.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairSdf {
+    /// Samples along x, y and z, each >= 2; at most 16,777,216 in all.
+    pub dims: [u32; 3],
+    /// The first sample's position in the grid's frame, m.
+    pub origin: [f32; 3],
+    /// Spacing of the samples, m, > 0.
+    pub cell_size: f32,
+    /// Unused; keep 0.
+    pub reserved: u32,
+    /// `dims[0] * dims[1] * dims[2]` distances, m, x fastest, all finite.
+    pub values: *const f32,
+    /// Grid frame to world at the start, column-major.
+    pub transform: [f32; 16],
+}
+
 /// Everything a simulation is made from. Fill with `wethair_sim_desc_init(&desc, sizeof desc)`
 /// (material springs, AUTO integrator: right for any groom), or with the older
 /// `wethair_sim_desc_default()` (the paper scene's exact parameters in the 0.1.0 layout), then
@@ -198,8 +222,23 @@ pub struct WetHairSimDesc {
     /// time left over; 0: the last step's state (since 0.4.0). Costs one copy of the
     /// positions per advance that steps.
     pub interpolate: u32,
-    /// Unused; keep 0 (the layout's end, so that fields added later start after it).
+    /// Unused; keep 0.
     pub reserved5: u32,
+    /// SDF colliders (since 0.4.0; may be NULL when `sdf_count` is 0), at most 16; copied at
+    /// create; both backends run them.
+    pub sdfs: *const WetHairSdf,
+    /// Number of SDF colliders.
+    pub sdf_count: u32,
+    /// Unused; keep 0.
+    pub reserved6: u32,
+    /// 1: roots on a skinned mesh (since 0.4.0): each strand's pinned points follow the frame
+    /// `wethair_sim_set_root_frames` sets instead of the head transform (which still moves
+    /// the colliders). 0 (the default): roots follow the head.
+    pub skinned_roots: u32,
+    /// A root that moves farther than this in one step (or one `wethair_sim_advance` frame)
+    /// carries its strand there rigidly, at rest, instead of sweeping it through the world, m;
+    /// 0: never (since 0.4.0). Default 0.5.
+    pub root_teleport_distance: f32,
 }
 
 /// What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.
@@ -478,7 +517,62 @@ impl WetHairSimDesc {
             max_frame_time: p.fixed_step.max_frame,
             interpolate: p.fixed_step.interpolate as u32,
             reserved5: 0,
+            sdfs: std::ptr::null(),
+            sdf_count: 0,
+            reserved6: 0,
+            skinned_roots: p.skinned_roots as u32,
+            root_teleport_distance: p.root_teleport_distance,
         }
+    }
+
+    /// The SDF colliders, their arrays copied (counts and pointers checked here, values by
+    /// [`SimParams::validate`]).
+    fn sdf_params(&self) -> Result<Vec<std::sync::Arc<Sdf>>, Fail> {
+        use super::WetHairResult::WETHAIR_ERROR_CAPACITY;
+        let n = self.sdf_count as usize;
+        if n > MAX_SDFS {
+            return Err(Fail(
+                WETHAIR_ERROR_CAPACITY,
+                format!("sdf_count {n} exceeds {MAX_SDFS}"),
+            ));
+        }
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        if self.sdfs.is_null() {
+            return Err(super::boundary::null("sdfs"));
+        }
+        // SAFETY: the host's array holds `sdf_count` entries (the documented contract).
+        let raw = unsafe { std::slice::from_raw_parts(self.sdfs, n) };
+        let mut out = Vec::with_capacity(n);
+        for (i, d) in raw.iter().enumerate() {
+            let cells: u64 = d.dims.iter().map(|&c| c as u64).product();
+            if cells > MAX_SDF_CELLS {
+                return Err(Fail(
+                    WETHAIR_ERROR_CAPACITY,
+                    format!("SDF {i}: {cells} samples exceed {MAX_SDF_CELLS}"),
+                ));
+            }
+            if d.values.is_null() && cells > 0 {
+                return Err(super::boundary::null("sdfs[].values"));
+            }
+            let values = if cells == 0 {
+                Vec::new()
+            } else {
+                // SAFETY: the host's array holds the product of `dims` floats.
+                unsafe { std::slice::from_raw_parts(d.values, cells as usize) }.to_vec()
+            };
+            let name = format!("SDF {i}");
+            let transform = transform_from_mat4(glam::Mat4::from_cols_array(&d.transform), &name)?;
+            out.push(std::sync::Arc::new(Sdf {
+                dims: d.dims,
+                origin: Vec3::from(d.origin),
+                cell: d.cell_size,
+                values,
+                transform,
+            }));
+        }
+        Ok(out)
     }
 
     /// Converts to [`SimParams`], checking the enums and the collider array (floats are
@@ -517,6 +611,7 @@ impl WetHairSimDesc {
                 },
             });
         }
+        let sdfs = self.sdf_params()?;
         let w = &self.water;
         Ok(SimParams {
             stretch: SpringParams {
@@ -552,6 +647,7 @@ impl WetHairSimDesc {
                 domain_radius: w.domain_radius,
             },
             colliders,
+            sdfs,
             friction: self.friction,
             attributes: VertexAttributes(self.vertex_attributes),
             backend,
@@ -561,6 +657,17 @@ impl WetHairSimDesc {
             error_estimate_stride: self.error_estimate_stride,
             tolerance: self.tolerance,
             max_substeps: self.max_substeps,
+            skinned_roots: match self.skinned_roots {
+                0 => false,
+                1 => true,
+                v => {
+                    return Err(Fail(
+                        super::WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
+                        format!("skinned_roots must be 0 or 1, got {v}"),
+                    ))
+                }
+            },
+            root_teleport_distance: self.root_teleport_distance,
             fixed_step: crate::FixedStep {
                 step: self.fixed_step,
                 max_frame: self.max_frame_time,

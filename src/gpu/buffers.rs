@@ -89,6 +89,90 @@ gpu_record! {
 }
 
 gpu_record! {
+    /// One SDF collider placed for a substep (WGSL `Sdf`; `physics/sdf.rs` `PlacedSdf` and the
+    /// grid's shape): the world-to-grid rows, the grid-to-world linear rows (normals), the
+    /// world box, and where its samples start.
+    pub struct SdfGpu {
+        /// World to grid frame, row x (xyz; w the translation).
+        pub gx: [f32; 4],
+        /// Row y.
+        pub gy: [f32; 4],
+        /// Row z.
+        pub gz: [f32; 4],
+        /// Grid frame to world, linear part, row x (xyz; w unused).
+        pub wx: [f32; 4],
+        /// Row y.
+        pub wy: [f32; 4],
+        /// Row z.
+        pub wz: [f32; 4],
+        /// World box's lower corner (xyz); w the transform's uniform scale.
+        pub lo: [f32; 4],
+        /// World box's upper corner (xyz); w the grid's cell, m.
+        pub hi: [f32; 4],
+        /// The grid's first sample in its frame (xyz); w unused.
+        pub origin: [f32; 4],
+        /// Samples along x, y, z; w where the grid's samples start in the values buffer.
+        pub dims: [u32; 4],
+    }
+}
+
+gpu_record! {
+    /// One strand's root frames at the start and the end of the step (WGSL `RootPair`;
+    /// `physics/roots.rs` `RootFrame`): positions (w unused) and rotations (x y z w).
+    pub struct RootPairGpu {
+        /// Where the root is at the step's start.
+        pub from_pos: [f32; 4],
+        /// Its rotation at the start.
+        pub from_rot: [f32; 4],
+        /// Where the root is at the step's end.
+        pub to_pos: [f32; 4],
+        /// Its rotation at the end.
+        pub to_rot: [f32; 4],
+    }
+}
+
+gpu_record! {
+    /// One pinned point of a scene with skinned roots (WGSL `Pin`): its rest offset from its
+    /// strand's root, and which point and strand it is.
+    pub struct PinGpu {
+        /// Rest position minus the root's (xyz, head space); w unused.
+        pub offset: [f32; 4],
+        /// x the point, y the strand; z, w unused.
+        pub at: [u32; 4],
+    }
+}
+
+gpu_record! {
+    /// One strand carried rigidly between root frames (WGSL `Carry`: a teleport or a reset).
+    pub struct CarryGpu {
+        /// The frame the strand leaves.
+        pub from_pos: [f32; 4],
+        /// Its rotation.
+        pub from_rot: [f32; 4],
+        /// The frame the strand lands on.
+        pub to_pos: [f32; 4],
+        /// Its rotation.
+        pub to_rot: [f32; 4],
+        /// x the strand's first point, y its last; z, w unused.
+        pub span: [u32; 4],
+    }
+}
+
+gpu_record! {
+    /// The roots passes' uniform (WGSL `RootsUniform`), one per substep and one for carries.
+    pub struct RootsUniformGpu {
+        /// How far through the step this substep ends, 0..=1.
+        pub a: f32,
+        /// Strands to carry (the carry slot only).
+        pub count: u32,
+        /// Unused: rounds the record to WGSL's 16-byte uniform size.
+        pub pad0: u32,
+        /// Unused.
+        pub pad1: u32,
+    }
+}
+
+gpu_record! {
     /// The output blend (WGSL `Blend`, a uniform; fixed steps with interpolation only).
     pub struct BlendGpu {
         /// How far the output moves from the kept positions toward the state, 0..=1.

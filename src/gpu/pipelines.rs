@@ -12,6 +12,10 @@ const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
 const WATER: &str = include_str!("shaders/water.wgsl");
 const OUTPUT: &str = include_str!("shaders/output.wgsl");
 const WATER_OUTPUT: &str = include_str!("shaders/water_output.wgsl");
+const SDF: &str = include_str!("shaders/sdf.wgsl");
+const ROOTS: &str = include_str!("shaders/roots.wgsl");
+const SDF_HAIR: &str = include_str!("shaders/sdf_hair.wgsl");
+const SDF_WATER: &str = include_str!("shaders/sdf_water.wgsl");
 const IMPLICIT: &str = include_str!("shaders/implicit.wgsl");
 const BDF2: &str = include_str!("shaders/bdf2.wgsl");
 
@@ -38,15 +42,18 @@ pub struct SceneConsts {
     pub iterations: u32,
     /// The implicit solve starts from BDF2's blend (and binds its history).
     pub bdf2: bool,
+    /// Skinned roots: pinned points read their target from their record (`roots.wgsl`).
+    pub roots: bool,
 }
 
 /// The scene's constants, the generated prelude (shared constants and structs), and the
 /// helpers every module uses.
 fn prelude(c: SceneConsts) -> String {
     format!(
-        "const AXIAL: bool = {};\nconst BEND: bool = {};\nconst N_COLLIDERS: u32 = {}u;\nconst NC: u32 = {}u;\n{}{COMMON}\n",
+        "const AXIAL: bool = {};\nconst BEND: bool = {};\nconst ROOTS: bool = {};\nconst N_COLLIDERS: u32 = {}u;\nconst NC: u32 = {}u;\n{}{COMMON}\n",
         c.axial,
         c.bend,
+        c.roots,
         c.colliders,
         c.colliders.max(1),
         super::wgsl::prelude(),
@@ -190,6 +197,21 @@ pub fn bridges_source(c: SceneConsts, buckets: u32) -> String {
 /// The vertex output module.
 pub fn output_source(c: SceneConsts) -> String {
     format!("{}{OUTPUT}", prelude(c))
+}
+
+/// The SDF colliders' hair pass, for a scene with `nsdf` SDFs.
+pub fn sdf_hair_source(c: SceneConsts, nsdf: usize) -> String {
+    format!("{}const NSDF: u32 = {nsdf}u;\n{SDF}{SDF_HAIR}", prelude(c))
+}
+
+/// The SDF colliders' particle pass, for a scene with `nsdf` SDFs.
+pub fn sdf_water_source(c: SceneConsts, nsdf: usize) -> String {
+    format!("{}const NSDF: u32 = {nsdf}u;\n{SDF}{SDF_WATER}", prelude(c))
+}
+
+/// Skinned roots' passes `pin_roots` and `carry_roots`.
+pub fn roots_source(c: SceneConsts) -> String {
+    format!("{}{ROOTS}", prelude(c))
 }
 
 /// The shared water output module (host-shared devices that draw the particles).

@@ -3,7 +3,10 @@
 //! the top of each module ([`prelude`]). `tests/shaders.rs` reads the compiled modules back
 //! through naga and checks each struct's member offsets and size against the Rust record.
 
-use super::buffers::{self, grid_header as gh, BlendGpu, ColliderGpu, Params, ParticleGpu, PointGpu, StateGpu};
+use super::buffers::{
+    self, grid_header as gh, BlendGpu, CarryGpu, ColliderGpu, Params, ParticleGpu, PinGpu, PointGpu, RootPairGpu,
+    RootsUniformGpu, SdfGpu, StateGpu,
+};
 
 /// A field type with a WGSL spelling.
 pub trait WgslType {
@@ -22,6 +25,9 @@ impl WgslType for [f32; 3] {
 }
 impl WgslType for [f32; 4] {
     const WGSL: &'static str = "vec4<f32>";
+}
+impl WgslType for [u32; 4] {
+    const WGSL: &'static str = "vec4<u32>";
 }
 
 /// One field of a [`GpuRecord`].
@@ -65,7 +71,7 @@ pub(crate) use gpu_record;
 
 /// The WGSL structs the host writes or reads, by WGSL name, with their Rust records'
 /// fields and sizes.
-pub fn records() -> [(&'static str, &'static [Field], usize); 6] {
+pub fn records() -> [(&'static str, &'static [Field], usize); 11] {
     fn rec<T: GpuRecord>(name: &'static str) -> (&'static str, &'static [Field], usize) {
         (name, T::FIELDS, std::mem::size_of::<T>())
     }
@@ -76,6 +82,11 @@ pub fn records() -> [(&'static str, &'static [Field], usize); 6] {
         rec::<ParticleGpu>("Particle"),
         rec::<ColliderGpu>("Collider"),
         rec::<BlendGpu>("Blend"),
+        rec::<SdfGpu>("Sdf"),
+        rec::<RootPairGpu>("RootPair"),
+        rec::<PinGpu>("Pin"),
+        rec::<CarryGpu>("Carry"),
+        rec::<RootsUniformGpu>("RootsUniform"),
     ]
 }
 

@@ -109,6 +109,42 @@ pub fn collide_row(x: &mut L3, v: &mut L3, inv_mass: &Lane, c: &Placed, friction
     }
 }
 
+/// One substep's colliders as placed: the analytic ones and the SDFs with their placements
+/// (one per SDF).
+#[derive(Clone, Copy, Debug)]
+pub struct Colliders<'a> {
+    /// Spheres and capsules.
+    pub placed: &'a [Placed],
+    /// The SDF grids.
+    pub sdfs: &'a [std::sync::Arc<super::sdf::Sdf>],
+    /// Where each SDF is this substep.
+    pub placed_sdfs: &'a [super::sdf::PlacedSdf],
+}
+
+impl Colliders<'_> {
+    /// Pushes one point (a water particle) out of every collider, analytic ones first.
+    #[inline]
+    pub fn push_out_point(&self, x: &mut Vec3, v: &mut Vec3, friction: f32) {
+        for c in self.placed {
+            collide_point(x, v, c, friction);
+        }
+        for (sdf, at) in self.sdfs.iter().zip(self.placed_sdfs) {
+            super::sdf::collide_sdf_point(x, v, sdf, at, friction);
+        }
+    }
+
+    /// Pushes the free lanes of one row out of every collider, analytic ones first.
+    #[inline]
+    pub fn push_out_row(&self, x: &mut L3, v: &mut L3, inv_mass: &Lane, friction: f32) {
+        for c in self.placed {
+            collide_row(x, v, inv_mass, c, friction);
+        }
+        for (sdf, at) in self.sdfs.iter().zip(self.placed_sdfs) {
+            super::sdf::collide_sdf_row(x, v, inv_mass, sdf, at, friction);
+        }
+    }
+}
+
 /// Pushes one point (a water particle) out of a placed collider.
 #[inline(always)]
 pub fn collide_point(x: &mut Vec3, v: &mut Vec3, c: &Placed, friction: f32) {
@@ -136,7 +172,7 @@ fn closest(c: &Placed, p: Vec3) -> (bool, Vec3, Vec3) {
 
 /// Removes the velocity into the surface and applies friction to the rest.
 #[inline(always)]
-fn respond(v: Vec3, n: Vec3, friction: f32) -> Vec3 {
+pub(crate) fn respond(v: Vec3, n: Vec3, friction: f32) -> Vec3 {
     let vn = v.dot(n);
     let normal = if vn < 0.0 { n * vn } else { Vec3::ZERO };
     let tangential = v - n * vn;

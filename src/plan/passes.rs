@@ -126,7 +126,7 @@ pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -
     if integrator == Integrator::XPBD {
         v.push(Pass::ProjectConstraints);
     }
-    if !p.colliders.is_empty() {
+    if !p.colliders.is_empty() || !p.sdfs.is_empty() {
         v.push(Pass::Collide);
     }
     if wet && hw.absorbs() {

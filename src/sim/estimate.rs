@@ -44,6 +44,8 @@ enum Withheld {
 #[derive(Debug)]
 pub(super) struct Shadow {
     sim: Box<Simulation>,
+    /// The simulation's strands the shadow runs: every `stride`-th.
+    stride: usize,
     /// Host index of each shadow point, in the shadow's order.
     points: Vec<u32>,
     /// `2^p / (2^p - 1)` for the integrator's order p.
@@ -107,6 +109,7 @@ impl Shadow {
         let q = 2f32.powi(order(integrator));
         Ok(Some(Shadow {
             sim: Box::new(sim),
+            stride,
             points,
             richardson: q / (q - 1.0),
             withheld: None,
@@ -128,6 +131,29 @@ impl Shadow {
         if self.sim.step(dt).is_err() {
             self.withheld = Some(Withheld::Failed);
         }
+    }
+
+    /// Sets the sampled strands' root frames as the simulation's next step reaches them.
+    pub(super) fn place_roots(&mut self, to: &[crate::physics::roots::RootFrame]) {
+        if let Some(r) = &mut self.sim.roots {
+            r.target.clear();
+            r.target.extend(to.iter().step_by(self.stride).copied());
+        }
+    }
+
+    /// Sets the sampled strands' root targets from the simulation's (before a reset).
+    pub(super) fn set_root_targets(&mut self, roots: &super::roots::RootTargets) {
+        let stride = self.stride;
+        if let Some(r) = &mut self.sim.roots {
+            r.target.clear();
+            r.target.extend(roots.targets_every(stride));
+        }
+    }
+
+    /// Places the SDF colliders as the simulation's next step does.
+    pub(super) fn place_sdfs(&mut self, to: &[Affine3A]) {
+        self.sim.sdf_target.clear();
+        self.sim.sdf_target.extend_from_slice(to);
     }
 
     /// Keeps the shadow's positions before each step, for [`Shadow::estimate_behind`].

@@ -74,7 +74,9 @@ impl Simulation {
     /// Without fixed steps this is [`Simulation::step`] with `frame` (which must then be > 0).
     ///
     /// The head moves from where the last step left it to the transform last set, reached at
-    /// the end of this frame: step k of n lands `k h / owed` of the way (rotation by slerp).
+    /// the end of this frame: step k of n lands `k h / owed` of the way (rotation by slerp);
+    /// the SDF colliders and skinned roots move the same way (a root's teleport is judged over
+    /// the frame).
     /// With interpolation on, the vertices written after this call lie between the state
     /// before the last step and after it, by [`Advance::blend`]; [`Simulation::positions`]
     /// and the other state reads give the last step's state itself.
@@ -96,6 +98,12 @@ impl Simulation {
         }
         let plan = self.fixed.take(frame, &f);
         let (from, to) = (self.head_prev, self.head);
+        let sdf_from = (plan.steps > 0 && !self.sdf_last.is_empty()).then(|| self.sdf_last.clone());
+        if plan.steps > 0 {
+            // A jump is judged over the whole frame, not each of its (shorter) steps.
+            self.teleport_roots()?;
+        }
+        let roots_from = self.roots_last().filter(|_| plan.steps > 0);
         for k in 1..=plan.steps {
             if k == plan.steps && f.interpolate {
                 self.engine.keep_previous()?;
@@ -103,7 +111,9 @@ impl Simulation {
                 self.blending = true;
             }
             let a = (k as f64 * f.step as f64 / plan.span).min(1.0) as f32;
-            self.step_to(f.step, head_between(&from, &to, a))?;
+            let sdfs = sdf_from.as_deref().map(|s| (s, a));
+            let roots = roots_from.as_deref().map(|r| (r, a));
+            self.step_to(f.step, head_between(&from, &to, a), sdfs, roots)?;
         }
         if plan.steps == 0 && self.blending {
             // No step: the same two states, blended further along (written at the next read).

@@ -4,6 +4,7 @@ mod auto;
 mod budget;
 mod estimate;
 mod fixed;
+mod roots;
 
 pub use estimate::ErrorEstimate;
 pub use fixed::Advance;
@@ -112,6 +113,13 @@ pub struct Simulation {
     host: HostPoints,
     head: Affine3A,
     head_prev: Affine3A,
+    /// The SDF colliders' transforms as last set, where the last step left them, and the
+    /// next step's (reused; all empty without SDFs).
+    sdf_target: Vec<Affine3A>,
+    sdf_last: Vec<Affine3A>,
+    sdf_next: Vec<Affine3A>,
+    /// Skinned roots' frames (scenes with them only).
+    roots: Option<roots::RootTargets>,
     last_step_ms: f32,
     max_speed: f32,
     steps: u64,
@@ -169,7 +177,9 @@ impl Simulation {
             _ => false,
         };
         let substeps = params.substeps;
+        let sdf_start: Vec<Affine3A> = params.sdfs.iter().map(|s| s.transform).collect();
         let engine_integrator = engine.integrator();
+        let roots = params.skinned_roots.then(|| roots::RootTargets::new(groom));
         Ok(Simulation {
             params,
             engine,
@@ -177,6 +187,10 @@ impl Simulation {
             host,
             head,
             head_prev: head,
+            sdf_target: sdf_start.clone(),
+            sdf_last: sdf_start,
+            sdf_next: Vec::new(),
+            roots,
             last_step_ms: 0.0,
             max_speed: 0.0,
             steps: 0,
@@ -242,6 +256,11 @@ impl Simulation {
         self.settle(r)
     }
 
+    /// Number of strands in the simulated groom.
+    pub fn strand_count(&self) -> usize {
+        self.host.strand_first.len() - 1
+    }
+
     /// The parameters the simulation was created with.
     pub fn params(&self) -> &SimParams {
         &self.params
@@ -266,6 +285,19 @@ impl Simulation {
             return Err(invalid!("head transform is singular or mirrored (determinant {det})"));
         }
         self.head = t;
+        Ok(())
+    }
+
+    /// Sets where SDF collider `index` is at the end of the next step (its grid frame to the
+    /// world: rotation, translation and a uniform scale, column-major). It moves there from
+    /// where the last step left it over the step's substeps, as the head does.
+    pub fn set_sdf_transform(&mut self, index: usize, m: Mat4) -> Result<()> {
+        self.check_device()?;
+        let n = self.sdf_target.len();
+        if index >= n {
+            return Err(invalid!("SDF index {index}: the simulation has {n} SDF colliders"));
+        }
+        self.sdf_target[index] = crate::physics::sdf::transform_from_mat4(m, &format!("SDF {index}"))?;
         Ok(())
     }
 
@@ -319,13 +351,41 @@ impl Simulation {
             self.engine.blend_output(None);
             self.blending = false;
         }
-        self.step_to(dt, self.head)
+        self.teleport_roots()?;
+        self.step_to(dt, self.head, None, None)
     }
 
     /// One step of `dt` (checked) that moves the head from where the last step left it to
-    /// `to`.
-    fn step_to(&mut self, dt: f32, to: Affine3A) -> Result<()> {
+    /// `to`, and the SDFs and skinned roots to their set transforms, or `a` of the way there
+    /// from `sdf_from` and `roots_from` (fixed steps inside a frame).
+    fn step_to(
+        &mut self,
+        dt: f32,
+        to: Affine3A,
+        sdf_from: Option<(&[Affine3A], f32)>,
+        roots_from: Option<(&[crate::physics::roots::RootFrame], f32)>,
+    ) -> Result<()> {
         let t0 = Instant::now();
+        if !self.sdf_target.is_empty() {
+            let mut next = std::mem::take(&mut self.sdf_next);
+            next.clear();
+            match sdf_from {
+                None => next.extend_from_slice(&self.sdf_target),
+                Some((from, a)) => next.extend(
+                    from.iter()
+                        .zip(&self.sdf_target)
+                        .map(|(f, t)| crate::physics::head::head_between(f, t, a)),
+                ),
+            }
+            let r = self.engine.place_sdfs(&self.sdf_last, &next);
+            if let Some(sh) = &mut self.shadow {
+                sh.place_sdfs(&next);
+            }
+            self.sdf_last.clone_from(&next);
+            self.sdf_next = next;
+            r?;
+        }
+        self.place_roots(roots_from)?;
         if let Some(b) = &self.budget {
             let n = b.before(self.engine.integrator(), self.substeps, dt);
             self.use_substeps(n);
@@ -414,7 +474,11 @@ impl Simulation {
     pub fn reset(&mut self) -> Result<()> {
         self.check_device()?;
         self.engine.reset(&self.head);
+        self.reset_roots(&self.head.clone())?;
         if let Some(sh) = &mut self.shadow {
+            if let Some(r) = &self.roots {
+                sh.set_root_targets(r);
+            }
             sh.reset(self.head);
         }
         if let Some(b) = &mut self.budget {
@@ -431,6 +495,7 @@ impl Simulation {
         self.last_integrator = self.engine.integrator();
         self.reset_fixed();
         self.head_prev = self.head;
+        self.sdf_last.clone_from(&self.sdf_target);
         self.failed = None;
         self.steps = 0;
         self.time = 0.0;

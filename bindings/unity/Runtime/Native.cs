@@ -160,6 +160,27 @@ namespace WetHair
         /// <summary>Since 0.4.0: 1 (default) shows the state between the last two fixed steps.</summary>
         public uint interpolate;
         public uint reserved5;
+        /// <summary>Since 0.4.0: SDF colliders (WetHairSdf array, both backends), and their count.</summary>
+        public IntPtr sdfs;
+        public uint sdf_count;
+        public uint reserved6;
+        /// <summary>Since 0.4.0: 1 roots follow wethair_sim_set_root_frames (a skinned mesh), 0 the head.</summary>
+        public uint skinned_roots;
+        /// <summary>Since 0.4.0: a root moving farther in one step teleports its strand, m (0: never).</summary>
+        public float root_teleport_distance;
+    }
+
+    /// <summary>Since 0.4.0: a signed distance field collider (distances in m, x fastest,
+    /// negative inside), placed by a column-major transform.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public unsafe struct WetHairSdf
+    {
+        public fixed uint dims[3];
+        public fixed float origin[3];
+        public float cell_size;
+        public uint reserved;
+        public IntPtr values;
+        public fixed float transform[16];
     }
 
     /// <summary>Since 0.4.0: what one wethair_sim_advance did.</summary>
@@ -318,6 +339,8 @@ namespace WetHair
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_add_water(SimulationHandle sim, float* positions, float* velocities, uint count);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_clear_water(SimulationHandle sim);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_step(SimulationHandle sim, float dt);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_sdf_transform(SimulationHandle sim, uint index, float* matrix);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_root_frames(SimulationHandle sim, float* positions, float* rotations, uint count);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_advance(SimulationHandle sim, float frameTime, WetHairAdvance* result);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_reset(SimulationHandle sim);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vertex_layout(SimulationHandle sim, WetHairVertexLayout* layout);

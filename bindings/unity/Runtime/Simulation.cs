@@ -124,6 +124,18 @@ namespace WetHair
             fixed (float* m = columnMajor4x4) WetHairException.Check(Native.wethair_sim_set_head_transform(handle, m));
         }
 
+        /// <summary>Where every strand's root is at the end of the next step (a simulation made
+        /// with skinned_roots): xyz positions (m, world) and xyzw unit quaternions, one per strand
+        /// (UnityEngine.Quaternion's order).</summary>
+        public void SetRootFrames(ReadOnlySpan<float> positions, ReadOnlySpan<float> rotations)
+        {
+            if (positions.Length % 3 != 0 || rotations.Length != positions.Length / 3 * 4)
+                throw new ArgumentException("xyz positions and xyzw rotations, one each per strand");
+            fixed (float* p = &MemoryMarshal.GetReference(positions))
+            fixed (float* q = &MemoryMarshal.GetReference(rotations))
+                WetHairException.Check(Native.wethair_sim_set_root_frames(handle, p, q, (uint)(positions.Length / 3)));
+        }
+
         /// <summary>Adds particles at rest: xyz positions (m, world).</summary>
         public void AddWater(ReadOnlySpan<float> positions) => AddWater(positions, ReadOnlySpan<float>.Empty);
 

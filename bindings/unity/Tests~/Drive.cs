@@ -112,6 +112,32 @@ static class Drive
                 Console.WriteLine("fixed steps: 2 steps and a 0.4 blend at 50 Hz, 120 steps a second at 144 Hz");
             }
         }
+        // Skinned roots (0.4.0): frames for every strand are taken; a count that is not the
+        // strand count is refused with InvalidArgument.
+        using (Groom gr = Groom.PaperScene(10, 6))
+        {
+            var desc = Simulation.GroomDesc();
+            desc.backend = (uint)Backend.Cpu;
+            desc.skinned_roots = 1;
+            using (var sim = new Simulation(gr, desc, new WetHairCollider[0]))
+            {
+                var pos = new float[30];
+                var rot = new float[40];
+                for (int s = 0; s < 10; s++) { pos[3 * s + 2] = 0.1f; rot[4 * s + 3] = 1.0f; }
+                sim.SetRootFrames(pos, rot);
+                sim.Step(1.0f / 60.0f);
+                try
+                {
+                    sim.SetRootFrames(new ReadOnlySpan<float>(pos, 0, 27), new ReadOnlySpan<float>(rot, 0, 36));
+                    return Fail("9 frames for 10 strands were taken");
+                }
+                catch (WetHairException e)
+                {
+                    if (e.Code != Result.InvalidArgument) return Fail("code " + e.Code);
+                    Console.WriteLine("skinned roots: frames taken; a short array threw: " + e.Message);
+                }
+            }
+        }
         // The wet model through the current layout: soak, a gusty wind, drying; the ledger in
         // the stats balances to the quantum, and a bad saturation is refused.
         using (Groom g3 = Groom.PaperScene(500, 6))

@@ -127,6 +127,15 @@ impl GpuBackend {
         let h = dt / self.n_sub as f32;
         crate::physics::head::substep_heads_into(from, to, &mut self.heads);
         self.write_substeps(h);
+        if let Some(r) = &mut self.roots {
+            r.write_substeps(&self.dev.queue, self.n_sub);
+        }
+        if let Some(sd) = &mut self.sdf {
+            sd.write_substeps(&self.dev.queue, self.n_sub);
+            if let (Some(w), None) = (&self.water, &sd.water_bg) {
+                sd.water_bg = Some(sd.water_groups(&self.dev.device, &self.params_buf, &w.particles, &w.grid));
+            }
+        }
         let incoming = self.water.as_ref().map_or(0, |w| w.pending);
         self.write_params(h, incoming, to);
         let mut enc = self.dev.device.create_command_encoder(&Default::default());
@@ -176,6 +185,10 @@ impl GpuBackend {
                     w.encode_grid(&mut pass, true);
                     close(stamps, &mut pass, Stage::WaterGrid);
                     let (gx, gy) = groups(w.bound);
+                    if let Some(r) = &self.roots {
+                        // Pass pin_roots (booked with the hair kernel after it).
+                        r.encode_pin(&mut pass, s);
+                    }
                     // Forces, adhesion, integrate, collide; then the particles move.
                     let k = &w.wet_hair;
                     k.encode(
@@ -189,6 +202,13 @@ impl GpuBackend {
                         self.strands,
                         stamps,
                     );
+                    if let Some(sd) = &self.sdf {
+                        // Pass collide's SDF part, booked with the hair kernel that holds the
+                        // analytic colliders.
+                        sd.encode_hair(&mut pass, self.cur, s, self.points);
+                        pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
+                        close(stamps, &mut pass, Stage::Blocks);
+                    }
                     if let Some(h) = self.held.as_ref().filter(|h| !h.absorb_dispatches().is_empty()) {
                         // Pass absorb: the particles give the hair what it asked for (its own
                         // bind groups; water_integrate's go back after it).
@@ -200,10 +220,18 @@ impl GpuBackend {
                         pass.set_pipeline(p);
                         pass.set_bind_group(1, &w.hair_bg[w.cur], &[]);
                         pass.dispatch_workgroups(gx, gy, 1);
+                        if let Some(sd) = &self.sdf {
+                            // The particles' SDF push, part of water_integrate as on the CPU.
+                            sd.encode_water(&mut pass, w.cur, s, w.bound);
+                            pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
+                        }
                         close(stamps, &mut pass, Stage::WaterIntegrate);
                     }
                     w.cur = 1 - w.cur;
                 } else {
+                    if let Some(r) = &self.roots {
+                        r.encode_pin(&mut pass, s);
+                    }
                     self.dry_hair.encode(
                         &mut pass,
                         &self.hair_bg[self.cur],
@@ -215,6 +243,10 @@ impl GpuBackend {
                         self.strands,
                         stamps,
                     );
+                    if let Some(sd) = &self.sdf {
+                        sd.encode_hair(&mut pass, self.cur, s, self.points);
+                        close(stamps, &mut pass, Stage::Blocks);
+                    }
                 }
                 self.cur = 1 - self.cur;
             }

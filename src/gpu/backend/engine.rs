@@ -4,6 +4,7 @@ use super::GpuBackend;
 use crate::engine::{Counters, Engine, PointState};
 use crate::error::Result;
 use crate::params::{Backend, Integrator};
+use crate::physics::roots::RootFrame;
 use crate::plan::Pass;
 use glam::{Affine3A, Vec3};
 
@@ -72,6 +73,20 @@ impl Engine for GpuBackend {
 
     fn reset(&mut self, head: &Affine3A) {
         GpuBackend::reset(self, head)
+    }
+
+    fn place_sdfs(&mut self, from: &[Affine3A], to: &[Affine3A]) -> Result<()> {
+        GpuBackend::place_sdfs(self, from, to);
+        Ok(())
+    }
+
+    fn place_roots(&mut self, from: &[RootFrame], to: &[RootFrame]) -> Result<()> {
+        GpuBackend::place_roots(self, from, to);
+        Ok(())
+    }
+
+    fn carry_strands(&mut self, strands: &[u32], from: &[RootFrame], to: &[RootFrame]) -> Result<()> {
+        GpuBackend::carry_strands(self, strands, from, to)
     }
 
     fn keep_previous(&mut self) -> Result<()> {

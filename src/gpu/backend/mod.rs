@@ -3,7 +3,7 @@
 //! readback, blocking or one frame behind). One concern per file: creation and the backend's
 //! state here, `kernels` (hair kernels from the pass list), `water`, `encode` (the step's
 //! command buffers), `stamps` (GPU time per stage), `share` (the host's Vulkan), `readback`,
-//! `blend` (fixed steps' output blend), and `engine` (the seam).
+//! `blend` (fixed steps' output blend), `sdf` (SDF colliders), and `engine` (the seam).
 
 mod blend;
 mod bridges;
@@ -12,7 +12,9 @@ mod engine;
 mod held;
 mod kernels;
 mod readback;
+mod roots;
 mod sample;
+mod sdf;
 mod share;
 mod stamps;
 mod water;
@@ -24,6 +26,7 @@ use crate::error::{Error, Result};
 use crate::groom::Groom;
 use crate::params::{Integrator, SimParams};
 use crate::physics::bdf2::Bdf2Clock;
+use crate::physics::roots::RootFrame;
 use crate::plan::{has_bend, pass_list, Pass, WaterDomain};
 use bridges::BridgesGpu;
 use glam::{Affine3A, Vec3};
@@ -114,6 +117,10 @@ pub struct GpuBackend {
     output_bg: [wgpu::BindGroup; 2],
     /// Fixed steps' output blend (once a state is kept).
     blend: Option<blend::OutputBlend>,
+    /// SDF colliders (scenes with SDFs only).
+    sdf: Option<sdf::SdfColliders>,
+    /// Skinned roots (scenes with them only).
+    roots: Option<roots::SkinnedRoots>,
     cur: usize,
     /// Held water (scenes with `SimParams::held_water` on).
     held: Option<HeldGpu>,
@@ -252,6 +259,7 @@ impl GpuBackend {
             max_points: rows as u32,
             iterations: params.solver_iterations,
             bdf2: integrator == Integrator::BDF2,
+            roots: params.skinned_roots,
         };
         let n_sub = params.substeps as usize;
         let align = dev.limits.min_uniform_buffer_offset_alignment as u64;
@@ -341,6 +349,31 @@ impl GpuBackend {
             strand_table.as_ref().map(|s| &s.0),
             bridges.as_ref().map(|b| &b.cohesion_layout),
         );
+        let sdf = if params.sdfs.is_empty() {
+            None
+        } else {
+            let inputs = sdf::SdfInputs {
+                params: &params_buf,
+                points: hair_points,
+                state: &state,
+                most_sub,
+                align,
+                max_storage: dev.limits.max_storage_buffer_binding_size,
+            };
+            Some(sdf::SdfColliders::new(d, &dev.queue, consts, &params.sdfs, inputs)?)
+        };
+        let roots = params.skinned_roots.then(|| {
+            let inputs = roots::RootsInputs {
+                rest: pos,
+                strand_first: &groom.strand_first,
+                pinned: groom.pinned(),
+                points: hair_points,
+                state: &state,
+                most_sub,
+                align,
+            };
+            roots::SkinnedRoots::new(d, &dev.queue, consts, inputs)
+        });
         let out_mod = pl::module(d, "output", &pl::output_source(consts));
         let output = pl::pipelines(d, &out_mod, &[&out_layout], &["write_vertices"]).remove(0);
         let mut be = GpuBackend {
@@ -371,6 +404,8 @@ impl GpuBackend {
             output,
             output_bg,
             blend: None,
+            sdf,
+            roots,
             cur: 0,
             held,
             bridges,
@@ -455,6 +490,9 @@ impl GpuBackend {
             None
         }
         .unwrap_or(&self.dry_hair);
+        if self.roots.is_some() {
+            v.push("pin_roots");
+        }
         if k.cohesion.is_some() {
             v.push("cohesion");
         }
@@ -462,9 +500,15 @@ impl GpuBackend {
             v.push("hair_forces");
         }
         v.push(if k.implicit { "implicit_solve" } else { "hair_substep" });
+        if self.sdf.is_some() {
+            v.push("hair_sdf");
+        }
         if wet {
             v.extend_from_slice(self.held.as_ref().map_or(&[][..], |h| h.absorb_dispatches()));
             v.push("water_integrate");
+            if self.sdf.is_some() {
+                v.push("water_sdf");
+            }
         }
         v.extend(held_after);
         if wet {
@@ -506,6 +550,12 @@ impl GpuBackend {
         }
         if let Some(bl) = &self.blend {
             v.push(("output_from", bl.bytes()));
+        }
+        if let Some(sd) = &self.sdf {
+            v.push(("sdf", sd.bytes()));
+        }
+        if let Some(r) = &self.roots {
+            v.push(("roots", r.bytes()));
         }
         v
     }
@@ -587,6 +637,35 @@ impl GpuBackend {
             });
         }
         true
+    }
+
+    /// Moves the SDF colliders from `from` to `to` over the next step.
+    pub fn place_sdfs(&mut self, from: &[Affine3A], to: &[Affine3A]) {
+        if let Some(sd) = &mut self.sdf {
+            sd.place(from, to);
+        }
+    }
+
+    /// Moves the skinned roots from `from` to `to` (one per host strand) over the next step.
+    pub fn place_roots(&mut self, from: &[RootFrame], to: &[RootFrame]) {
+        if let Some(r) = &mut self.roots {
+            r.place(&self.dev.queue, from, to);
+        }
+    }
+
+    /// Carries host strands `strands` rigidly from root frames `from` to `to` now, at rest
+    /// (a submission of its own), and starts BDF2 again.
+    pub fn carry_strands(&mut self, strands: &[u32], from: &[RootFrame], to: &[RootFrame]) -> Result<()> {
+        self.dev.check()?;
+        let Some(r) = &mut self.roots else {
+            return Ok(());
+        };
+        let mut enc = self.dev.device.create_command_encoder(&Default::default());
+        r.encode_carry(&self.dev.queue, &mut enc, self.cur, strands, from, to);
+        self.dev.submit(enc.finish(), false);
+        self.bdf2 = Bdf2Clock::default();
+        self.vertices_current = false;
+        Ok(())
     }
 
     /// Runs `n` substeps per step from the next step on (at most what `substeps` has room

@@ -27,11 +27,11 @@ pub(super) struct PassStamps {
 
 impl PassStamps {
     /// Room for a step of `n_sub` substeps: the opening stamp, up to four stages before the
-    /// substeps (wet_params, hair_grid, the new particles' insertion), up to five in each
-    /// (water_grid, cohesion, blocks, absorb, water_integrate) and up to four after (flow,
-    /// drip, dry, water_cull).
+    /// substeps (wet_params, hair_grid, the new particles' insertion), up to six in each
+    /// (water_grid, cohesion, blocks, the SDF colliders' part of blocks, absorb,
+    /// water_integrate) and up to four after (flow, drip, dry, water_cull).
     pub(super) fn new(d: &wgpu::Device, q: &wgpu::Queue, n_sub: usize) -> PassStamps {
-        let capacity = (1 + 4 + 5 * n_sub + 4) as u32;
+        let capacity = (1 + 4 + 6 * n_sub + 4) as u32;
         let mut clock = StageClock::default();
         clock.set(true);
         PassStamps {

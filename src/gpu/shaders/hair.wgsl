@@ -60,13 +60,22 @@ fn bend_springs(i: u32, pt: Point, x: vec3<f32>, v: vec3<f32>, f: ptr<function, 
     }
 }
 
+// Where a pinned point goes this substep: its rest position under the head transform, or,
+// with skinned roots, the target pass pin_roots wrote over its rest position (roots.wgsl).
+fn pinned_target(pt: Point) -> vec3<f32> {
+    if (ROOTS) {
+        return pt.rest;
+    }
+    return (S.head * vec4<f32>(pt.rest, 1.0)).xyz;
+}
+
 // Pass integrate (physics/integrate.rs `symplectic_euler_row`): free points take
-// v += h (f/m + g), x += h v; pinned points move to the head's target with the velocity that
+// v += h (f/m + g), x += h v; pinned points move to their target with the velocity that
 // reaches it.
 fn integrate(pt: Point, x: ptr<function, vec3<f32>>, v: ptr<function, vec3<f32>>, f: vec3<f32>) {
     let w = pt.inv_mass;
     if (w == 0.0) {
-        let t = (S.head * vec4<f32>(pt.rest, 1.0)).xyz;
+        let t = pinned_target(pt);
         *v = (t - *x) * P.inv_h;
         *x = t;
         return;

@@ -165,7 +165,7 @@ fn implicit_solve(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
         }
         var x = st.x.xyz + S.blend.z * st.v.xyz;
         if (pt.inv_mass == 0.0) {
-            x = (S.head * vec4<f32>(pt.rest, 1.0)).xyz;
+            x = pinned_target(pt);
         }
         for (var c = 0u; c < 3u; c++) {
             xi[3u * i + c] = x[c];

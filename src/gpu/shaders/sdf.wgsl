@@ -1,0 +1,80 @@
+// SDF colliders (physics/sdf.rs): the trilinear distance and gradient of a grid, and the push
+// along the gradient. `pipelines.rs` prepends NSDF (the scene's SDF count) and appends the hair
+// or the water entry point. Each substep's placements come in `SS` (a uniform at the
+// substep's offset); every grid's samples lie in `sdf_values`, from its `dims.w`.
+
+struct SdfSubstep {
+    sdfs: array<Sdf, NSDF>,
+}
+
+@group(0) @binding(0) var<uniform> P: Params;
+@group(0) @binding(1) var<uniform> SS: SdfSubstep;
+@group(0) @binding(2) var<storage, read> sdf_values: array<f32>;
+
+// Trilinear distance (x) and gradient (yzw) of grid s at p (grid frame), as `Sdf::sample`;
+// x = 1 (no contact) outside the grid.
+fn sdf_sample(s: Sdf, p: vec3<f32>) -> vec4<f32> {
+    let g = (p - s.origin.xyz) / s.hi.w;
+    let top = vec3<f32>(s.dims.xyz - vec3<u32>(1u));
+    if (!(all(g >= vec3<f32>(0.0)) && all(g <= top))) {
+        return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+    }
+    let i = min(vec3<u32>(g), s.dims.xyz - vec3<u32>(2u));
+    let f = g - vec3<f32>(i);
+    let sx = s.dims.x;
+    let sy = s.dims.x * s.dims.y;
+    let b = s.dims.w + i.x + sx * i.y + sy * i.z;
+    let c0 = sdf_values[b];
+    let c1 = sdf_values[b + 1u];
+    let c2 = sdf_values[b + sx];
+    let c3 = sdf_values[b + sx + 1u];
+    let c4 = sdf_values[b + sy];
+    let c5 = sdf_values[b + sy + 1u];
+    let c6 = sdf_values[b + sy + sx];
+    let c7 = sdf_values[b + sy + sx + 1u];
+    let x00 = c0 + (c1 - c0) * f.x;
+    let x10 = c2 + (c3 - c2) * f.x;
+    let x01 = c4 + (c5 - c4) * f.x;
+    let x11 = c6 + (c7 - c6) * f.x;
+    let y0 = x00 + (x10 - x00) * f.y;
+    let y1 = x01 + (x11 - x01) * f.y;
+    let d = y0 + (y1 - y0) * f.z;
+    let e0 = (c1 - c0) + ((c3 - c2) - (c1 - c0)) * f.y;
+    let e1 = (c5 - c4) + ((c7 - c6) - (c5 - c4)) * f.y;
+    let dx = e0 + (e1 - e0) * f.z;
+    let dy = (x10 - x00) + ((x11 - x01) - (x10 - x00)) * f.z;
+    let dz = y1 - y0;
+    return vec4<f32>(d, vec3<f32>(dx, dy, dz) / s.hi.w);
+}
+
+// Pushes a point out of placed grid s (`collide_sdf_point`): along the gradient by the depth
+// over the gradient's length, velocity answered as at an analytic collider.
+fn collide_sdf(x: ptr<function, vec3<f32>>, v: ptr<function, vec3<f32>>, s: Sdf, friction: f32) {
+    let p = *x;
+    if (!(all(p >= s.lo.xyz) && all(p <= s.hi.xyz))) {
+        return;
+    }
+    let q = vec3<f32>(dot(s.gx.xyz, p) + s.gx.w, dot(s.gy.xyz, p) + s.gy.w, dot(s.gz.xyz, p) + s.gz.w);
+    let r = sdf_sample(s, q);
+    if (r.x >= 0.0) {
+        return;
+    }
+    let g = r.yzw;
+    let gw = vec3<f32>(dot(s.wx.xyz, g), dot(s.wy.xyz, g), dot(s.wz.xyz, g));
+    let lw = sqrt(dot(gw, gw));
+    var n = vec3<f32>(0.0, 0.0, 1.0);
+    if (lw > 0.0 && !non_finite(1.0 / lw)) {
+        n = gw * (1.0 / lw);
+    }
+    let len = sqrt(dot(g, g));
+    var depth = -r.x;
+    if (len > 1e-6) {
+        depth = -r.x / len;
+    }
+    *x = p + n * (depth * s.lo.w);
+    let vv = *v;
+    let vn = dot(vv, n);
+    let into = min(vn, 0.0);
+    let tang = vv - n * vn;
+    *v = vv - n * into - tang * friction;
+}

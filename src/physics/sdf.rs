@@ -1,0 +1,288 @@
+//! Signed distance field colliders: a grid of distances (negative inside) that the host gives
+//! once, placed in the world by a transform it may change every frame. A hair point found
+//! inside (trilinear distance below zero) is moved out along the field's gradient by the
+//! distance, and its velocity answers as at an analytic collider (`collide.rs` `respond`: the
+//! part into the surface removed, the tangential part scaled by `1 - friction`). Outside the
+//! grid's box nothing collides.
+
+use super::collide::respond;
+use super::lanes::{Lane, L3, W};
+use crate::error::{invalid, Error, Result};
+use glam::{Affine3A, Vec3};
+
+/// Most SDF colliders per simulation.
+pub const MAX_SDFS: usize = 16;
+/// Most cells in one grid (64 MiB of f32).
+pub const MAX_SDF_CELLS: u64 = 1 << 24;
+/// How far a transform's scale may differ between axes (relative): distances scale by one
+/// number, so the transform must be a rotation, a translation and a uniform scale.
+pub const UNIFORM_SCALE_TOLERANCE: f32 = 1e-3;
+
+/// A signed distance grid: `values[i + nx (j + ny k)]` is the distance, m, from the point
+/// `origin + cell (i, j, k)` of the grid's own frame to the surface, negative inside.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sdf {
+    /// Samples along x, y and z, each at least 2.
+    pub dims: [u32; 3],
+    /// The first sample's position in the grid's frame, m.
+    pub origin: Vec3,
+    /// Spacing of the samples, m, > 0.
+    pub cell: f32,
+    /// Distances, m, x fastest (`dims` product of them).
+    pub values: Vec<f32>,
+    /// Where the grid's frame sits in the world at the start (rotation, translation and a
+    /// uniform scale; `Simulation::set_sdf_transform` moves it).
+    pub transform: Affine3A,
+}
+
+impl Sdf {
+    /// The grid of `shape` sampled on `dims` points from `origin` at `cell` spacing (tests
+    /// and hosts that build a field from a function).
+    pub fn from_fn(dims: [u32; 3], origin: Vec3, cell: f32, f: impl Fn(Vec3) -> f32) -> Sdf {
+        let mut values = Vec::with_capacity(dims.iter().map(|&d| d as usize).product());
+        for k in 0..dims[2] {
+            for j in 0..dims[1] {
+                for i in 0..dims[0] {
+                    values.push(f(origin + cell * Vec3::new(i as f32, j as f32, k as f32)));
+                }
+            }
+        }
+        Sdf {
+            dims,
+            origin,
+            cell,
+            values,
+            transform: Affine3A::IDENTITY,
+        }
+    }
+
+    /// Checks the grid: dimensions, cell, origin, every value, the transform.
+    pub fn validate(&self, name: &str) -> Result<()> {
+        if self.dims.iter().any(|&d| d < 2) {
+            return Err(invalid!(
+                "{name}: dims must be at least 2 on each axis, got {:?}",
+                self.dims
+            ));
+        }
+        let cells: u64 = self.dims.iter().map(|&d| d as u64).product();
+        if cells > MAX_SDF_CELLS {
+            return Err(Error::Capacity(format!(
+                "{name}: {cells} samples exceed {MAX_SDF_CELLS}"
+            )));
+        }
+        if self.values.len() as u64 != cells {
+            return Err(invalid!(
+                "{name}: {} values for dims {:?} ({cells} needed)",
+                self.values.len(),
+                self.dims
+            ));
+        }
+        if !(self.cell.is_finite() && self.cell > 0.0) {
+            return Err(invalid!("{name}: cell must be finite and > 0, got {}", self.cell));
+        }
+        if !self.origin.is_finite() {
+            return Err(invalid!("{name}: origin has a non-finite entry"));
+        }
+        if let Some(i) = self.values.iter().position(|v| !v.is_finite()) {
+            return Err(invalid!("{name}: value {i} is not finite"));
+        }
+        check_transform(&self.transform, name)
+    }
+
+    /// Trilinear distance and its gradient at `p` (grid frame), or `None` outside the grid.
+    #[inline]
+    pub fn sample(&self, p: Vec3) -> Option<(f32, Vec3)> {
+        let g = (p - self.origin) / self.cell;
+        let [nx, ny, nz] = self.dims;
+        let top = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);
+        if !(g.cmpge(Vec3::ZERO).all() && g.cmple(top).all()) {
+            return None;
+        }
+        // The cell's lower corner, kept one short of the last sample so a point on the far
+        // face uses the last cell with weight 1.
+        let i = (g.x as u32).min(nx - 2) as usize;
+        let j = (g.y as u32).min(ny - 2) as usize;
+        let k = (g.z as u32).min(nz - 2) as usize;
+        let f = g - Vec3::new(i as f32, j as f32, k as f32);
+        let (sx, sy) = (nx as usize, nx as usize * ny as usize);
+        let at = |di: usize, dj: usize, dk: usize| self.values[(i + di) + sx * (j + dj) + sy * (k + dk)];
+        let c = [
+            at(0, 0, 0),
+            at(1, 0, 0),
+            at(0, 1, 0),
+            at(1, 1, 0),
+            at(0, 0, 1),
+            at(1, 0, 1),
+            at(0, 1, 1),
+            at(1, 1, 1),
+        ];
+        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+        // Along x on the four edges, then y, then z; the gradient from the same edges.
+        let x00 = lerp(c[0], c[1], f.x);
+        let x10 = lerp(c[2], c[3], f.x);
+        let x01 = lerp(c[4], c[5], f.x);
+        let x11 = lerp(c[6], c[7], f.x);
+        let y0 = lerp(x00, x10, f.y);
+        let y1 = lerp(x01, x11, f.y);
+        let d = lerp(y0, y1, f.z);
+        let dx = lerp(
+            lerp(c[1] - c[0], c[3] - c[2], f.y),
+            lerp(c[5] - c[4], c[7] - c[6], f.y),
+            f.z,
+        );
+        let dy = lerp(x10 - x00, x11 - x01, f.z);
+        let dz = y1 - y0;
+        Some((d, Vec3::new(dx, dy, dz) / self.cell))
+    }
+
+    /// The grid's box in its own frame: lower and upper corners.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let [nx, ny, nz] = self.dims;
+        let top = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32) * self.cell;
+        (self.origin, self.origin + top)
+    }
+}
+
+/// The affine transform of a column-major 4×4 matrix `m`, refused unless its last row is
+/// (0, 0, 0, 1) and [`check_transform`] accepts it.
+pub fn transform_from_mat4(m: glam::Mat4, name: &str) -> Result<Affine3A> {
+    let row3 = m.row(3);
+    if !row3.is_finite() || (row3 - glam::Vec4::W).abs().max_element() > 1e-5 {
+        return Err(invalid!(
+            "{name}: transform's last row must be (0, 0, 0, 1), got {row3:?}"
+        ));
+    }
+    let t = Affine3A::from_mat4(m);
+    check_transform(&t, name)?;
+    Ok(t)
+}
+
+/// Refuses a transform that is not finite, not affine with a positive determinant, or that
+/// scales its axes differently (distances then would not scale by one number).
+pub fn check_transform(t: &Affine3A, name: &str) -> Result<()> {
+    let m = glam::Mat4::from(*t).to_cols_array();
+    if m.iter().any(|v| !v.is_finite()) {
+        return Err(invalid!("{name}: transform has a non-finite entry"));
+    }
+    let det = t.matrix3.determinant();
+    if det.is_nan() || det <= 1e-12 {
+        return Err(invalid!(
+            "{name}: transform is singular or mirrored (determinant {det})"
+        ));
+    }
+    let s = det.cbrt();
+    for (a, c) in ["x", "y", "z"]
+        .iter()
+        .zip([t.matrix3.x_axis, t.matrix3.y_axis, t.matrix3.z_axis])
+    {
+        if (c.length() / s - 1.0).abs() > UNIFORM_SCALE_TOLERANCE {
+            return Err(invalid!(
+                "{name}: transform must be a rotation, translation and uniform scale ({a} axis scaled {} against {s})",
+                c.length()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// An SDF placed for one substep: world to grid frame, the grid frame's linear part back
+/// (normals), the scale (distances), and the world box that holds the grid (a cheap reject).
+#[derive(Clone, Copy, Debug)]
+pub struct PlacedSdf {
+    /// World to grid frame.
+    pub to_grid: Affine3A,
+    /// Grid frame to world.
+    pub to_world: Affine3A,
+    /// The transform's uniform scale.
+    pub scale: f32,
+    /// World box around the grid: lower and upper corners.
+    pub lo: Vec3,
+    /// Upper corner.
+    pub hi: Vec3,
+}
+
+impl PlacedSdf {
+    /// `sdf` placed by `t` (grid frame to world).
+    pub fn new(sdf: &Sdf, t: &Affine3A) -> PlacedSdf {
+        let (a, b) = sdf.bounds();
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for c in 0..8 {
+            let p = Vec3::new(
+                if c & 1 == 0 { a.x } else { b.x },
+                if c & 2 == 0 { a.y } else { b.y },
+                if c & 4 == 0 { a.z } else { b.z },
+            );
+            let w = t.transform_point3(p);
+            lo = lo.min(w);
+            hi = hi.max(w);
+        }
+        PlacedSdf {
+            to_grid: t.inverse(),
+            to_world: *t,
+            scale: t.matrix3.determinant().cbrt(),
+            lo,
+            hi,
+        }
+    }
+}
+
+/// Pushes one point out of a placed SDF: moved along the gradient by the (trilinear) depth,
+/// its velocity answered as at an analytic collider.
+#[inline]
+pub fn collide_sdf_point(x: &mut Vec3, v: &mut Vec3, sdf: &Sdf, at: &PlacedSdf, friction: f32) {
+    if !(x.cmpge(at.lo).all() && x.cmple(at.hi).all()) {
+        return;
+    }
+    let Some((d, g)) = sdf.sample(at.to_grid.transform_point3(*x)) else {
+        return;
+    };
+    if d >= 0.0 {
+        return;
+    }
+    let n = at.to_world.transform_vector3(g).normalize_or(Vec3::Z);
+    // The gradient of a trilinear field is not of unit length: move by the depth over the
+    // gradient's length along it (a Newton step to the zero level), in world units.
+    let len = g.length();
+    let depth = if len > 1e-6 { -d / len } else { -d };
+    *x += n * (depth * at.scale);
+    *v = respond(*v, n, friction);
+}
+
+/// Pushes the free lanes of one row (inverse mass > 0) out of a placed SDF.
+#[inline]
+pub fn collide_sdf_row(x: &mut L3, v: &mut L3, inv_mass: &Lane, sdf: &Sdf, at: &PlacedSdf, friction: f32) {
+    for l in 0..W {
+        if inv_mass[l] <= 0.0 {
+            continue;
+        }
+        let (mut p, mut u) = (x.get(l), v.get(l));
+        collide_sdf_point(&mut p, &mut u, sdf, at, friction);
+        x.set(l, p);
+        v.set(l, u);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The trilinear sample of a linear field is the field, and its gradient the slope.
+    #[test]
+    fn a_linear_field_samples_exactly() {
+        let s = Sdf::from_fn([5, 4, 3], Vec3::new(-1.0, 0.5, 2.0), 0.25, |p| {
+            2.0 * p.x - p.y + 0.5 * p.z
+        });
+        for p in [
+            Vec3::new(-0.9, 0.6, 2.1),
+            Vec3::new(0.0, 1.25, 2.5),
+            Vec3::new(-1.0, 0.5, 2.0),
+        ] {
+            let (d, g) = s.sample(p).unwrap();
+            assert!((d - (2.0 * p.x - p.y + 0.5 * p.z)).abs() < 1e-5, "{p}: {d}");
+            assert!((g - Vec3::new(2.0, -1.0, 0.5)).length() < 1e-4, "{p}: {g}");
+        }
+        assert!(s.sample(Vec3::new(-1.01, 0.6, 2.1)).is_none());
+        assert!(s.sample(Vec3::new(0.01, 0.6, 2.1)).is_none());
+    }
+}
