@@ -284,6 +284,9 @@ typedef uint32_t WetHairSpringModel;
 // 6.4e-4 N·m²` (its springs then come out at its 40 and 10 N/m).
 typedef struct MaterialParams MaterialParams;
 
+// The grid, the rest density, and one grid of sums per worker.
+typedef struct Volume Volume;
+
 // Opaque strand set; create with `wethair_groom_*`, free with `wethair_groom_destroy`.
 typedef struct WetHairGroom WetHairGroom;
 
@@ -459,6 +462,28 @@ typedef struct WetHairSdf {
   float transform[16];
 } WetHairSdf;
 
+// Hair-hair volume (since 0.4.0; docs/VOLUME.md): once a step the hair's mass and momentum
+// are spread over a grid that follows the head; where the hair packs denser than at rest a
+// pressure pushes it apart (the groom keeps its volume), and each point's velocity relaxes
+// toward the hair's around it (hair-hair friction). Runs on the CPU backend (AUTO picks it).
+typedef struct WetHairVolume {
+  // 1: on; 0 (the default): off (no grid, no pass).
+  uint32_t enabled;
+  // The grid's cell, m, in (0, 1]. Default 0.02.
+  float cell;
+  // Pressure stiffness, m²/s², >= 0: a point where the density exceeds the rest density
+  // accelerates by `pressure · ∇ρ / ρ_rest`. Default 10.
+  float pressure;
+  // Hair-hair friction, 1/s, >= 0: each step a point's velocity moves
+  // `1 - exp(-friction dt)` of the way to the hair's around it. Default 4.
+  float friction;
+  // The density above which the pressure acts, kg/m³; 0 (the default) measures it from the
+  // rest pose (the density 90% of the free hair's mass sees at rest or less).
+  float rest_density;
+  // Unused; keep 0.
+  uint32_t reserved;
+} WetHairVolume;
+
 // Everything a simulation is made from. Fill with `wethair_sim_desc_init(&desc, sizeof desc)`
 // (material springs, AUTO integrator: right for any groom), or with the older
 // `wethair_sim_desc_default()` (the paper scene's exact parameters in the 0.1.0 layout), then
@@ -565,6 +590,8 @@ typedef struct WetHairSimDesc {
   // carries its strand there rigidly, at rest, instead of sweeping it through the world, m;
   // 0: never (since 0.4.0). Default 0.5.
   float root_teleport_distance;
+  // Hair-hair volume (since 0.4.0; off by default).
+  struct WetHairVolume volume;
 } WetHairSimDesc;
 
 // What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.

@@ -42,7 +42,7 @@ pub use engine::{PassTime, WaterLedger};
 pub use error::{Error, Result};
 pub use params::{
     Backend, FixedStep, HeldWater, Integrator, MaterialParams, Readback, SimParams, SpringModel, SpringParams,
-    VertexAttributes, WaterParams, Wind,
+    VertexAttributes, Volume, WaterParams, Wind,
 };
 pub use physics::collide::Shape;
 pub use physics::spring::DampingModel;

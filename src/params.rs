@@ -7,8 +7,10 @@ use crate::physics::spring::DampingModel;
 use glam::Vec3;
 
 mod fixed;
+mod volume;
 mod wet;
 pub use fixed::{FixedStep, MAX_STEPS_PER_ADVANCE};
+pub use volume::Volume;
 pub use wet::{HeldWater, Wind};
 
 /// Most substeps per step.
@@ -313,6 +315,9 @@ pub struct SimParams {
     /// A root that moves farther than this in one step teleports its strand (carried rigidly,
     /// velocities zeroed) instead of sweeping it, m; 0: never. Skinned roots only.
     pub root_teleport_distance: f32,
+    /// Hair-hair volume: density pressure and friction over a grid (off by default;
+    /// docs/VOLUME.md).
+    pub volume: Volume,
 }
 
 /// The estimate's stride an error budget uses when the host set none.
@@ -381,6 +386,7 @@ impl SimParams {
             sdfs: Vec::new(),
             skinned_roots: false,
             root_teleport_distance: crate::physics::roots::TELEPORT_DISTANCE,
+            volume: Volume::OFF,
             friction: 0.2,
             attributes: VertexAttributes(
                 VertexAttributes::POSITION | VertexAttributes::TANGENT | VertexAttributes::WETNESS,
@@ -497,6 +503,7 @@ impl SimParams {
         for (i, s) in self.sdfs.iter().enumerate() {
             s.validate(&format!("SDF {i}"))?;
         }
+        self.volume.validate()?;
         if !(self.root_teleport_distance.is_finite() && self.root_teleport_distance >= 0.0) {
             return Err(invalid!(
                 "root_teleport_distance must be finite and >= 0 m, got {}",

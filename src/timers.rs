@@ -20,6 +20,8 @@ pub enum Stage {
     WetParams,
     /// Pass `hair_grid`: the liquid bridges' search.
     HairGrid,
+    /// Pass `volume`: hair-hair volume's grid and response.
+    Volume,
     /// Pass `water_grid`.
     WaterGrid,
     /// Pass `cohesion`: the bridges' forces.
@@ -44,9 +46,10 @@ pub enum Stage {
 }
 
 /// Every stage, in step order.
-const STAGES: [Stage; 12] = [
+const STAGES: [Stage; 13] = [
     Stage::WetParams,
     Stage::HairGrid,
+    Stage::Volume,
     Stage::WaterGrid,
     Stage::Cohesion,
     Stage::Blocks,
@@ -65,6 +68,7 @@ impl Stage {
         match self {
             Stage::WetParams => "wet_params",
             Stage::HairGrid => Pass::HairGrid.name(),
+            Stage::Volume => Pass::Volume.name(),
             Stage::WaterGrid => Pass::WaterGrid.name(),
             Stage::Cohesion => Pass::Cohesion.name(),
             Stage::Blocks => "blocks",

@@ -29,6 +29,7 @@ mod sdf;
 mod shaders;
 mod standalone;
 mod unity;
+mod volume;
 mod wet_groom;
 mod wet_laws;
 mod wet_model;

@@ -14,4 +14,5 @@ mod roots;
 pub mod step;
 #[cfg(target_arch = "x86_64")]
 mod transpose;
+mod volume;
 pub mod water;

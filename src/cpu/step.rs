@@ -61,6 +61,8 @@ pub struct CpuBackend {
     placed_sdfs: Vec<PlacedSdf>,
     /// Skinned roots' frames (scenes with skinned roots only).
     roots: Option<super::roots::Roots>,
+    /// Hair-hair volume's grid (scenes with it only).
+    volume: Option<super::volume::Volume>,
     domain: WaterDomain,
     avx2: bool,
     integrator: Integrator,
@@ -147,6 +149,7 @@ impl CpuBackend {
             sdf_to: params.sdfs.iter().map(|s| s.transform).collect(),
             placed_sdfs: Vec::new(),
             roots: None,
+            volume: None,
             domain: WaterDomain::new(groom, params),
             avx2: cpu_has_avx2(),
             integrator,
@@ -158,6 +161,9 @@ impl CpuBackend {
         };
         if params.skinned_roots {
             cpu.roots = Some(super::roots::Roots::new(&cpu.lay));
+        }
+        if params.volume.enabled {
+            cpu.volume = Some(super::volume::Volume::new(groom, &params.volume, cpu.workers.len())?);
         }
         if hw.drips() {
             // Drops are made in the step, which never allocates: their storage comes now.
@@ -383,6 +389,21 @@ impl CpuBackend {
                 );
                 clock.stop(Stage::HairGrid, t); // pass hair_grid
             }
+        }
+        if let Some(vol) = &mut self.volume {
+            let t = self.clock.start();
+            let chunk_rows = self.lay.blocks.div_ceil(self.workers.len()).max(1) * self.lay.rows;
+            let rows = self.held.as_ref().map_or(&self.lay.params[..], |h| h.row_params());
+            vol.run(
+                &mut self.state,
+                rows,
+                &self.wet,
+                chunk_rows,
+                from,
+                dt,
+                self.pool.as_ref(),
+            ); // pass volume
+            self.clock.stop(Stage::Volume, t);
         }
         let bridging = self.bridges.as_ref().is_some_and(|b| b.active());
         let mut report = StepReport::default();

@@ -49,8 +49,8 @@ sized!(
     WetHairLoadDesc = 32,
     // 0.3.0: WetHairSimDesc grew to 232 (error_estimate_stride, tolerance, max_substeps),
     // WetHairStats to 120 (error_estimate, error_estimate_max, substeps)
-    // 0.4.0 (WetHairSimDesc grew to 272: fixed_step, max_frame_time, interpolate, sdfs,
-    // sdf_count, skinned_roots, root_teleport_distance)
+    // 0.4.0 (WetHairSimDesc grew to 296: fixed_step, max_frame_time, interpolate, sdfs,
+    // sdf_count, skinned_roots, root_teleport_distance, volume)
     WetHairAdvance = 16,
 );
 

@@ -239,6 +239,68 @@ pub struct WetHairSimDesc {
     /// carries its strand there rigidly, at rest, instead of sweeping it through the world, m;
     /// 0: never (since 0.4.0). Default 0.5.
     pub root_teleport_distance: f32,
+    /// Hair-hair volume (since 0.4.0; off by default).
+    pub volume: WetHairVolume,
+}
+
+/// Hair-hair volume (since 0.4.0; docs/VOLUME.md): once a step the hair's mass and momentum
+/// are spread over a grid that follows the head; where the hair packs denser than at rest a
+/// pressure pushes it apart (the groom keeps its volume), and each point's velocity relaxes
+/// toward the hair's around it (hair-hair friction). Runs on the CPU backend (AUTO picks it).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairVolume {
+    /// 1: on; 0 (the default): off (no grid, no pass).
+    pub enabled: u32,
+    /// The grid's cell, m, in (0, 1]. Default 0.02.
+    pub cell: f32,
+    /// Pressure stiffness, m²/s², >= 0: a point where the density exceeds the rest density
+    /// accelerates by `pressure · ∇ρ / ρ_rest`. Default 10.
+    pub pressure: f32,
+    /// Hair-hair friction, 1/s, >= 0: each step a point's velocity moves
+    /// `1 - exp(-friction dt)` of the way to the hair's around it. Default 4.
+    pub friction: f32,
+    /// The density above which the pressure acts, kg/m³; 0 (the default) measures it from the
+    /// rest pose (the density 90% of the free hair's mass sees at rest or less).
+    pub rest_density: f32,
+    /// Unused; keep 0.
+    pub reserved: u32,
+}
+
+impl From<crate::Volume> for WetHairVolume {
+    fn from(v: crate::Volume) -> Self {
+        WetHairVolume {
+            enabled: v.enabled as u32,
+            cell: v.cell,
+            pressure: v.pressure,
+            friction: v.friction,
+            rest_density: v.rest_density,
+            reserved: 0,
+        }
+    }
+}
+
+impl WetHairVolume {
+    /// As [`crate::Volume`] (its floats are checked by `SimParams::validate`).
+    fn params(&self) -> Result<crate::Volume, Fail> {
+        let enabled = match self.enabled {
+            0 => false,
+            1 => true,
+            v => {
+                return Err(Fail(
+                    super::WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,
+                    format!("volume.enabled must be 0 or 1, got {v}"),
+                ))
+            }
+        };
+        Ok(crate::Volume {
+            enabled,
+            cell: self.cell,
+            pressure: self.pressure,
+            friction: self.friction,
+            rest_density: self.rest_density,
+        })
+    }
 }
 
 /// What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.
@@ -522,6 +584,7 @@ impl WetHairSimDesc {
             reserved6: 0,
             skinned_roots: p.skinned_roots as u32,
             root_teleport_distance: p.root_teleport_distance,
+            volume: p.volume.into(),
         }
     }
 
@@ -653,6 +716,7 @@ impl WetHairSimDesc {
             backend,
             readback,
             held_water: self.held_water.params()?,
+            volume: self.volume.params()?,
             wind: self.wind.into(),
             error_estimate_stride: self.error_estimate_stride,
             tolerance: self.tolerance,

@@ -106,6 +106,7 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
             | Pass::WaterCull
             | Pass::Dry
             | Pass::HairGrid
+            | Pass::Volume
             | Pass::Absorb
             | Pass::Flow
             | Pass::Drip

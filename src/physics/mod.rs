@@ -1,5 +1,5 @@
 //! The laws, each written once: springs (eq. 1), adhesion (eq. 2), the uniform grid (eqs. 4-5),
-//! colliders (analytic and signed distance fields), skinned roots, the integrator, and the clumping measure. The CPU backend runs them over strand
+//! colliders (analytic and signed distance fields), skinned roots, hair-hair volume, the integrator, and the clumping measure. The CPU backend runs them over strand
 //! blocks; nothing here knows about threads or the C ABI.
 
 pub mod absorb;
@@ -18,5 +18,6 @@ pub mod roots;
 pub mod rounding;
 pub mod sdf;
 pub mod spring;
+pub mod volume;
 pub mod wet;
 pub mod xpbd;

@@ -10,6 +10,10 @@ pub enum Pass {
     /// Find the liquid bridges between wet points of different strands over a grid of the wet
     /// hair points (once per step, before the substeps; docs/WET_MODEL.md §5).
     HairGrid,
+    /// Hair-hair volume: spread the hair's mass and momentum over a grid and move each free
+    /// point's velocity by density pressure and friction (once per step, before the
+    /// substeps; docs/VOLUME.md).
+    Volume,
     /// Rebuild the water grid (counting sort).
     WaterGrid,
     /// Linear air drag on hair points.
@@ -50,6 +54,7 @@ impl Pass {
     pub fn name(self) -> &'static str {
         match self {
             Pass::HairGrid => "hair_grid",
+            Pass::Volume => "volume",
             Pass::WaterGrid => "water_grid",
             Pass::Drag => "drag",
             Pass::StretchSprings => "stretch_springs",
@@ -97,6 +102,9 @@ pub fn pass_list(p: &SimParams, integrator: Integrator, bend: bool, wet: bool) -
     let mut v = Vec::new();
     if hw.bridges() {
         v.push(Pass::HairGrid);
+    }
+    if p.volume.enabled {
+        v.push(Pass::Volume);
     }
     if wet {
         v.push(Pass::WaterGrid);

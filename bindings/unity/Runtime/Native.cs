@@ -168,6 +168,20 @@ namespace WetHair
         public uint skinned_roots;
         /// <summary>Since 0.4.0: a root moving farther in one step teleports its strand, m (0: never).</summary>
         public float root_teleport_distance;
+        /// <summary>Since 0.4.0: hair-hair volume (off by default).</summary>
+        public WetHairVolume volume;
+    }
+
+    /// <summary>Since 0.4.0: hair-hair volume (density pressure and friction over a grid; CPU backend).</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairVolume
+    {
+        public uint enabled;
+        public float cell;
+        public float pressure;
+        public float friction;
+        public float rest_density;
+        public uint reserved;
     }
 
     /// <summary>Since 0.4.0: a signed distance field collider (distances in m, x fastest,

@@ -180,6 +180,11 @@ impl GpuBackend {
                 "the GPU backend runs symplectic Euler, implicit Euler and BDF2; {integrator:?} runs on the CPU backend"
             )));
         }
+        if params.volume.enabled {
+            return Err(Error::Unsupported(
+                "hair-hair volume (SimParams::volume) runs on the CPU backend".into(),
+            ));
+        }
         if integrator.is_implicit() && groom.max_strand_points() > MAX_IMPLICIT_POINTS {
             return Err(Error::Unsupported(format!(
                 "the GPU's implicit solve takes strands of up to {MAX_IMPLICIT_POINTS} points (this groom has {}); \
