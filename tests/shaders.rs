@@ -126,6 +126,14 @@ fn all_modules() -> Vec<(String, String)> {
         out.push((format!("water output bend={bend}"), water_output_source(c)));
         out.push((format!("held bend={bend}"), held_source(c)));
         out.push((format!("roots bend={bend}"), wethair::gpu::pipelines::roots_source(c)));
+        out.push((
+            format!("volume spread bend={bend}"),
+            wethair::gpu::pipelines::volume_spread_source(c),
+        ));
+        out.push((
+            format!("volume respond bend={bend}"),
+            wethair::gpu::pipelines::volume_respond_source(c),
+        ));
     }
     out
 }
@@ -186,8 +194,8 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
     }
     assert_eq!(
         checked,
-        records().len() * 30,
-        "every record in every module (30 modules)"
+        records().len() * 34,
+        "every record in every module (34 modules)"
     );
 }
 

@@ -8,7 +8,7 @@ use super::pool::Pool;
 use crate::error::Result;
 use crate::groom::Groom;
 use crate::physics::lanes::{Lane, ParamRow, W};
-use crate::physics::volume::{respond, rest_density, sample, spread, CellSums, VolumeGrid, VolumeLaw};
+use crate::physics::volume::{respond, rest_density_of, sample, spread, CellSums, VolumeGrid, VolumeLaw};
 use glam::Affine3A;
 use rayon::prelude::*;
 
@@ -27,11 +27,7 @@ impl Volume {
     /// grids of sums.
     pub(super) fn new(groom: &Groom, p: &crate::params::Volume, workers: usize) -> Result<Volume> {
         let grid = VolumeGrid::for_groom(groom, p.cell)?;
-        let rest = if p.rest_density > 0.0 {
-            p.rest_density
-        } else {
-            rest_density(&grid, groom)
-        };
+        let rest = rest_density_of(p, &grid, groom);
         Ok(Volume {
             grid,
             rest,

@@ -246,7 +246,7 @@ pub struct WetHairSimDesc {
 /// Hair-hair volume (since 0.4.0; docs/VOLUME.md): once a step the hair's mass and momentum
 /// are spread over a grid that follows the head; where the hair packs denser than at rest a
 /// pressure pushes it apart (the groom keeps its volume), and each point's velocity relaxes
-/// toward the hair's around it (hair-hair friction). Runs on the CPU backend (AUTO picks it).
+/// toward the hair's around it (hair-hair friction). Both backends run it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct WetHairVolume {

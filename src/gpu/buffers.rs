@@ -173,6 +173,32 @@ gpu_record! {
 }
 
 gpu_record! {
+    /// Hair-hair volume's step (WGSL `VolumeStep`, a uniform; `physics/volume.rs`): world to
+    /// head space, head-space gradients to world ones, the grid, and the law.
+    pub struct VolumeStepGpu {
+        /// World to head space, row x (xyz; w the translation).
+        pub hx: [f32; 4],
+        /// Row y.
+        pub hy: [f32; 4],
+        /// Row z.
+        pub hz: [f32; 4],
+        /// Head-space gradient to world (the head's inverse transpose), row x (w unused).
+        pub wx: [f32; 4],
+        /// Row y.
+        pub wy: [f32; 4],
+        /// Row z.
+        pub wz: [f32; 4],
+        /// The grid's first sample (xyz); w its cell, m.
+        pub origin: [f32; 4],
+        /// Samples along x, y, z; w the hair points.
+        pub dims: [u32; 4],
+        /// The friction's blend, the pressure's push, the rest density, and the density of one
+        /// mass quantum in a cell (kg/m³).
+        pub law: [f32; 4],
+    }
+}
+
+gpu_record! {
     /// The output blend (WGSL `Blend`, a uniform; fixed steps with interpolation only).
     pub struct BlendGpu {
         /// How far the output moves from the kept positions toward the state, 0..=1.

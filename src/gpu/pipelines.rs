@@ -14,6 +14,9 @@ const OUTPUT: &str = include_str!("shaders/output.wgsl");
 const WATER_OUTPUT: &str = include_str!("shaders/water_output.wgsl");
 const SDF: &str = include_str!("shaders/sdf.wgsl");
 const ROOTS: &str = include_str!("shaders/roots.wgsl");
+const VOLUME: &str = include_str!("shaders/volume.wgsl");
+const VOLUME_SPREAD: &str = include_str!("shaders/volume_spread.wgsl");
+const VOLUME_RESPOND: &str = include_str!("shaders/volume_respond.wgsl");
 const SDF_HAIR: &str = include_str!("shaders/sdf_hair.wgsl");
 const SDF_WATER: &str = include_str!("shaders/sdf_water.wgsl");
 const IMPLICIT: &str = include_str!("shaders/implicit.wgsl");
@@ -208,6 +211,16 @@ pub fn sdf_hair_source(c: SceneConsts, nsdf: usize) -> String {
 /// The SDF colliders' particle pass, for a scene with `nsdf` SDFs.
 pub fn sdf_water_source(c: SceneConsts, nsdf: usize) -> String {
     format!("{}const NSDF: u32 = {nsdf}u;\n{SDF}{SDF_WATER}", prelude(c))
+}
+
+/// Hair-hair volume's spreading pass (`volume_spread`).
+pub fn volume_spread_source(c: SceneConsts) -> String {
+    format!("{}{VOLUME}{VOLUME_SPREAD}", prelude(c))
+}
+
+/// Hair-hair volume's response pass (`volume_respond`).
+pub fn volume_respond_source(c: SceneConsts) -> String {
+    format!("{}{VOLUME}{VOLUME_RESPOND}", prelude(c))
 }
 
 /// Skinned roots' passes `pin_roots` and `carry_roots`.

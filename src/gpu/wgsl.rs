@@ -5,7 +5,7 @@
 
 use super::buffers::{
     self, grid_header as gh, BlendGpu, CarryGpu, ColliderGpu, Params, ParticleGpu, PinGpu, PointGpu, RootPairGpu,
-    RootsUniformGpu, SdfGpu, StateGpu,
+    RootsUniformGpu, SdfGpu, StateGpu, VolumeStepGpu,
 };
 
 /// A field type with a WGSL spelling.
@@ -71,7 +71,7 @@ pub(crate) use gpu_record;
 
 /// The WGSL structs the host writes or reads, by WGSL name, with their Rust records'
 /// fields and sizes.
-pub fn records() -> [(&'static str, &'static [Field], usize); 11] {
+pub fn records() -> [(&'static str, &'static [Field], usize); 12] {
     fn rec<T: GpuRecord>(name: &'static str) -> (&'static str, &'static [Field], usize) {
         (name, T::FIELDS, std::mem::size_of::<T>())
     }
@@ -87,6 +87,7 @@ pub fn records() -> [(&'static str, &'static [Field], usize); 11] {
         rec::<PinGpu>("Pin"),
         rec::<CarryGpu>("Carry"),
         rec::<RootsUniformGpu>("RootsUniform"),
+        rec::<VolumeStepGpu>("VolumeStep"),
     ]
 }
 
@@ -154,6 +155,11 @@ pub fn constants() -> Vec<(&'static str, Const)> {
         ("ARMIJO_C1", F32(implicit::ARMIJO_C1 as f32)),
         ("ARMIJO_SLACK_F32", F32(implicit::ARMIJO_SLACK_F32)),
         ("SUBSTEP_HEAD_BYTES", U32(buffers::SUBSTEP_HEAD_BYTES)),
+        ("MAX_SPREAD_SPEED", F32(crate::physics::volume::MAX_SPREAD_SPEED)),
+        (
+            "VOLUME_QUANTA",
+            F32((1.0 / crate::physics::volume::MASS_QUANTUM) as f32),
+        ),
     ]
 }
 

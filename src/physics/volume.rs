@@ -257,6 +257,15 @@ pub fn respond(v: Vec3, s: &VolumeSample, law: &VolumeLaw, wetness: f32) -> Vec3
 /// tighter than almost anywhere at rest.
 pub const REST_QUANTILE: f64 = 0.9;
 
+/// The rest density `p` gives, or, where it gives none, `groom`'s measured ([`rest_density`]).
+pub fn rest_density_of(p: &crate::params::Volume, grid: &VolumeGrid, groom: &Groom) -> f32 {
+    if p.rest_density > 0.0 {
+        p.rest_density
+    } else {
+        rest_density(grid, groom)
+    }
+}
+
 /// The rest density of `groom` ([`REST_QUANTILE`]), kg/m³.
 pub fn rest_density(grid: &VolumeGrid, groom: &Groom) -> f32 {
     let free = || {

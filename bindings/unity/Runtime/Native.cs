@@ -172,7 +172,7 @@ namespace WetHair
         public WetHairVolume volume;
     }
 
-    /// <summary>Since 0.4.0: hair-hair volume (density pressure and friction over a grid; CPU backend).</summary>
+    /// <summary>Since 0.4.0: hair-hair volume (density pressure and friction over a grid).</summary>
     [StructLayout(LayoutKind.Sequential)]
     public struct WetHairVolume
     {

@@ -144,6 +144,9 @@ impl GpuBackend {
         if let Some(h) = &self.held {
             h.encode_start(&mut enc, &self.state[self.cur]);
         }
+        if let Some(v) = &self.volume {
+            v.prepare(&self.dev.queue, &mut enc, from, dt);
+        }
         let wet = self.wet();
         {
             let desc = wgpu::ComputePassDescriptor {
@@ -166,6 +169,10 @@ impl GpuBackend {
             if let Some(br) = &mut self.bridges {
                 br.encode(&mut pass, self.cur, self.points); // pass hair_grid
                 close(stamps, &mut pass, Stage::HairGrid);
+            }
+            if let Some(v) = &self.volume {
+                v.encode(&mut pass, self.cur); // pass volume
+                close(stamps, &mut pass, Stage::Volume);
             }
             let bridges = self.bridges.as_ref().map(|b| &b.cohesion_bg);
             if let Some(w) = self.water.as_mut().filter(|w| w.pending > 0) {

@@ -17,6 +17,7 @@ mod sample;
 mod sdf;
 mod share;
 mod stamps;
+mod volume;
 mod water;
 
 use super::buffers::{self as b, Params, PointGpu, StateGpu, STORAGE};
@@ -121,6 +122,8 @@ pub struct GpuBackend {
     sdf: Option<sdf::SdfColliders>,
     /// Skinned roots (scenes with them only).
     roots: Option<roots::SkinnedRoots>,
+    /// Hair-hair volume (scenes with it only).
+    volume: Option<volume::VolumeGpu>,
     cur: usize,
     /// Held water (scenes with `SimParams::held_water` on).
     held: Option<HeldGpu>,
@@ -179,11 +182,6 @@ impl GpuBackend {
             return Err(Error::Unsupported(format!(
                 "the GPU backend runs symplectic Euler, implicit Euler and BDF2; {integrator:?} runs on the CPU backend"
             )));
-        }
-        if params.volume.enabled {
-            return Err(Error::Unsupported(
-                "hair-hair volume (SimParams::volume) runs on the CPU backend".into(),
-            ));
         }
         if integrator.is_implicit() && groom.max_strand_points() > MAX_IMPLICIT_POINTS {
             return Err(Error::Unsupported(format!(
@@ -379,6 +377,20 @@ impl GpuBackend {
             };
             roots::SkinnedRoots::new(d, &dev.queue, consts, inputs)
         });
+        let volume = if params.volume.enabled {
+            let max = dev.limits.max_storage_buffer_binding_size;
+            Some(volume::VolumeGpu::new(
+                d,
+                consts,
+                groom,
+                &params.volume,
+                hair_points,
+                &state,
+                max,
+            )?)
+        } else {
+            None
+        };
         let out_mod = pl::module(d, "output", &pl::output_source(consts));
         let output = pl::pipelines(d, &out_mod, &[&out_layout], &["write_vertices"]).remove(0);
         let mut be = GpuBackend {
@@ -411,6 +423,7 @@ impl GpuBackend {
             blend: None,
             sdf,
             roots,
+            volume,
             cur: 0,
             held,
             bridges,
@@ -485,6 +498,9 @@ impl GpuBackend {
         v.extend(held_before);
         if self.bridges.is_some() {
             v.extend_from_slice(&bridges::BRIDGE_ENTRIES);
+        }
+        if self.volume.is_some() {
+            v.extend_from_slice(&["volume_spread", "volume_respond"]);
         }
         if wet {
             v.extend_from_slice(&WATER_ENTRIES[1..8]);
@@ -561,6 +577,9 @@ impl GpuBackend {
         }
         if let Some(r) = &self.roots {
             v.push(("roots", r.bytes()));
+        }
+        if let Some(vol) = &self.volume {
+            v.push(("volume", vol.bytes()));
         }
         v
     }

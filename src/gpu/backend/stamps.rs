@@ -26,12 +26,12 @@ pub(super) struct PassStamps {
 }
 
 impl PassStamps {
-    /// Room for a step of `n_sub` substeps: the opening stamp, up to four stages before the
-    /// substeps (wet_params, hair_grid, the new particles' insertion), up to six in each
+    /// Room for a step of `n_sub` substeps: the opening stamp, up to five stages before the
+    /// substeps (wet_params, hair_grid, volume, the new particles' insertion), up to six in each
     /// (water_grid, cohesion, blocks, the SDF colliders' part of blocks, absorb,
     /// water_integrate) and up to four after (flow, drip, dry, water_cull).
     pub(super) fn new(d: &wgpu::Device, q: &wgpu::Queue, n_sub: usize) -> PassStamps {
-        let capacity = (1 + 4 + 6 * n_sub + 4) as u32;
+        let capacity = (1 + 5 + 6 * n_sub + 4) as u32;
         let mut clock = StageClock::default();
         clock.set(true);
         PassStamps {
