@@ -8,11 +8,7 @@ use WetHairResult::*;
 
 const SENTINEL: *mut WetHairGroom = 0x5a5a as *mut WetHairGroom;
 
-fn last_error() -> String {
-    unsafe { CStr::from_ptr(wethair_last_error_message()) }
-        .to_string_lossy()
-        .into_owned()
-}
+use crate::common::last_error;
 
 fn paper(strands: u32) -> *mut WetHairGroom {
     let mut g = null_mut();

@@ -2,16 +2,11 @@
 //! `wethair_sim_soak`, `wethair_sim_set_wind`, and the exact water ledger in `WetHairStats`;
 //! bad values refused by name with nothing written, older struct sizes still accepted.
 
-use std::ffi::CStr;
 use std::ptr::null_mut;
 use wethair::ffi::*;
 use WetHairResult::*;
 
-fn last_error() -> String {
-    unsafe { CStr::from_ptr(wethair_last_error_message()) }
-        .to_string_lossy()
-        .into_owned()
-}
+use crate::common::last_error;
 
 fn paper(strands: u32) -> *mut WetHairGroom {
     let mut g = null_mut();

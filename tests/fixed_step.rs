@@ -304,16 +304,11 @@ fn bad_frame_times_and_settings_are_refused_and_change_nothing() {
 mod c_abi {
     //! `wethair_sim_advance` and the desc's fixed-step fields through the C ABI.
 
-    use std::ffi::CStr;
     use std::ptr::null_mut;
     use wethair::ffi::*;
     use WetHairResult::*;
 
-    fn last_error() -> String {
-        unsafe { CStr::from_ptr(wethair_last_error_message()) }
-            .to_string_lossy()
-            .into_owned()
-    }
+    use crate::common::last_error;
 
     /// A CPU simulation of 16 paper strands from `d` (the current defaults with `edit`), or
     /// the create's result.

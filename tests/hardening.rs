@@ -3,7 +3,6 @@
 //! and bit-identical results for any thread count with water.
 
 use glam::{Mat4, Vec3};
-use std::ffi::CStr;
 use std::ptr::null_mut;
 use wethair::ffi::*;
 use wethair::groom::paper_scene;
@@ -14,11 +13,7 @@ use WetHairResult::*;
 
 use crate::common::{backends, serial};
 
-fn last_error() -> String {
-    unsafe { CStr::from_ptr(wethair_last_error_message()) }
-        .to_string_lossy()
-        .into_owned()
-}
+use crate::common::last_error;
 
 /// Item 2: one substep per frame blows the paper scene up, and the error names a strand of
 /// the groom (it named 4294967295 when a finite speed's square overflowed).

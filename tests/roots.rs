@@ -319,16 +319,11 @@ mod c_abi {
     //! Skinned roots through the C ABI: `WetHairSimDesc::skinned_roots`,
     //! `root_teleport_distance`, `wethair_sim_set_root_frames`.
 
-    use std::ffi::CStr;
     use std::ptr::{null, null_mut};
     use wethair::ffi::*;
     use WetHairResult::*;
 
-    fn last_error() -> String {
-        unsafe { CStr::from_ptr(wethair_last_error_message()) }
-            .to_string_lossy()
-            .into_owned()
-    }
+    use crate::common::last_error;
 
     #[test]
     fn skinned_roots_reach_c_hosts() {

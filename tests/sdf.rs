@@ -274,16 +274,11 @@ fn bad_grids_and_transforms_are_refused_by_name() {
 mod c_abi {
     //! SDF colliders through the C ABI: `WetHairSimDesc::sdfs`, `wethair_sim_set_sdf_transform`.
 
-    use std::ffi::CStr;
     use std::ptr::null_mut;
     use wethair::ffi::*;
     use WetHairResult::*;
 
-    fn last_error() -> String {
-        unsafe { CStr::from_ptr(wethair_last_error_message()) }
-            .to_string_lossy()
-            .into_owned()
-    }
+    use crate::common::last_error;
 
     const IDENTITY: [f32; 16] = [1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1.];
 

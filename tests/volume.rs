@@ -246,16 +246,11 @@ fn bad_volume_parameters_are_refused_by_name() {
 mod c_abi {
     //! Hair-hair volume through the C ABI: `WetHairSimDesc::volume`.
 
-    use std::ffi::CStr;
     use std::ptr::null_mut;
     use wethair::ffi::*;
     use WetHairResult::*;
 
-    fn last_error() -> String {
-        unsafe { CStr::from_ptr(wethair_last_error_message()) }
-            .to_string_lossy()
-            .into_owned()
-    }
+    use crate::common::last_error;
 
     #[test]
     fn volume_reaches_c_hosts() {

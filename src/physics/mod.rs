@@ -18,6 +18,7 @@ pub mod roots;
 pub mod rounding;
 pub mod sdf;
 pub mod spring;
+pub mod trilinear;
 pub mod volume;
 pub mod wet;
 pub mod xpbd;

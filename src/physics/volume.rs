@@ -182,21 +182,7 @@ pub fn sample(grid: &VolumeGrid, sums: &[CellSums], p: Vec3, rest: f32) -> Optio
     let corners = grid.corners(base);
     let per_volume = (MASS_QUANTUM / (grid.cell as f64).powi(3)) as f32;
     let rho: [f32; 8] = corners.map(|c| (sums[c].mass as f32 * per_volume - rest).max(0.0));
-    let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-    let x00 = lerp(rho[0], rho[1], f.x);
-    let x10 = lerp(rho[2], rho[3], f.x);
-    let x01 = lerp(rho[4], rho[5], f.x);
-    let x11 = lerp(rho[6], rho[7], f.x);
-    let y0 = lerp(x00, x10, f.y);
-    let y1 = lerp(x01, x11, f.y);
-    let density = lerp(y0, y1, f.z);
-    let dx = lerp(
-        lerp(rho[1] - rho[0], rho[3] - rho[2], f.y),
-        lerp(rho[5] - rho[4], rho[7] - rho[6], f.y),
-        f.z,
-    );
-    let dy = lerp(x10 - x00, x11 - x01, f.z);
-    let dz = y1 - y0;
+    let (density, gradient) = super::trilinear::trilinear(&rho, f);
     let w = weights(f);
     let (mut m, mut pm) = (0.0f32, Vec3::ZERO);
     for (c, wc) in corners.into_iter().zip(w) {
@@ -208,7 +194,7 @@ pub fn sample(grid: &VolumeGrid, sums: &[CellSums], p: Vec3, rest: f32) -> Optio
     let velocity = if m > 0.0 { pm * (ratio / m) } else { Vec3::ZERO };
     Some(VolumeSample {
         density,
-        gradient: Vec3::new(dx, dy, dz) / grid.cell,
+        gradient: gradient / grid.cell,
         velocity,
     })
 }

@@ -33,3 +33,10 @@ pub fn backends() -> Vec<Backend> {
         }
     }
 }
+
+/// The library's last error message on this thread (the C ABI's `wethair_last_error_message`).
+pub fn last_error() -> String {
+    unsafe { std::ffi::CStr::from_ptr(wethair::ffi::wethair_last_error_message()) }
+        .to_string_lossy()
+        .into_owned()
+}

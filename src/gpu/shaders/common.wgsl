@@ -13,6 +13,23 @@ fn non_finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) == 0x7f800000u;
 }
 
+// Trilinear interpolation (physics/trilinear.rs): the value at fractions f of the cell whose
+// corner values are c (x fastest), and its gradient per cell (yzw).
+fn trilinear(c: array<f32, 8>, f: vec3<f32>) -> vec4<f32> {
+    let x00 = c[0] + (c[1] - c[0]) * f.x;
+    let x10 = c[2] + (c[3] - c[2]) * f.x;
+    let x01 = c[4] + (c[5] - c[4]) * f.x;
+    let x11 = c[6] + (c[7] - c[6]) * f.x;
+    let y0 = x00 + (x10 - x00) * f.y;
+    let y1 = x01 + (x11 - x01) * f.y;
+    let d = y0 + (y1 - y0) * f.z;
+    let e0 = (c[1] - c[0]) + ((c[3] - c[2]) - (c[1] - c[0])) * f.y;
+    let e1 = (c[5] - c[4]) + ((c[7] - c[6]) - (c[5] - c[4])) * f.y;
+    let dx = e0 + (e1 - e0) * f.z;
+    let dy = (x10 - x00) + ((x11 - x01) - (x10 - x00)) * f.z;
+    return vec4<f32>(d, dx, dy, y1 - y0);
+}
+
 // Pushes a point out of a placed collider (physics/collide.rs, `collide_row` per lane):
 // moved to the surface, velocity into the surface removed, tangential part scaled.
 fn collide(x: ptr<function, vec3<f32>>, v: ptr<function, vec3<f32>>, c: Collider, friction: f32) {

@@ -24,27 +24,18 @@ fn sdf_sample(s: Sdf, p: vec3<f32>) -> vec4<f32> {
     let sx = s.dims.x;
     let sy = s.dims.x * s.dims.y;
     let b = s.dims.w + i.x + sx * i.y + sy * i.z;
-    let c0 = sdf_values[b];
-    let c1 = sdf_values[b + 1u];
-    let c2 = sdf_values[b + sx];
-    let c3 = sdf_values[b + sx + 1u];
-    let c4 = sdf_values[b + sy];
-    let c5 = sdf_values[b + sy + 1u];
-    let c6 = sdf_values[b + sy + sx];
-    let c7 = sdf_values[b + sy + sx + 1u];
-    let x00 = c0 + (c1 - c0) * f.x;
-    let x10 = c2 + (c3 - c2) * f.x;
-    let x01 = c4 + (c5 - c4) * f.x;
-    let x11 = c6 + (c7 - c6) * f.x;
-    let y0 = x00 + (x10 - x00) * f.y;
-    let y1 = x01 + (x11 - x01) * f.y;
-    let d = y0 + (y1 - y0) * f.z;
-    let e0 = (c1 - c0) + ((c3 - c2) - (c1 - c0)) * f.y;
-    let e1 = (c5 - c4) + ((c7 - c6) - (c5 - c4)) * f.y;
-    let dx = e0 + (e1 - e0) * f.z;
-    let dy = (x10 - x00) + ((x11 - x01) - (x10 - x00)) * f.z;
-    let dz = y1 - y0;
-    return vec4<f32>(d, vec3<f32>(dx, dy, dz) / s.hi.w);
+    let c = array<f32, 8>(
+        sdf_values[b],
+        sdf_values[b + 1u],
+        sdf_values[b + sx],
+        sdf_values[b + sx + 1u],
+        sdf_values[b + sy],
+        sdf_values[b + sy + 1u],
+        sdf_values[b + sy + sx],
+        sdf_values[b + sy + sx + 1u],
+    );
+    let r = trilinear(c, f);
+    return vec4<f32>(r.x, r.yzw / s.hi.w);
 }
 
 // Pushes a point out of placed grid s (`collide_sdf_point`): along the gradient by the depth

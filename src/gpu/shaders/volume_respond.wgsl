@@ -31,19 +31,9 @@ fn volume_respond(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
         m += w * mc;
         pm += w * vec3<f32>(volume_word(c, 2u), volume_word(c, 4u), volume_word(c, 6u));
     }
-    let x00 = rho[0] + (rho[1] - rho[0]) * f.x;
-    let x10 = rho[2] + (rho[3] - rho[2]) * f.x;
-    let x01 = rho[4] + (rho[5] - rho[4]) * f.x;
-    let x11 = rho[6] + (rho[7] - rho[6]) * f.x;
-    let y0 = x00 + (x10 - x00) * f.y;
-    let y1 = x01 + (x11 - x01) * f.y;
-    let density = y0 + (y1 - y0) * f.z;
-    let e0 = (rho[1] - rho[0]) + ((rho[3] - rho[2]) - (rho[1] - rho[0])) * f.y;
-    let e1 = (rho[5] - rho[4]) + ((rho[7] - rho[6]) - (rho[5] - rho[4])) * f.y;
-    let dx = e0 + (e1 - e0) * f.z;
-    let dy = (x10 - x00) + ((x11 - x01) - (x10 - x00)) * f.z;
-    let dz = y1 - y0;
-    let gradient = vec3<f32>(dx, dy, dz) / VU.origin.w;
+    let r = trilinear(rho, f);
+    let density = r.x;
+    let gradient = r.yzw / VU.origin.w;
     var u = vec3<f32>(0.0);
     if (m > 0.0) {
         u = pm * (1.0 / m);
