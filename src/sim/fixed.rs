@@ -98,12 +98,11 @@ impl Simulation {
         }
         let plan = self.fixed.take(frame, &f);
         let (from, to) = (self.head_prev, self.head);
-        let sdf_from = (plan.steps > 0 && !self.sdf_last.is_empty()).then(|| self.sdf_last.clone());
         if plan.steps > 0 {
             // A jump is judged over the whole frame, not each of its (shorter) steps.
             self.teleport_roots()?;
+            self.mark_frame_start();
         }
-        let roots_from = self.roots_last().filter(|_| plan.steps > 0);
         for k in 1..=plan.steps {
             if k == plan.steps && f.interpolate {
                 self.engine.keep_previous()?;
@@ -111,9 +110,7 @@ impl Simulation {
                 self.blending = true;
             }
             let a = (k as f64 * f.step as f64 / plan.span).min(1.0) as f32;
-            let sdfs = sdf_from.as_deref().map(|s| (s, a));
-            let roots = roots_from.as_deref().map(|r| (r, a));
-            self.step_to(f.step, head_between(&from, &to, a), sdfs, roots)?;
+            self.step_to(f.step, head_between(&from, &to, a), Some(a))?;
         }
         if plan.steps == 0 && self.blending {
             // No step: the same two states, blended further along (written at the next read).
@@ -124,6 +121,13 @@ impl Simulation {
             blend: if f.interpolate { plan.blend } else { 1.0 },
             dropped: plan.dropped,
         })
+    }
+
+    /// Keeps where the SDFs and skinned roots are as the start of this frame's fixed steps
+    /// (copies into reused buffers: no allocation once they have grown).
+    fn mark_frame_start(&mut self) {
+        self.sdf_start.clone_from(&self.sdf_last);
+        self.mark_roots_start();
     }
 
     /// Forgets the owed time and the blend (a reset).

@@ -118,6 +118,8 @@ pub struct Simulation {
     sdf_target: Vec<Affine3A>,
     sdf_last: Vec<Affine3A>,
     sdf_next: Vec<Affine3A>,
+    /// Where the SDFs were when the frame of fixed steps began (reused).
+    sdf_start: Vec<Affine3A>,
     /// Skinned roots' frames (scenes with them only).
     roots: Option<roots::RootTargets>,
     last_step_ms: f32,
@@ -190,6 +192,7 @@ impl Simulation {
             sdf_target: sdf_start.clone(),
             sdf_last: sdf_start,
             sdf_next: Vec::new(),
+            sdf_start: Vec::new(),
             roots,
             last_step_ms: 0.0,
             max_speed: 0.0,
@@ -352,27 +355,23 @@ impl Simulation {
             self.blending = false;
         }
         self.teleport_roots()?;
-        self.step_to(dt, self.head, None, None)
+        self.step_to(dt, self.head, None)
     }
 
     /// One step of `dt` (checked) that moves the head from where the last step left it to
     /// `to`, and the SDFs and skinned roots to their set transforms, or `a` of the way there
-    /// from `sdf_from` and `roots_from` (fixed steps inside a frame).
-    fn step_to(
-        &mut self,
-        dt: f32,
-        to: Affine3A,
-        sdf_from: Option<(&[Affine3A], f32)>,
-        roots_from: Option<(&[crate::physics::roots::RootFrame], f32)>,
-    ) -> Result<()> {
+    /// from where the frame began (`frame`: fixed steps inside a frame, after
+    /// [`Simulation::mark_frame_start`]).
+    fn step_to(&mut self, dt: f32, to: Affine3A, frame: Option<f32>) -> Result<()> {
         let t0 = Instant::now();
         if !self.sdf_target.is_empty() {
             let mut next = std::mem::take(&mut self.sdf_next);
             next.clear();
-            match sdf_from {
+            match frame {
                 None => next.extend_from_slice(&self.sdf_target),
-                Some((from, a)) => next.extend(
-                    from.iter()
+                Some(a) => next.extend(
+                    self.sdf_start
+                        .iter()
                         .zip(&self.sdf_target)
                         .map(|(f, t)| crate::physics::head::head_between(f, t, a)),
                 ),
@@ -385,7 +384,7 @@ impl Simulation {
             self.sdf_next = next;
             r?;
         }
-        self.place_roots(roots_from)?;
+        self.place_roots(frame)?;
         if let Some(b) = &self.budget {
             let n = b.before(self.engine.integrator(), self.substeps, dt);
             self.use_substeps(n);

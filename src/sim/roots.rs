@@ -19,6 +19,8 @@ pub(super) struct RootTargets {
     last: Vec<RootFrame>,
     /// The next step's (reused).
     next: Vec<RootFrame>,
+    /// Where they were when the frame of fixed steps began (reused).
+    start: Vec<RootFrame>,
     /// Strands to carry, and their frames before and after (reused).
     carried: Vec<u32>,
     carry_from: Vec<RootFrame>,
@@ -37,6 +39,7 @@ impl RootTargets {
             target: at_rest.clone(),
             last: at_rest,
             next: Vec::new(),
+            start: Vec::new(),
             carried: Vec::new(),
             carry_from: Vec::new(),
             carry_to: Vec::new(),
@@ -121,17 +124,17 @@ impl Simulation {
         self.engine.carry_strands(&r.carried, &r.carry_from, &r.carry_to)
     }
 
-    /// Moves the roots over the next step to their targets, or `a` of the way there from
-    /// `from` (fixed steps inside a frame); the shadow follows.
-    pub(super) fn place_roots(&mut self, from: Option<(&[RootFrame], f32)>) -> Result<()> {
+    /// Moves the roots over the next step to their targets, or `a` of the way there from where
+    /// the frame began (`frame`: fixed steps inside a frame); the shadow follows.
+    pub(super) fn place_roots(&mut self, frame: Option<f32>) -> Result<()> {
         let Some(r) = &mut self.roots else {
             return Ok(());
         };
         let mut next = std::mem::take(&mut r.next);
         next.clear();
-        match from {
+        match frame {
             None => next.extend_from_slice(&r.target),
-            Some((f, a)) => next.extend(f.iter().zip(&r.target).map(|(f, t)| root_between(f, t, a))),
+            Some(a) => next.extend(r.start.iter().zip(&r.target).map(|(f, t)| root_between(f, t, a))),
         }
         let res = self.engine.place_roots(&r.last, &next);
         if let Some(sh) = &mut self.shadow {
@@ -142,9 +145,11 @@ impl Simulation {
         res
     }
 
-    /// Where the roots were at the start of this frame (fixed steps interpolate from there).
-    pub(super) fn roots_last(&self) -> Option<Vec<RootFrame>> {
-        self.roots.as_ref().map(|r| r.last.clone())
+    /// Keeps where the roots are as the start of this frame's fixed steps.
+    pub(super) fn mark_roots_start(&mut self) {
+        if let Some(r) = &mut self.roots {
+            r.start.clone_from(&r.last);
+        }
     }
 
     /// After the engine's reset to the rest pose under `head`: carries every strand onto its
