@@ -5,9 +5,10 @@
 use crate::error::Result;
 use crate::groom::Groom;
 use crate::params::{Backend, Integrator, SimParams};
+use crate::physics::followers::Followers;
 use crate::physics::roots::RootFrame;
 use crate::plan::Pass;
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, Quat, Vec3};
 
 /// Which backend runs the simulation, on what, and why.
 #[derive(Clone, Debug, PartialEq)]
@@ -144,8 +145,23 @@ pub trait Engine: std::fmt::Debug + Send {
     /// the current. Ignored until something is kept. The next vertex read (or shared frame)
     /// writes the blend, with or without a step between.
     fn blend_output(&mut self, a: Option<f32>);
+    /// Guides and followers (`SimParams::guides`; this backend's strands are the guides): from
+    /// now on [`Engine::write_vertices`] writes every host strand of `f` from the guides
+    /// ([`crate::physics::followers::output_point`]). The first call makes the output's
+    /// storage; later calls (a change of the simulated fraction) replace the bindings.
+    fn set_followers(&mut self, f: &Followers) -> Result<()>;
+    /// The followers' pose for the next output: the head's rotation their offsets turn with,
+    /// and how far the output has moved from `Followers::from` to `Followers::follow` (0..=1).
+    fn pose_followers(&mut self, head: Quat, blend: f32);
+    /// Steps only the first `n` strands from the next step on (the guides a lower simulated
+    /// fraction keeps; the others keep their state). The CPU steps whole blocks of 8.
+    fn set_active_strands(&mut self, n: usize);
+    /// Sets the state of the strands from `first` on to positions `x`, velocities `v` and
+    /// wetness `wet` (their points, strand after strand), and starts BDF2 again: a guide that
+    /// starts to be simulated starts where its followers' output showed it.
+    fn seed_strands(&mut self, first: u32, x: &[Vec3], v: &[Vec3], wet: &[f32]) -> Result<()>;
     /// Writes the attributes the parameters ask for, of every point, into `dst`: exactly
-    /// `points * params.attributes.stride()` floats.
+    /// `points * params.attributes.stride()` floats (every host point with followers).
     fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()>;
     /// Every point's state (on the GPU a blocking readback).
     fn point_states(&self) -> Result<Vec<PointState>>;
@@ -219,8 +235,29 @@ pub fn not_shared(what: &str) -> crate::error::Error {
 }
 
 /// A backend for `groom` under `p`, as `p.backend` asks (see [`Backend`]), at rest under
-/// `head`.
-pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn Engine>, BackendInfo)> {
+/// `head`; with `followers` (guides: `groom` is the guide groom) its output writes every host
+/// strand of theirs.
+pub fn create(
+    groom: &Groom,
+    p: &SimParams,
+    head: &Affine3A,
+    followers: Option<&Followers>,
+) -> Result<(Box<dyn Engine>, BackendInfo)> {
+    let (mut e, info) = create_bare(groom, p, head, followers.map(|f| f.rest.len()))?;
+    if let Some(f) = followers {
+        e.set_followers(f)?;
+    }
+    Ok((e, info))
+}
+
+/// [`create`] without the followers' bindings; `vertex_points` sizes the GPU's vertex buffer
+/// (the groom's points when `None`).
+fn create_bare(
+    groom: &Groom,
+    p: &SimParams,
+    head: &Affine3A,
+    vertex_points: Option<usize>,
+) -> Result<(Box<dyn Engine>, BackendInfo)> {
     let cpu = |reason: String| -> Result<(Box<dyn Engine>, BackendInfo)> {
         let c = crate::cpu::step::CpuBackend::new(groom, p, head)?;
         let info = BackendInfo {
@@ -232,6 +269,7 @@ pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn 
     };
     #[cfg(not(feature = "gpu"))]
     {
+        let _ = vertex_points;
         let why = "this build has no GPU backend (feature `gpu`)";
         match p.backend {
             Backend::CPU => cpu(String::new()),
@@ -246,7 +284,7 @@ pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn 
             Backend::CPU => cpu(String::new()),
             Backend::GPU => {
                 let dev = crate::gpu::GpuDevice::open(true)?;
-                create_gpu(dev, groom, p, integrator, head)
+                create_gpu(dev, groom, p, integrator, head, vertex_points)
             }
             Backend::AUTO => {
                 if integrator == Integrator::XPBD {
@@ -254,7 +292,7 @@ pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn 
                 }
                 match crate::gpu::GpuDevice::open(false) {
                     Err(e) => cpu(e.to_string()),
-                    Ok(dev) => match create_gpu(dev, groom, p, integrator, head) {
+                    Ok(dev) => match create_gpu(dev, groom, p, integrator, head, vertex_points) {
                         Ok(r) => Ok(r),
                         Err(e) => cpu(format!("the GPU backend failed to start: {e}")),
                     },
@@ -264,7 +302,9 @@ pub fn create(groom: &Groom, p: &SimParams, head: &Affine3A) -> Result<(Box<dyn 
     }
 }
 
-/// The GPU backend on `dev` (an adapter of ours, or the host's VkDevice).
+/// The GPU backend on `dev` (an adapter of ours, or the host's VkDevice), its vertex buffer
+/// sized for `vertex_points` (the groom's points when `None`; the host's with followers, whose
+/// bindings come next through [`Engine::set_followers`]).
 #[cfg(feature = "gpu")]
 pub fn create_gpu(
     dev: crate::gpu::GpuDevice,
@@ -272,9 +312,10 @@ pub fn create_gpu(
     p: &SimParams,
     integrator: Integrator,
     head: &Affine3A,
+    vertex_points: Option<usize>,
 ) -> Result<(Box<dyn Engine>, BackendInfo)> {
     let device = dev.adapter_name();
-    let g = crate::gpu::GpuBackend::new(dev, groom, p, integrator, head)?;
+    let g = crate::gpu::GpuBackend::new(dev, groom, p, integrator, head, vertex_points)?;
     let info = BackendInfo {
         backend: Backend::GPU,
         device,

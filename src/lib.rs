@@ -41,8 +41,8 @@ pub use emit::{Rain, Spray};
 pub use engine::{PassTime, WaterLedger};
 pub use error::{Error, Result};
 pub use params::{
-    Backend, FixedStep, HeldWater, Integrator, MaterialParams, Readback, SimParams, SpringModel, SpringParams,
-    VertexAttributes, Volume, WaterParams, Wind,
+    Backend, FixedStep, GuideChoice, Guides, HeldWater, Integrator, MaterialParams, Readback, SimParams, SpringModel,
+    SpringParams, VertexAttributes, Volume, WaterParams, Wind,
 };
 pub use physics::collide::Shape;
 pub use physics::spring::DampingModel;

@@ -7,9 +7,11 @@ use crate::physics::spring::DampingModel;
 use glam::Vec3;
 
 mod fixed;
+mod guides;
 mod volume;
 mod wet;
 pub use fixed::{FixedStep, MAX_STEPS_PER_ADVANCE};
+pub use guides::{GuideChoice, Guides};
 pub use volume::Volume;
 pub use wet::{HeldWater, Wind};
 
@@ -318,6 +320,9 @@ pub struct SimParams {
     /// Hair-hair volume: density pressure and friction over a grid (off by default;
     /// docs/VOLUME.md).
     pub volume: Volume,
+    /// Guides and followers with level of detail (off by default: every strand simulated;
+    /// docs/GUIDES.md).
+    pub guides: Guides,
 }
 
 /// The estimate's stride an error budget uses when the host set none.
@@ -387,6 +392,7 @@ impl SimParams {
             skinned_roots: false,
             root_teleport_distance: crate::physics::roots::TELEPORT_DISTANCE,
             volume: Volume::OFF,
+            guides: Guides::ALL,
             friction: 0.2,
             attributes: VertexAttributes(
                 VertexAttributes::POSITION | VertexAttributes::TANGENT | VertexAttributes::WETNESS,
@@ -504,6 +510,13 @@ impl SimParams {
             s.validate(&format!("SDF {i}"))?;
         }
         self.volume.validate()?;
+        self.guides.validate()?;
+        if self.guides.enabled() && self.skinned_roots {
+            return Err(Error::Unsupported(
+                "guides and followers with skinned roots are not built yet: followers take their roots from the head"
+                    .into(),
+            ));
+        }
         if !(self.root_teleport_distance.is_finite() && self.root_teleport_distance >= 0.0) {
             return Err(invalid!(
                 "root_teleport_distance must be finite and >= 0 m, got {}",

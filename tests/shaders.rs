@@ -43,6 +43,11 @@ fn output_modules_validate() {
         for (name, src, entry) in [
             ("output", output_source(c), "write_vertices"),
             ("output", output_source(c), "write_vertices_blended"),
+            (
+                "followers",
+                wethair::gpu::pipelines::followers_source(c),
+                "write_followers",
+            ),
             ("water", water_source(c), "water_cull"),
             ("water output", water_output_source(c), "write_water_vertices"),
             ("held", held_source(c), "dry"),
@@ -124,6 +129,10 @@ fn all_modules() -> Vec<(String, String)> {
         out.push((format!("water bend={bend}"), water_source(c)));
         out.push((format!("output bend={bend}"), output_source(c)));
         out.push((format!("water output bend={bend}"), water_output_source(c)));
+        out.push((
+            format!("followers bend={bend}"),
+            wethair::gpu::pipelines::followers_source(c),
+        ));
         out.push((format!("held bend={bend}"), held_source(c)));
         out.push((format!("roots bend={bend}"), wethair::gpu::pipelines::roots_source(c)));
         out.push((
@@ -194,8 +203,8 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
     }
     assert_eq!(
         checked,
-        records().len() * 34,
-        "every record in every module (34 modules)"
+        records().len() * 36,
+        "every record in every module (36 modules)"
     );
 }
 

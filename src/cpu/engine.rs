@@ -5,9 +5,10 @@ use super::step::CpuBackend;
 use crate::engine::{Counters, Engine, PassTime, PointState, WaterLedger};
 use crate::error::Result;
 use crate::params::{Backend, Integrator};
+use crate::physics::followers::Followers;
 use crate::physics::roots::RootFrame;
 use crate::plan::Pass;
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, Quat, Vec3};
 
 impl Engine for CpuBackend {
     fn kind(&self) -> Backend {
@@ -84,6 +85,52 @@ impl Engine for CpuBackend {
 
     fn blend_output(&mut self, a: Option<f32>) {
         CpuBackend::blend_output(self, a)
+    }
+
+    fn set_followers(&mut self, f: &Followers) -> Result<()> {
+        match &mut self.followers {
+            Some(c) => c.data = f.clone(),
+            None => {
+                self.followers = Some(super::followers::CpuFollowers {
+                    data: f.clone(),
+                    head: Quat::IDENTITY,
+                    blend: 1.0,
+                })
+            }
+        }
+        Ok(())
+    }
+
+    fn pose_followers(&mut self, head: Quat, blend: f32) {
+        if let Some(c) = &mut self.followers {
+            c.head = head;
+            c.blend = blend;
+        }
+    }
+
+    fn set_active_strands(&mut self, n: usize) {
+        self.active_blocks = n.min(self.lay.strands).div_ceil(crate::physics::lanes::W);
+    }
+
+    fn seed_strands(&mut self, first: u32, x: &[Vec3], v: &[Vec3], wet: &[f32]) -> Result<()> {
+        let lay = &self.lay;
+        let mut k = 0;
+        let mut s = first as usize;
+        while k < x.len() {
+            let (b, l) = lay.lane_of(s);
+            for i in 0..lay.strand_points(s) {
+                let r = &mut self.state[b * lay.rows + i];
+                r.x.set(l, x[k]);
+                r.v.set(l, v[k]);
+                if let Some(w) = self.wet.get_mut(b * lay.rows + i) {
+                    w[l] = wet[k];
+                }
+                k += 1;
+            }
+            s += 1;
+        }
+        self.restart_bdf2();
+        Ok(())
     }
 
     fn write_vertices(&mut self, dst: &mut [f32]) -> Result<()> {

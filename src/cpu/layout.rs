@@ -6,7 +6,8 @@
 //!
 //! Strands are placed in blocks in Morton (Z-curve) order of their roots, so that a block's
 //! strands are neighbours in space: a row's `W` points then share their water-grid cells, and
-//! one grid query serves the whole row. The host's strand order is kept everywhere outside
+//! one grid query serves the whole row. A guide groom keeps its own order (its spread order),
+//! so that the guides a lower simulated fraction keeps fill the first blocks. The host's strand order is kept everywhere outside
 //! (`slot_of_strand`).
 //!
 //! Shorter strands are padded with pinned points whose springs have k = 0; a last partial block
@@ -51,7 +52,7 @@ impl Layout {
         let rows = groom.max_strand_points();
         let blocks = strands.div_ceil(W);
         let n_rows = blocks * rows;
-        let strand_of_slot = morton_order(groom, blocks * W);
+        let strand_of_slot = strand_order(groom, params, blocks * W);
         let mut slot_of_strand = vec![0u32; strands];
         for (slot, &s) in strand_of_slot.iter().enumerate() {
             if (s as usize) < strands {
@@ -142,27 +143,17 @@ impl Layout {
     }
 }
 
-/// Host strands sorted by the Morton code of their root (10 bits per axis over the groom's
-/// bounds), padded with `u32::MAX` to `slots`.
-fn morton_order(groom: &Groom, slots: usize) -> Vec<u32> {
-    let (lo, hi) = groom.bounds();
-    let scale = 1023.0 / (hi - lo).max(glam::Vec3::splat(1e-12));
-    let spread = |v: u32| -> u64 {
-        let mut x = v as u64 & 0x3ff;
-        x = (x | (x << 16)) & 0x0300_00ff;
-        x = (x | (x << 8)) & 0x0300_f00f;
-        x = (x | (x << 4)) & 0x030c_30c3;
-        (x | (x << 2)) & 0x0924_9249
+/// Host strands sorted by the Morton code of their roots ([`crate::physics::morton::order`]),
+/// or in the groom's own order when it is a guide groom (its first strands are the ones a
+/// lower simulated fraction keeps: they must fill the first blocks), padded with `u32::MAX`
+/// to `slots`.
+fn strand_order(groom: &Groom, params: &SimParams, slots: usize) -> Vec<u32> {
+    let mut order: Vec<u32> = if params.guides.enabled() {
+        (0..groom.strand_count() as u32).collect()
+    } else {
+        let (lo, hi) = groom.bounds();
+        crate::physics::morton::order(&groom.roots(), lo, hi)
     };
-    let mut keyed: Vec<(u64, u32)> = (0..groom.strand_count())
-        .map(|s| {
-            let q = (groom.positions[groom.strand_first[s] as usize] - lo) * scale;
-            let key = spread(q.x as u32) | (spread(q.y as u32) << 1) | (spread(q.z as u32) << 2);
-            (key, s as u32)
-        })
-        .collect();
-    keyed.sort_unstable();
-    let mut order: Vec<u32> = keyed.into_iter().map(|(_, s)| s).collect();
     order.resize(slots, u32::MAX);
     order
 }

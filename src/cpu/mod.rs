@@ -5,6 +5,7 @@ pub mod bridges;
 pub mod cohesion;
 pub mod denormals;
 mod engine;
+mod followers;
 pub mod held;
 pub mod kernel;
 pub mod layout;

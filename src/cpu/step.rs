@@ -51,7 +51,7 @@ pub struct CpuBackend {
     wind: Vec3,
     params: SimParams,
     workers: Vec<Worker>,
-    pool: Option<super::pool::Pool>,
+    pub(super) pool: Option<super::pool::Pool>,
     heads: Vec<Affine3A>,
     placed: Vec<Placed>,
     /// The SDF colliders' transforms at the start and end of the next step, and each
@@ -75,8 +75,12 @@ pub struct CpuBackend {
     pub(super) clock: StageClock,
     /// Positions per row where the output blend starts (fixed steps with interpolation; empty
     /// until first kept), and the blend (`None`: the output shows the state).
-    output_from: Vec<L3>,
-    output_blend: Option<f32>,
+    pub(super) output_from: Vec<L3>,
+    pub(super) output_blend: Option<f32>,
+    /// Guides and followers' output (scenes with guides only).
+    pub(super) followers: Option<super::followers::CpuFollowers>,
+    /// Blocks the step runs (all but while a lower simulated fraction leaves guides out).
+    pub(super) active_blocks: usize,
 }
 
 impl CpuBackend {
@@ -158,7 +162,10 @@ impl CpuBackend {
             clock: StageClock::default(),
             output_from: Vec::new(),
             output_blend: None,
+            followers: None,
+            active_blocks: 0,
         };
+        cpu.active_blocks = cpu.lay.blocks;
         if params.skinned_roots {
             cpu.roots = Some(super::roots::Roots::new(&cpu.lay));
         }
@@ -209,6 +216,13 @@ impl CpuBackend {
         ];
         if !self.wet.is_empty() {
             out.push(("wetness", bytes(&self.wet)));
+        }
+        if let Some(f) = &self.followers {
+            let d = &f.data;
+            out.push((
+                "followers",
+                bytes(&d.strand_first) + bytes(&d.rest) + bytes(&d.spans) + bytes(&d.follow) + bytes(&d.from),
+            ));
         }
         if !self.output_from.is_empty() {
             out.push(("output_from", bytes(&self.output_from)));
@@ -558,7 +572,7 @@ impl CpuBackend {
             }),
         };
         let rows = self.lay.rows;
-        let per_chunk = self.lay.blocks.div_ceil(self.workers.len()).max(1);
+        let per_chunk = self.active_blocks.div_ceil(self.workers.len()).max(1);
         let run =
             |k: usize, state: &mut [StateRow], wet: &mut [Lane], history: &mut [StateRow], worker: &mut Worker| {
                 worker.reactions.clear();
@@ -585,8 +599,19 @@ impl CpuBackend {
                 }
             };
         let chunk_rows = per_chunk * rows;
-        let (state, wet_rows, history, workers) =
-            (&mut self.state, &mut self.wet, &mut self.history, &mut self.workers);
+        // A lower simulated fraction leaves the last guides' blocks out.
+        let active = self.active_blocks * rows;
+        let (n_state, n_wet, n_hist) = (
+            self.state.len().min(active),
+            self.wet.len().min(active),
+            self.history.len().min(active),
+        );
+        let (state, wet_rows, history, workers) = (
+            &mut self.state[..n_state],
+            &mut self.wet[..n_wet],
+            &mut self.history[..n_hist],
+            &mut self.workers,
+        );
         let mut body = || {
             let n = state.len().div_ceil(chunk_rows);
             state
@@ -634,6 +659,9 @@ impl CpuBackend {
             .output_blend
             .filter(|_| self.output_from.len() == self.state.len())
             .map(|a| (self.output_from.as_slice(), a));
+        if let Some(f) = &self.followers {
+            return f.write_vertices(&self.lay, &self.state, &self.wet, blend, attrs, self.pool.as_ref(), dst);
+        }
         super::output::write_vertices(
             &self.lay,
             &self.state,
@@ -665,6 +693,11 @@ impl CpuBackend {
     /// and starts BDF2 again (its history held the old place).
     pub fn carry_strands(&mut self, strands: &[u32], from: &[RootFrame], to: &[RootFrame]) {
         super::roots::Roots::carry(&self.lay, &mut self.state, strands, from, to);
+        self.restart_bdf2();
+    }
+
+    /// Starts BDF2 again from the current state (its history no longer matches it).
+    pub(super) fn restart_bdf2(&mut self) {
         self.bdf2.0 = Bdf2Clock::default();
     }
 

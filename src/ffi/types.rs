@@ -717,6 +717,7 @@ impl WetHairSimDesc {
             readback,
             held_water: self.held_water.params()?,
             volume: self.volume.params()?,
+            guides: crate::params::Guides::ALL,
             wind: self.wind.into(),
             error_estimate_stride: self.error_estimate_stride,
             tolerance: self.tolerance,

@@ -213,6 +213,54 @@ gpu_record! {
 }
 
 gpu_record! {
+    /// The followers' output pose (WGSL `FollowUniform`, a uniform; scenes with guides only).
+    pub struct FollowUniformGpu {
+        /// The head's rotation (a unit quaternion, xyzw) the offsets turn with.
+        pub head: [f32; 4],
+        /// How far the output has moved from the old bindings to the new, 0..=1.
+        pub blend: f32,
+        /// `Guides::clump`.
+        pub clump: f32,
+        /// Host vertices.
+        pub host_points: u32,
+        /// 1 while old bindings exist to blend from.
+        pub has_from: u32,
+        /// 1 while the fixed steps' output blend is on (guides read kept positions moved by
+        /// `kept_a`).
+        pub kept: u32,
+        /// The fixed steps' blend factor.
+        pub kept_a: f32,
+        /// Unused: rounds the record to WGSL's 16-byte uniform size.
+        pub pad0: u32,
+        /// Unused.
+        pub pad1: u32,
+    }
+}
+
+gpu_record! {
+    /// How one host strand follows the guides (WGSL `FollowStrand`; physics/followers.rs
+    /// `Follow`, now and before the last change of the simulated fraction).
+    pub struct FollowStrandGpu {
+        /// The strand's first host vertex.
+        pub first: u32,
+        /// Its points.
+        pub count: u32,
+        /// Unused (alignment).
+        pub pad0: u32,
+        /// Unused.
+        pub pad1: u32,
+        /// Guides (xyz; w unused).
+        pub guides: [u32; 4],
+        /// Their weights.
+        pub weights: [f32; 4],
+        /// The guides before the last change.
+        pub from_guides: [u32; 4],
+        /// Their weights.
+        pub from_weights: [f32; 4],
+    }
+}
+
+gpu_record! {
     /// Constant data of one hair point (WGSL `Point`).
     pub struct PointGpu {
         /// Rest position in head space.

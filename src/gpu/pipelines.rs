@@ -11,6 +11,7 @@ const HAIR: &str = include_str!("shaders/hair.wgsl");
 const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
 const WATER: &str = include_str!("shaders/water.wgsl");
 const OUTPUT: &str = include_str!("shaders/output.wgsl");
+const FOLLOWERS: &str = include_str!("shaders/followers.wgsl");
 const WATER_OUTPUT: &str = include_str!("shaders/water_output.wgsl");
 const SDF: &str = include_str!("shaders/sdf.wgsl");
 const ROOTS: &str = include_str!("shaders/roots.wgsl");
@@ -201,6 +202,11 @@ pub fn bridges_source(c: SceneConsts, buckets: u32) -> String {
 /// The vertex output module.
 pub fn output_source(c: SceneConsts) -> String {
     format!("{}{OUTPUT}", prelude(c))
+}
+
+/// The followers' output module (scenes with guides only).
+pub fn followers_source(c: SceneConsts) -> String {
+    format!("{}{FOLLOWERS}", prelude(c))
 }
 
 /// The SDF colliders' hair pass, for a scene with `nsdf` SDFs.

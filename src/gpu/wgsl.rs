@@ -4,8 +4,8 @@
 //! through naga and checks each struct's member offsets and size against the Rust record.
 
 use super::buffers::{
-    self, grid_header as gh, BlendGpu, CarryGpu, ColliderGpu, Params, ParticleGpu, PinGpu, PointGpu, RootPairGpu,
-    RootsUniformGpu, SdfGpu, StateGpu, VolumeStepGpu,
+    self, grid_header as gh, BlendGpu, CarryGpu, ColliderGpu, FollowStrandGpu, FollowUniformGpu, Params, ParticleGpu,
+    PinGpu, PointGpu, RootPairGpu, RootsUniformGpu, SdfGpu, StateGpu, VolumeStepGpu,
 };
 
 /// A field type with a WGSL spelling.
@@ -71,7 +71,7 @@ pub(crate) use gpu_record;
 
 /// The WGSL structs the host writes or reads, by WGSL name, with their Rust records'
 /// fields and sizes.
-pub fn records() -> [(&'static str, &'static [Field], usize); 12] {
+pub fn records() -> [(&'static str, &'static [Field], usize); 14] {
     fn rec<T: GpuRecord>(name: &'static str) -> (&'static str, &'static [Field], usize) {
         (name, T::FIELDS, std::mem::size_of::<T>())
     }
@@ -88,6 +88,8 @@ pub fn records() -> [(&'static str, &'static [Field], usize); 12] {
         rec::<CarryGpu>("Carry"),
         rec::<RootsUniformGpu>("RootsUniform"),
         rec::<VolumeStepGpu>("VolumeStep"),
+        rec::<FollowUniformGpu>("FollowUniform"),
+        rec::<FollowStrandGpu>("FollowStrand"),
     ]
 }
 
@@ -155,6 +157,7 @@ pub fn constants() -> Vec<(&'static str, Const)> {
         ("ARMIJO_C1", F32(implicit::ARMIJO_C1 as f32)),
         ("ARMIJO_SLACK_F32", F32(implicit::ARMIJO_SLACK_F32)),
         ("SUBSTEP_HEAD_BYTES", U32(buffers::SUBSTEP_HEAD_BYTES)),
+        ("TURN_EPS", F32(crate::physics::followers::TURN_EPS)),
         ("MAX_SPREAD_SPEED", F32(crate::physics::volume::MAX_SPREAD_SPEED)),
         (
             "VOLUME_QUANTA",

@@ -164,11 +164,34 @@ impl Groom {
 
     /// Axis-aligned bounds of the rest pose.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        self.positions
+        crate::physics::morton::bounds(&self.positions)
+    }
+
+    /// Each strand's root (first point), in strand order.
+    pub fn roots(&self) -> Vec<Vec3> {
+        self.strand_first[..self.strand_count()]
             .iter()
-            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
-                (lo.min(p), hi.max(p))
-            })
+            .map(|&f| self.positions[f as usize])
+            .collect()
+    }
+
+    /// The strands `which` (in that order) as a groom of their own.
+    pub fn subset(&self, which: &[u32]) -> Groom {
+        let mut g = Groom {
+            positions: Vec::new(),
+            strand_first: vec![0],
+            pinned: Vec::new(),
+            mass: Vec::new(),
+            load_report: LoadReport::default(),
+        };
+        for &s in which {
+            let r = self.strand_range(s as usize);
+            g.positions.extend_from_slice(&self.positions[r.clone()]);
+            g.pinned.extend_from_slice(&self.pinned[r.clone()]);
+            g.mass.extend_from_slice(&self.mass[r]);
+            g.strand_first.push(g.positions.len() as u32);
+        }
+        g
     }
 
     /// The longest strand's rest length (sum of its segment lengths).

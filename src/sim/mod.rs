@@ -4,6 +4,7 @@ mod auto;
 mod budget;
 mod estimate;
 mod fixed;
+mod guides;
 mod roots;
 
 pub use estimate::ErrorEstimate;
@@ -152,19 +153,48 @@ pub struct Simulation {
     /// Whether the engine blends its output between the last two steps (fixed steps with
     /// interpolation, after an `advance` that stepped).
     blending: bool,
+    /// Guides and followers (scenes with guides only): the backend simulates the guides.
+    guides: Option<guides::GuideState>,
+    /// Vertices written per output: every host point (followers included), and their strands.
+    vertex_points: usize,
+    vertex_strands: usize,
 }
 
 impl Simulation {
     /// Validates `params` and lays out `groom` (copied; the groom may be dropped after).
     pub fn new(groom: &Groom, params: SimParams) -> Result<Self> {
         params.validate()?;
-        let (engine, info) = crate::engine::create(groom, &params, &Affine3A::IDENTITY)?;
-        Self::with_engine(groom, params, engine, info)
+        let (guides, simulated) = Self::guides_of(groom, &params)?;
+        let g = simulated.as_ref().unwrap_or(groom);
+        let followers = guides.as_ref().map(|s| s.followers());
+        let (engine, info) = crate::engine::create(g, &params, &Affine3A::IDENTITY, followers)?;
+        Self::with_engine(g, params, engine, info, guides, groom.point_count())
     }
 
-    /// A simulation at rest under the identity head transform, on `engine`.
-    fn with_engine(groom: &Groom, params: SimParams, mut engine: Box<dyn Engine>, info: BackendInfo) -> Result<Self> {
+    /// The guides' state and the guide groom, where `params` asks for guides.
+    fn guides_of(groom: &Groom, params: &SimParams) -> Result<(Option<guides::GuideState>, Option<Groom>)> {
+        if !params.guides.enabled() {
+            return Ok((None, None));
+        }
+        let (st, g) = guides::GuideState::new(groom, &params.guides)?;
+        Ok((Some(st), Some(g)))
+    }
+
+    /// A simulation at rest under the identity head transform, on `engine`, which simulates
+    /// `groom` (the guide groom when `guides` is on) and writes `vertex_points` vertices.
+    fn with_engine(
+        groom: &Groom,
+        params: SimParams,
+        mut engine: Box<dyn Engine>,
+        info: BackendInfo,
+        mut guides: Option<guides::GuideState>,
+        vertex_points: usize,
+    ) -> Result<Self> {
         let head = Affine3A::IDENTITY;
+        if let Some(g) = &mut guides {
+            engine.set_active_strands(g.stepping());
+            g.pose(&head, engine.as_mut());
+        }
         let host = HostPoints::new(groom, &params);
         let mut shadow = estimate::Shadow::new(groom, &params, engine.integrator())?;
         let budget = budget::Budget::new(&params, engine.integrator(), || {
@@ -211,6 +241,11 @@ impl Simulation {
             last_integrator: engine_integrator,
             fixed: fixed::Accumulator::default(),
             blending: false,
+            vertex_strands: guides
+                .as_ref()
+                .map_or(groom.strand_count(), |g| g.followers().follow.len()),
+            guides,
+            vertex_points,
         })
     }
 
@@ -226,10 +261,17 @@ impl Simulation {
                 "a simulation on the host's VkDevice runs the GPU backend, not the CPU one"
             ));
         }
-        let integrator = crate::plan::resolve_integrator(&params, groom);
+        let (guides, simulated) = Self::guides_of(groom, &params)?;
+        let g = simulated.as_ref().unwrap_or(groom);
+        let integrator = crate::plan::resolve_integrator(&params, g);
         let dev = crate::gpu::vulkan::open(host)?;
-        let (engine, info) = crate::engine::create_gpu(dev, groom, &params, integrator, &Affine3A::IDENTITY)?;
-        Self::with_engine(groom, params, engine, info)
+        let vertex_points = guides.as_ref().map(|_| groom.point_count());
+        let (mut engine, info) =
+            crate::engine::create_gpu(dev, g, &params, integrator, &Affine3A::IDENTITY, vertex_points)?;
+        if let Some(st) = &guides {
+            engine.set_followers(st.followers())?;
+        }
+        Self::with_engine(g, params, engine, info, guides, groom.point_count())
     }
 
     /// The vertex buffer as the host's Vulkan sees it, holding the last step's vertices, and
@@ -393,6 +435,9 @@ impl Simulation {
         if self.params.wind.blows() {
             self.engine.set_wind(self.params.wind.at(self.time));
         }
+        if let Some(g) = &mut self.guides {
+            g.before_step(dt, &to, self.engine.as_mut())?;
+        }
         let r = self.engine.step(dt, &self.head_prev, &to);
         if let (Some(sh), true) = (&mut self.shadow, r.is_ok()) {
             sh.step(dt, to);
@@ -473,6 +518,9 @@ impl Simulation {
     pub fn reset(&mut self) -> Result<()> {
         self.check_device()?;
         self.engine.reset(&self.head);
+        if let Some(g) = &mut self.guides {
+            g.reset(&self.head, self.engine.as_mut())?;
+        }
         self.reset_roots(&self.head.clone())?;
         if let Some(sh) = &mut self.shadow {
             if let Some(r) = &self.roots {
@@ -570,14 +618,48 @@ impl Simulation {
         &self.info
     }
 
-    /// Hair points written per [`Simulation::write_vertices`].
+    /// Simulates the first `fraction` of the guides (0 < fraction <= 1; `SimParams::guides`
+    /// on, else `Unsupported`) from the next step on, as a host lowers detail with distance:
+    /// the guides of a lower fraction are the first of the spread order, so any fraction
+    /// keeps them even over the scalp. The output blends from the old guides to the new over
+    /// `Guides::blend_time`; guides that start to be simulated start where the output showed
+    /// them (on the GPU a blocking read of the guides), so nothing pops.
+    pub fn set_guide_fraction(&mut self, fraction: f32) -> Result<()> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
+        if !(fraction > 0.0 && fraction <= 1.0) {
+            return Err(invalid!("the guide fraction must be in (0, 1], got {fraction}"));
+        }
+        let Some(g) = &mut self.guides else {
+            return Err(Error::Unsupported(
+                "this simulation has no guides (SimParams::guides)".into(),
+            ));
+        };
+        let r = g.set_fraction(fraction, self.engine.as_mut());
+        self.settle(r)
+    }
+
+    /// Guides simulated now and guides in all (`None` without guides).
+    pub fn guide_counts(&self) -> Option<(usize, usize)> {
+        self.guides.as_ref().map(|g| g.counts())
+    }
+
+    /// The host strand of each guide in the order the backend holds them (its point states,
+    /// positions and tips are theirs); `None` without guides.
+    pub fn guide_strands(&self) -> Option<&[u32]> {
+        self.guides.as_ref().map(|g| g.host_strands())
+    }
+
+    /// Hair points written per [`Simulation::write_vertices`] (every strand of the groom,
+    /// followers included).
     pub fn vertex_count(&self) -> usize {
-        self.host.mass.len()
+        self.vertex_points
     }
 
     /// Strand and point counts.
     pub fn stats_counts(&self) -> (u32, u32) {
-        ((self.host.strand_first.len() - 1) as u32, self.vertex_count() as u32)
+        (self.vertex_strands as u32, self.vertex_count() as u32)
     }
 
     /// The attributes written per vertex.

@@ -21,6 +21,11 @@ pub(super) struct OutputBlend {
 }
 
 impl OutputBlend {
+    /// The kept state.
+    pub(super) fn from(&self) -> &wgpu::Buffer {
+        &self.from
+    }
+
     /// Bytes held.
     pub(super) fn bytes(&self) -> usize {
         (self.from.size() + self.uniform.size()) as usize
@@ -33,6 +38,7 @@ impl GpuBackend {
     pub fn keep_previous(&mut self) -> Result<()> {
         if self.blend.is_none() {
             self.blend = Some(self.create_blend());
+            self.rebind_followers();
         }
         let blend = self.blend.as_ref().expect("created above");
         let mut enc = self.dev.device.create_command_encoder(&Default::default());
@@ -64,6 +70,7 @@ impl GpuBackend {
             };
             self.dev.queue.write_buffer(&blend.uniform, 0, bytemuck::bytes_of(&rec));
         }
+        self.followers_kept(a);
         self.vertices_current = false;
     }
 

@@ -30,8 +30,8 @@ impl GpuBackend {
             drag: p.air_drag,
             friction: p.friction,
             g: p.gravity.extend(0.0).to_array(),
-            points: self.points,
-            strands: self.strands,
+            points: self.active_points,
+            strands: self.active_strands,
             r_min: p.water.r_min,
             r_max: p.water.r_max,
             adhesion: p.water.adhesion,
@@ -163,11 +163,11 @@ impl GpuBackend {
                 s.open(&mut pass);
             }
             if let Some(h) = &self.held {
-                h.encode_before(&mut pass, self.cur, self.points); // pass wet_params
+                h.encode_before(&mut pass, self.cur, self.active_points); // pass wet_params
                 close(stamps, &mut pass, Stage::WetParams);
             }
             if let Some(br) = &mut self.bridges {
-                br.encode(&mut pass, self.cur, self.points); // pass hair_grid
+                br.encode(&mut pass, self.cur, self.active_points); // pass hair_grid
                 close(stamps, &mut pass, Stage::HairGrid);
             }
             if let Some(v) = &self.volume {
@@ -205,21 +205,21 @@ impl GpuBackend {
                         Some(&w.hair_bg[w.cur]),
                         self.strands_bg.as_ref(),
                         bridges,
-                        self.points,
-                        self.strands,
+                        self.active_points,
+                        self.active_strands,
                         stamps,
                     );
                     if let Some(sd) = &self.sdf {
                         // Pass collide's SDF part, booked with the hair kernel that holds the
                         // analytic colliders.
-                        sd.encode_hair(&mut pass, self.cur, s, self.points);
+                        sd.encode_hair(&mut pass, self.cur, s, self.active_points);
                         pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
                         close(stamps, &mut pass, Stage::Blocks);
                     }
                     if let Some(h) = self.held.as_ref().filter(|h| !h.absorb_dispatches().is_empty()) {
                         // Pass absorb: the particles give the hair what it asked for (its own
                         // bind groups; water_integrate's go back after it).
-                        h.encode_absorb(&mut pass, self.cur, 1 - w.cur, self.points, w.bound);
+                        h.encode_absorb(&mut pass, self.cur, 1 - w.cur, self.active_points, w.bound);
                         pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
                         close(stamps, &mut pass, Stage::Absorb);
                     }
@@ -246,12 +246,12 @@ impl GpuBackend {
                         None,
                         self.strands_bg.as_ref(),
                         bridges,
-                        self.points,
-                        self.strands,
+                        self.active_points,
+                        self.active_strands,
                         stamps,
                     );
                     if let Some(sd) = &self.sdf {
-                        sd.encode_hair(&mut pass, self.cur, s, self.points);
+                        sd.encode_hair(&mut pass, self.cur, s, self.active_points);
                         close(stamps, &mut pass, Stage::Blocks);
                     }
                 }
@@ -260,10 +260,10 @@ impl GpuBackend {
             if let Some(h) = &self.held {
                 // Passes flow, drip, dry, then the saturation the vertices show.
                 let particles = self.water.as_ref().map_or(0, |w| w.cur);
-                h.encode_after(&mut pass, self.cur, particles, self.points, stamps);
+                h.encode_after(&mut pass, self.cur, particles, self.active_points, stamps);
                 if let (true, Some(w)) = (h.drips(), self.water.as_mut()) {
                     // Each point sheds at most one drop a step; a status read makes it exact.
-                    w.bound = (w.bound + self.points).min(self.params.water.capacity);
+                    w.bound = (w.bound + self.active_points).min(self.params.water.capacity);
                 }
             }
             if let (true, Some(w)) = (wet, self.water.as_mut()) {
@@ -335,6 +335,19 @@ impl GpuBackend {
             return;
         }
         let mut pass = enc.begin_compute_pass(&Default::default());
+        if let Some(fg) = &self.followers {
+            // Guides and followers: every host vertex from the guides (the blend, if on, is
+            // read through the followers' uniform).
+            pass.set_pipeline(&fg.pipe);
+            pass.set_bind_group(0, &fg.bg[self.cur], &[]);
+            let (gx, gy) = groups(fg.host_points());
+            pass.dispatch_workgroups(gx, gy, 1);
+            drop(pass);
+            self.encode_water_vertices(enc);
+            self.vertices_current = true;
+            self.wrote_vertices = true;
+            return;
+        }
         match self.blend.as_ref().filter(|b| b.on) {
             Some(b) => {
                 pass.set_pipeline(&b.pipe);
@@ -345,7 +358,7 @@ impl GpuBackend {
                 pass.set_bind_group(0, &self.output_bg[self.cur], &[]);
             }
         }
-        let (gx, gy) = groups(self.points);
+        let (gx, gy) = groups(self.active_points);
         pass.dispatch_workgroups(gx, gy, 1);
         drop(pass);
         self.encode_water_vertices(enc);

@@ -4,8 +4,10 @@ use super::GpuBackend;
 use crate::engine::{Counters, Engine, PointState};
 use crate::error::Result;
 use crate::params::{Backend, Integrator};
+use crate::physics::followers::Followers;
 use crate::physics::roots::RootFrame;
 use crate::plan::Pass;
+use glam::Quat;
 use glam::{Affine3A, Vec3};
 
 impl Engine for GpuBackend {
@@ -95,6 +97,22 @@ impl Engine for GpuBackend {
 
     fn blend_output(&mut self, a: Option<f32>) {
         GpuBackend::blend_output(self, a)
+    }
+
+    fn set_followers(&mut self, f: &Followers) -> Result<()> {
+        GpuBackend::set_followers(self, f)
+    }
+
+    fn pose_followers(&mut self, head: Quat, blend: f32) {
+        GpuBackend::pose_followers(self, head, blend)
+    }
+
+    fn set_active_strands(&mut self, n: usize) {
+        GpuBackend::set_active_strands(self, n)
+    }
+
+    fn seed_strands(&mut self, first: u32, x: &[Vec3], v: &[Vec3], wet: &[f32]) -> Result<()> {
+        GpuBackend::seed_strands(self, first, x, v, wet)
     }
 
     /// The output pass writes the attributes fixed at create; this copies its floats.

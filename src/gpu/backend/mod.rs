@@ -9,6 +9,7 @@ mod blend;
 mod bridges;
 mod encode;
 mod engine;
+mod followers;
 mod held;
 mod kernels;
 mod readback;
@@ -92,7 +93,10 @@ pub struct GpuBackend {
     /// BDF2's clock: which frames keep the history (the CPU backend holds the same).
     bdf2: Bdf2Clock,
     points: u32,
-    strands: u32,
+    /// Points and strands the hair passes run over: all, or the first guides a lower
+    /// simulated fraction keeps (`followers.rs`).
+    active_points: u32,
+    active_strands: u32,
     strand_first: Vec<u32>,
     rest_local: Vec<Vec3>,
     bend: bool,
@@ -118,6 +122,8 @@ pub struct GpuBackend {
     output_bg: [wgpu::BindGroup; 2],
     /// Fixed steps' output blend (once a state is kept).
     blend: Option<blend::OutputBlend>,
+    /// Guides and followers' output (scenes with guides only).
+    followers: Option<followers::FollowersGpu>,
     /// SDF colliders (scenes with SDFs only).
     sdf: Option<sdf::SdfColliders>,
     /// Skinned roots (scenes with them only).
@@ -177,6 +183,7 @@ impl GpuBackend {
         params: &SimParams,
         integrator: Integrator,
         head: &Affine3A,
+        vertex_points: Option<usize>,
     ) -> Result<Self> {
         if integrator == Integrator::XPBD {
             return Err(Error::Unsupported(format!(
@@ -210,9 +217,19 @@ impl GpuBackend {
                 },
             ),
         ];
+        let vertex_points = vertex_points.map_or(points as u64, |v| v as u64);
         let (what, bytes) = per_point
             .iter()
-            .map(|&(what, b)| (what, b * points as u64))
+            .map(|&(what, b)| {
+                (
+                    what,
+                    b * if what == "vertices" {
+                        vertex_points
+                    } else {
+                        points as u64
+                    },
+                )
+            })
             .max_by_key(|p| p.1)
             .expect("four buffers");
         // The bridges' bucket table is scanned one workgroup per block of buckets, in one
@@ -288,7 +305,7 @@ impl GpuBackend {
         let vertices = b::buffer(
             d,
             "vertices",
-            points as u64 * stride * 4,
+            vertex_points * stride * 4,
             STORAGE | wgpu::BufferUsages::VERTEX,
         );
         let hair_layout = pl::layout(
@@ -400,7 +417,8 @@ impl GpuBackend {
             integrator,
             bdf2: Bdf2Clock::default(),
             points,
-            strands,
+            active_points: points,
+            active_strands: strands,
             strand_first: groom.strand_first.clone(),
             rest_local: pos.to_vec(),
             bend,
@@ -421,6 +439,7 @@ impl GpuBackend {
             output,
             output_bg,
             blend: None,
+            followers: None,
             sdf,
             roots,
             volume,
@@ -571,6 +590,9 @@ impl GpuBackend {
         }
         if let Some(bl) = &self.blend {
             v.push(("output_from", bl.bytes()));
+        }
+        if let Some(fg) = &self.followers {
+            v.push(("followers", fg.bytes()));
         }
         if let Some(sd) = &self.sdf {
             v.push(("sdf", sd.bytes()));

@@ -19,7 +19,7 @@ pub(super) struct VolumeGpu {
     grid: VolumeGrid,
     rest: f32,
     params: crate::params::Volume,
-    points: u32,
+    pub(super) points: u32,
     sums: wgpu::Buffer,
     uniform: wgpu::Buffer,
     spread: wgpu::ComputePipeline,

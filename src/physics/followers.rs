@@ -1,0 +1,526 @@
+//! Guides and followers (docs/GUIDES.md): which strands are guides and in what order a lower
+//! simulated fraction keeps them ([`spread_order`], [`choose`]), which guides each strand
+//! follows ([`bind`]), and where a follower's points are ([`follow_point`]). Written once: the
+//! CPU backend's vertex writer and the simulation's seeding of newly simulated guides call it,
+//! and `followers.wgsl` mirrors it function by function.
+
+use glam::{Quat, Vec3};
+
+/// How one host strand follows: up to three guide strands (guide-groom order) and their
+/// weights (summing to 1; an unused slot repeats the first guide with weight 0). A simulated
+/// guide follows itself with weight 1 and a zero offset, which gives its own points exactly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Follow {
+    /// Guide strands, nearest first.
+    pub guides: [u32; 3],
+    /// Their weights.
+    pub weights: [f32; 3],
+}
+
+impl Follow {
+    /// Guide `g` alone (a simulated guide following itself).
+    pub fn own(g: u32) -> Follow {
+        Follow {
+            guides: [g; 3],
+            weights: [1.0, 0.0, 0.0],
+        }
+    }
+}
+
+/// Where a guide's points are: its first point in the simulated (guide) groom, its first point
+/// in the host's groom (its rest pose), and its point count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GuideSpan {
+    /// First point in the guide groom (the backend's state).
+    pub first: u32,
+    /// First point in the host's groom (the rest positions).
+    pub rest: u32,
+    /// Points.
+    pub count: u32,
+}
+
+/// What a backend needs to write every host strand from the guides: the host's rest pose, the
+/// guides' spans, each host strand's binding, and the binding the output blends from while a
+/// change of the simulated fraction settles.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Followers {
+    /// Host point offsets per strand (strands + 1).
+    pub strand_first: Vec<u32>,
+    /// The host's rest pose, head space.
+    pub rest: Vec<Vec3>,
+    /// Per guide (guide-groom order).
+    pub spans: Vec<GuideSpan>,
+    /// Per host strand: the guides it follows now.
+    pub follow: Vec<Follow>,
+    /// Per host strand: the guides it followed before the last change of the simulated
+    /// fraction (the output moves from these to `follow` by the blend); empty when settled.
+    pub from: Vec<Follow>,
+    /// [`crate::params::Guides::clump`].
+    pub clump: f32,
+}
+
+/// Point `i` of host strand `h` as the output shows it: `follow` (or, blending by `a` < 1,
+/// `from` moved toward it by `a`).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn output_point(
+    fl: &Followers,
+    h: usize,
+    i: u32,
+    head: Quat,
+    a: f32,
+    at: &impl Fn(u32, u32) -> (Vec3, f32),
+) -> (Vec3, f32) {
+    let first = fl.strand_first[h];
+    let n = fl.strand_first[h + 1] - first;
+    let rest_i = fl.rest[(first + i) as usize];
+    let new = follow_point(&fl.follow[h], &fl.spans, i, n, rest_i, &fl.rest, head, fl.clump, at);
+    if a >= 1.0 || fl.from.is_empty() {
+        return new;
+    }
+    let old = follow_point(&fl.from[h], &fl.spans, i, n, rest_i, &fl.rest, head, fl.clump, at);
+    (mix(old.0, new.0, a), old.1 * (1.0 - a) + new.1 * a)
+}
+
+/// The strands of `roots` in spread order: Morton order of the roots taken in bit-reversed
+/// index order, so that every prefix is an even subsample of the scalp (the first quarter
+/// takes about every fourth strand along the Z-curve).
+pub fn spread_order(roots: &[Vec3]) -> Vec<u32> {
+    let (lo, hi) = super::morton::bounds(roots);
+    let z = super::morton::order(roots, lo, hi);
+    let n = z.len();
+    if n <= 1 {
+        return z;
+    }
+    let bits = usize::BITS - (n - 1).leading_zeros();
+    (0..1usize << bits)
+        .map(|j| j.reverse_bits() >> (usize::BITS - bits))
+        .filter(|&r| r < n)
+        .map(|r| z[r])
+        .collect()
+}
+
+/// The guides of a groom with roots `roots`, in spread order: the strands `is_guide` keeps
+/// ([`crate::params::GuideChoice`]), or the first `count` when `count` is given.
+pub fn choose(roots: &[Vec3], is_guide: impl Fn(u32) -> bool, count: Option<usize>) -> Vec<u32> {
+    let mut g: Vec<u32> = spread_order(roots).into_iter().filter(|&s| is_guide(s)).collect();
+    if let Some(c) = count {
+        g.truncate(c.max(1));
+    }
+    g
+}
+
+/// Which guides each host strand follows when the guides `active` (host strand indices, the
+/// guide groom's first strands) are simulated: an active guide follows itself; any other
+/// strand the `per` (1 or 3) active guides with the nearest roots, weighted by inverse root
+/// distance (ties by index). Deterministic; a dense grid over the guides' roots keeps it
+/// O(strands).
+pub fn bind(roots: &[Vec3], active: &[u32], per: u32) -> Vec<Follow> {
+    let mut guide_of = vec![u32::MAX; roots.len()];
+    for (g, &s) in active.iter().enumerate() {
+        guide_of[s as usize] = g as u32;
+    }
+    let g_roots: Vec<Vec3> = active.iter().map(|&s| roots[s as usize]).collect();
+    let grid = RootGrid::new(&g_roots);
+    let per = (per as usize).clamp(1, 3).min(active.len());
+    let mut near = Vec::with_capacity(8);
+    roots
+        .iter()
+        .enumerate()
+        .map(|(s, &r)| {
+            if guide_of[s] != u32::MAX {
+                return Follow::own(guide_of[s]);
+            }
+            grid.nearest(r, per, &mut near);
+            let mut f = Follow::own(near[0].1);
+            let inv: Vec<f32> = near.iter().map(|&(d2, _)| 1.0 / (d2.sqrt() + ROOT_EPS)).collect();
+            let total: f32 = inv.iter().sum();
+            for (k, &(_, g)) in near.iter().enumerate() {
+                f.guides[k] = g;
+                f.weights[k] = inv[k] / total;
+            }
+            f
+        })
+        .collect()
+}
+
+/// Added to root distances before inverting them, m: a follower whose root sits on a guide's
+/// takes that guide's weight (almost) whole.
+const ROOT_EPS: f32 = 1e-6;
+
+/// A dense grid over guide roots for nearest-neighbour queries.
+struct RootGrid<'a> {
+    roots: &'a [Vec3],
+    lo: Vec3,
+    cell: f32,
+    dims: [i64; 3],
+    /// Counting sort of the roots by cell: cell `c` holds `items[start[c]..start[c + 1]]`.
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl<'a> RootGrid<'a> {
+    fn new(roots: &'a [Vec3]) -> Self {
+        let (lo, hi) = super::morton::bounds(roots);
+        let ext = (hi - lo).max(Vec3::splat(1e-6));
+        let n = roots.len().max(1) as f32;
+        // Roots lie on a surface: about one guide per cell across it, but no more than a few
+        // cells per guide in all.
+        let cell = (ext.max_element() / n.sqrt()).max((ext.x * ext.y * ext.z / (4.0 * n)).cbrt());
+        let dims = [0, 1, 2].map(|a| (ext[a] / cell) as i64 + 1);
+        let cells = (dims[0] * dims[1] * dims[2]) as usize;
+        let mut start = vec![0u32; cells + 1];
+        let cell_of: Vec<usize> = roots
+            .iter()
+            .map(|&p| {
+                let c = Self::coord(lo, cell, p);
+                let c = [0, 1, 2].map(|a| c[a].clamp(0, dims[a] - 1));
+                (c[0] + dims[0] * (c[1] + dims[1] * c[2])) as usize
+            })
+            .collect();
+        for &c in &cell_of {
+            start[c + 1] += 1;
+        }
+        for c in 0..cells {
+            start[c + 1] += start[c];
+        }
+        let mut fill = start.clone();
+        let mut items = vec![0u32; roots.len()];
+        for (i, &c) in cell_of.iter().enumerate() {
+            items[fill[c] as usize] = i as u32;
+            fill[c] += 1;
+        }
+        RootGrid {
+            roots,
+            lo,
+            cell,
+            dims,
+            start,
+            items,
+        }
+    }
+
+    fn coord(lo: Vec3, cell: f32, p: Vec3) -> [i64; 3] {
+        let q = (p - lo) / cell;
+        [q.x.floor() as i64, q.y.floor() as i64, q.z.floor() as i64]
+    }
+
+    /// The `k` roots nearest `p` into `out` as (squared distance, index), nearest first (ties
+    /// by index). Rings of cells around `p`'s cell are visited until no unvisited root can be
+    /// nearer than the k-th found: after ring `r`, every unvisited root is at least `r` cells
+    /// away along some axis.
+    fn nearest(&self, p: Vec3, k: usize, out: &mut Vec<(f32, u32)>) {
+        out.clear();
+        let c = Self::coord(self.lo, self.cell, p);
+        let reach = (0..3)
+            .map(|a| c[a].abs().max((c[a] - self.dims[a] + 1).abs()))
+            .max()
+            .unwrap_or(0);
+        for r in 0..=reach {
+            for z in c[2] - r..=c[2] + r {
+                for y in c[1] - r..=c[1] + r {
+                    for x in c[0] - r..=c[0] + r {
+                        let ring = (x - c[0]).abs().max((y - c[1]).abs()).max((z - c[2]).abs());
+                        let inside =
+                            x >= 0 && y >= 0 && z >= 0 && x < self.dims[0] && y < self.dims[1] && z < self.dims[2];
+                        if ring != r || !inside {
+                            continue;
+                        }
+                        let cell = (x + self.dims[0] * (y + self.dims[1] * z)) as usize;
+                        for &i in &self.items[self.start[cell] as usize..self.start[cell + 1] as usize] {
+                            out.push((p.distance_squared(self.roots[i as usize]), i));
+                        }
+                    }
+                }
+            }
+            if out.len() >= k {
+                out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                out.truncate(k);
+                let safe = r as f32 * self.cell;
+                if out[k - 1].0 <= safe * safe {
+                    return;
+                }
+            }
+        }
+        out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        out.truncate(k);
+    }
+}
+
+/// `a` moved to `b` by `u` as `a (1 - u) + b u`, which gives `a` at 0 and `b` at 1 exactly.
+#[inline]
+pub fn mix(a: Vec3, b: Vec3, u: f32) -> Vec3 {
+    a * (1.0 - u) + b * u
+}
+
+/// `v` turned by the smallest rotation that takes unit `a` to unit `b` (Rodrigues, with
+/// `k = a × b`, `c = a · b`: `v c + k × v + k (k · v) / (1 + c)`); unturned when `a` and `b`
+/// are (nearly) opposite, where that rotation is not unique.
+#[inline]
+pub fn turn(v: Vec3, a: Vec3, b: Vec3) -> Vec3 {
+    let k = a.cross(b);
+    let c = a.dot(b);
+    if 1.0 + c < TURN_EPS {
+        return v;
+    }
+    v * c + k.cross(v) + k * (k.dot(v) / (1.0 + c))
+}
+
+/// `v` turned by the unit quaternion `q` (`v + w t + q⃗ × t` with `t = 2 q⃗ × v`; the same
+/// sums as `followers.wgsl` `rotate`).
+#[inline]
+pub fn rotate(q: Quat, v: Vec3) -> Vec3 {
+    let axis = Vec3::new(q.x, q.y, q.z);
+    let t = 2.0 * axis.cross(v);
+    v + q.w * t + axis.cross(t)
+}
+
+/// Below this `1 + a · b` a segment's turn is skipped (more than about 179 degrees).
+pub const TURN_EPS: f32 = 1e-4;
+
+/// `d` over its length, or `None` when that is zero or not finite.
+#[inline]
+pub fn unit(d: Vec3) -> Option<Vec3> {
+    let len2 = d.dot(d);
+    (len2 > 0.0 && len2 < f32::INFINITY).then(|| d * (1.0 / len2.sqrt()))
+}
+
+/// Where guide `g` (its `span`) puts point `i` of a follower of `n` points whose rest
+/// position is `rest_i`: the guide's point at the same fraction of its length (`s = i (m - 1)
+/// / (n - 1)` for a guide of `m` points, between its points `j` and `j + 1`), and the
+/// follower's rest offset from there, turned by the head's rotation `head` and then by the
+/// smallest rotation from the rest direction (turned by the head) of the guide segment that
+/// arrives at `s` to its current one. At the root (`s = 0`) no segment arrives: the offset
+/// turns with the head alone, so a follower's root stays on the head. Returns that point, the turned offset, and the guide's wetness there.
+/// `rest` is the host's rest pose; `at(g, j)` guide `g`'s point `j`'s position and wetness.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn from_guide(
+    g: u32,
+    span: GuideSpan,
+    i: u32,
+    n: u32,
+    rest_i: Vec3,
+    rest: &[Vec3],
+    head: Quat,
+    at: &impl Fn(u32, u32) -> (Vec3, f32),
+) -> (Vec3, Vec3, f32) {
+    let m = span.count;
+    let s = (i * (m - 1)) as f32 / (n - 1).max(1) as f32;
+    let j = (s as u32).min(m - 2);
+    let u = s - j as f32;
+    let (x0, w0) = at(g, j);
+    let (x1, w1) = at(g, j + 1);
+    let r0 = rest[(span.rest + j) as usize];
+    let r1 = rest[(span.rest + j + 1) as usize];
+    let offset = rotate(head, rest_i - mix(r0, r1, u));
+    // The segment arriving at s: j's own inside it, the one before at a point.
+    let turned = if u > 0.0 || j > 0 {
+        let k = if u > 0.0 { j } else { j - 1 };
+        let (a0, b0) = (rest[(span.rest + k) as usize], rest[(span.rest + k + 1) as usize]);
+        let (a1, b1) = if k == j { (x0, x1) } else { (at(g, k).0, x0) };
+        match (unit(rotate(head, b0 - a0)), unit(b1 - a1)) {
+            (Some(a), Some(b)) => turn(offset, a, b),
+            _ => offset,
+        }
+    } else {
+        offset
+    };
+    (mix(x0, x1, u), turned, w0 * (1.0 - u) + w1 * u)
+}
+
+/// Point `i` of a follower of `n` points with rest position `rest_i`, following `f` over
+/// guides `spans`: each guide's point plus its offset, shrunk by `clump` times that guide's
+/// wetness, weighted by `f`'s weights with `clump` times the nearest guide's wetness moved to
+/// the nearest guide (a wet follower closes on it: clumps). Returns the position and the
+/// weighted wetness.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn follow_point(
+    f: &Follow,
+    spans: &[GuideSpan],
+    i: u32,
+    n: u32,
+    rest_i: Vec3,
+    rest: &[Vec3],
+    head: Quat,
+    clump: f32,
+    at: &impl Fn(u32, u32) -> (Vec3, f32),
+) -> (Vec3, f32) {
+    let g = f.guides[0];
+    let (g0, d0, s0) = from_guide(g, spans[g as usize], i, n, rest_i, rest, head, at);
+    let shift = clump * s0;
+    let w0 = f.weights[0] + shift * (1.0 - f.weights[0]);
+    let mut x = (g0 + d0 * (1.0 - clump * s0)) * w0;
+    let mut wet = s0 * w0;
+    for k in 1..3 {
+        if f.weights[k] == 0.0 {
+            continue;
+        }
+        let gk = f.guides[k];
+        let (p, d, s) = from_guide(gk, spans[gk as usize], i, n, rest_i, rest, head, at);
+        let w = f.weights[k] * (1.0 - shift);
+        x += (p + d * (1.0 - clump * s)) * w;
+        wet += s * w;
+    }
+    (x, wet)
+}
+
+/// The velocity of point `i` of a follower of `n` points: its guides' velocities at the same
+/// fraction of their length, weighted as [`Follow::weights`] (what a guide that starts to be
+/// simulated starts with).
+pub fn follow_velocity(f: &Follow, spans: &[GuideSpan], i: u32, n: u32, vel: &impl Fn(u32, u32) -> Vec3) -> Vec3 {
+    let mut v = Vec3::ZERO;
+    for k in 0..3 {
+        if f.weights[k] == 0.0 {
+            continue;
+        }
+        let g = f.guides[k];
+        let span = spans[g as usize];
+        let m = span.count;
+        let s = (i * (m - 1)) as f32 / (n - 1).max(1) as f32;
+        let j = (s as u32).min(m - 2);
+        let u = s - j as f32;
+        v += mix(vel(g, j), vel(g, j + 1), u) * f.weights[k];
+    }
+    v
+}
+
+/// The unit tangent at a point from its neighbours before `a` and after `b` (the vertex
+/// output's: +z where they coincide).
+#[inline]
+pub fn tangent(a: Vec3, b: Vec3) -> Vec3 {
+    unit(b - a).unwrap_or(Vec3::Z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every prefix of the spread order is spread: the first quarter of a 64 × 64 sheet of
+    /// roots leaves no root farther than 3 spacings from one of its own.
+    #[test]
+    fn spread_prefixes_cover_the_scalp() {
+        let roots: Vec<Vec3> = (0..64 * 64)
+            .map(|k| Vec3::new((k % 64) as f32, (k / 64) as f32, 0.0))
+            .collect();
+        let order = spread_order(&roots);
+        let mut seen = order.clone();
+        seen.sort_unstable();
+        assert_eq!(seen, (0..64 * 64).collect::<Vec<u32>>(), "a permutation");
+        for frac in [4, 10, 50] {
+            let first: Vec<u32> = order[..roots.len() / frac].to_vec();
+            let b = bind(&roots, &first, 1);
+            let worst = roots
+                .iter()
+                .zip(&b)
+                .map(|(r, f)| r.distance(roots[first[f.guides[0] as usize] as usize]))
+                .fold(0.0f32, f32::max);
+            let spacing = (frac as f32).sqrt();
+            assert!(
+                worst <= 2.5 * spacing,
+                "1/{frac}: a root {worst} from its guide (spacing {spacing})"
+            );
+        }
+    }
+
+    /// The grid's nearest guides equal brute force's, distances and ties by index.
+    #[test]
+    fn nearest_guides_equal_brute_force() {
+        let mut rng = crate::scenes::Lcg(5);
+        let roots: Vec<Vec3> = (0..3000)
+            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), 0.3 * rng.next_f32()))
+            .collect();
+        let active: Vec<u32> = (0..3000).step_by(7).collect();
+        let b = bind(&roots, &active, 3);
+        for (s, f) in b.iter().enumerate() {
+            if s % 7 == 0 {
+                assert_eq!(*f, Follow::own((s / 7) as u32));
+                continue;
+            }
+            let mut all: Vec<(f32, u32)> = active
+                .iter()
+                .enumerate()
+                .map(|(g, &h)| (roots[s].distance_squared(roots[h as usize]), g as u32))
+                .collect();
+            all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let want: Vec<u32> = all[..3].iter().map(|x| x.1).collect();
+            assert_eq!(f.guides.to_vec(), want, "strand {s}");
+            assert!((f.weights.iter().sum::<f32>() - 1.0).abs() < 1e-6);
+            assert!(f.weights[0] >= f.weights[1] && f.weights[1] >= f.weights[2]);
+        }
+    }
+
+    /// A guide following itself gives its own points exactly; a follower offset from a straight
+    /// guide keeps its offset as the guide swings, turned with it (its root with the head only).
+    #[test]
+    fn follow_point_is_exact_on_guides_and_turns_offsets() {
+        let rest: Vec<Vec3> = (0..5)
+            .map(|i| Vec3::new(0.0, -0.1 * i as f32, 0.0))
+            .chain((0..5).map(|i| Vec3::new(0.01, -0.1 * i as f32, 0.0)))
+            .collect();
+        let spans = [GuideSpan {
+            first: 0,
+            rest: 0,
+            count: 5,
+        }];
+        // The guide swung 90 degrees about z: it now points along +x.
+        let x: Vec<Vec3> = (0..5).map(|i| Vec3::new(0.1 * i as f32, 0.0, 0.0)).collect();
+        let at = |_: u32, j: u32| (x[j as usize], 0.0);
+        for i in 0..5 {
+            let (p, _) = follow_point(
+                &Follow::own(0),
+                &spans,
+                i,
+                5,
+                rest[i as usize],
+                &rest,
+                Quat::IDENTITY,
+                0.8,
+                &at,
+            );
+            assert_eq!(p, x[i as usize], "the guide's own point {i}");
+            let (q, _) = follow_point(
+                &Follow::own(0),
+                &spans,
+                i,
+                5,
+                rest[5 + i as usize],
+                &rest,
+                Quat::IDENTITY,
+                0.8,
+                &at,
+            );
+            // Rest offset +x 1 cm from a guide along -y; turned by -y -> +x (a +90° turn about
+            // z), +x goes to +y; at the root no segment arrives and the offset stays +x.
+            let want = if i == 0 {
+                Vec3::new(0.01, 0.0, 0.0)
+            } else {
+                Vec3::new(0.0, 0.01, 0.0)
+            };
+            assert!((q - (x[i as usize] + want)).length() < 1e-6, "{i}: {q}");
+        }
+    }
+
+    /// A wet follower closes on its guide by `clump` times the wetness.
+    #[test]
+    fn wet_followers_clump() {
+        let rest = vec![
+            Vec3::ZERO,
+            Vec3::new(0.0, -0.1, 0.0),
+            Vec3::new(0.02, 0.0, 0.0),
+            Vec3::new(0.02, -0.1, 0.0),
+        ];
+        let spans = [GuideSpan {
+            first: 0,
+            rest: 0,
+            count: 2,
+        }];
+        for wet in [0.0f32, 0.5, 1.0] {
+            let at = |_: u32, j: u32| (rest[j as usize], wet);
+            let (q, w) = follow_point(&Follow::own(0), &spans, 1, 2, rest[3], &rest, Quat::IDENTITY, 0.8, &at);
+            assert!((q.x - 0.02 * (1.0 - 0.8 * wet)).abs() < 1e-7, "wet {wet}: {q}");
+            assert_eq!(w, wet);
+        }
+    }
+}

@@ -1,0 +1,199 @@
+//! Guides and followers at the simulation's level (docs/GUIDES.md): the guide groom the
+//! backend simulates, each host strand's binding, and the simulated fraction's changes at run
+//! time. A lower fraction keeps the first guides of the spread order; the strands it drops
+//! keep being stepped while the output blends from the old bindings to the new over
+//! `blend_time`, and a higher fraction starts its new guides where the output showed them, so
+//! neither direction pops.
+
+use crate::engine::Engine;
+use crate::error::Result;
+use crate::groom::Groom;
+use crate::params::{GuideChoice, Guides};
+use crate::physics::followers::{bind, choose, follow_point, follow_velocity, Followers, GuideSpan};
+use glam::{Affine3A, Quat, Vec3};
+
+/// The guides' bookkeeping.
+#[derive(Debug)]
+pub(super) struct GuideState {
+    /// Guide-groom strand → host strand (spread order).
+    host_of: Vec<u32>,
+    /// Every host strand's root (rest, head space).
+    roots: Vec<Vec3>,
+    per: u32,
+    blend_time: f32,
+    /// Guides the simulated fraction keeps.
+    active: usize,
+    /// Guides the backend steps: `active`, or more while a lower fraction's blend settles.
+    stepping: usize,
+    /// How far the output has moved from the old bindings to the new, 0..=1.
+    blend: f32,
+    /// The head's rotation the followers' offsets turn with (the last step's end).
+    head: Quat,
+    /// What the backend writes the output from.
+    data: Followers,
+}
+
+impl GuideState {
+    /// The guides of `groom` under `g` (on) and the guide groom the backend simulates.
+    pub(super) fn new(groom: &Groom, g: &Guides) -> Result<(GuideState, Groom)> {
+        g.check_strands(groom.strand_count())?;
+        let roots = groom.roots();
+        let host_of = match &g.choice {
+            GuideChoice::All => choose(&roots, |_| true, None),
+            GuideChoice::EveryNth(n) => choose(&roots, |s| s % n == 0, None),
+            GuideChoice::Spread(c) => choose(&roots, |_| true, Some(*c as usize)),
+            GuideChoice::Given(list) => {
+                let mut is = vec![false; roots.len()];
+                list.iter().for_each(|&s| is[s as usize] = true);
+                choose(&roots, |s| is[s as usize], None)
+            }
+        };
+        let guide_groom = groom.subset(&host_of);
+        let spans = (0..host_of.len())
+            .map(|e| GuideSpan {
+                first: guide_groom.strand_first[e],
+                rest: groom.strand_first[host_of[e] as usize],
+                count: guide_groom.strand_first[e + 1] - guide_groom.strand_first[e],
+            })
+            .collect();
+        let mut st = GuideState {
+            active: 0,
+            stepping: 0,
+            blend: 1.0,
+            head: Quat::IDENTITY,
+            per: g.per_follower,
+            blend_time: g.blend_time,
+            data: Followers {
+                strand_first: groom.strand_first.clone(),
+                rest: groom.positions().to_vec(),
+                spans,
+                follow: Vec::new(),
+                from: Vec::new(),
+                clump: g.clump,
+            },
+            host_of,
+            roots,
+        };
+        st.active = st.count_for(g.fraction);
+        st.stepping = st.active;
+        st.data.follow = bind(&st.roots, &st.host_of[..st.active], st.per);
+        Ok((st, guide_groom))
+    }
+
+    /// What the backend writes the output from.
+    pub(super) fn followers(&self) -> &Followers {
+        &self.data
+    }
+
+    /// Guides the backend steps now.
+    pub(super) fn stepping(&self) -> usize {
+        self.stepping
+    }
+
+    /// Guides a fraction `f` keeps (at least one).
+    pub(super) fn count_for(&self, f: f32) -> usize {
+        let n = self.host_of.len();
+        ((f as f64 * n as f64).ceil() as usize).clamp(1, n)
+    }
+
+    /// The guides simulated now and in all.
+    pub(super) fn counts(&self) -> (usize, usize) {
+        (self.active, self.host_of.len())
+    }
+
+    /// Host strand of each guide, in the guide groom's (spread) order.
+    pub(super) fn host_strands(&self) -> &[u32] {
+        &self.host_of
+    }
+
+    /// Simulates the first `count_for(f)` guides from the next step on. New guides start where
+    /// the output shows them now (a blocking read of the guides on the GPU); the bindings move
+    /// to the new guides over `blend_time`.
+    pub(super) fn set_fraction(&mut self, f: f32, engine: &mut dyn Engine) -> Result<()> {
+        let k = self.count_for(f);
+        if k == self.active {
+            return Ok(());
+        }
+        if k > self.active {
+            self.seed(self.active..k, engine)?;
+        }
+        let before = std::mem::replace(&mut self.data.follow, bind(&self.roots, &self.host_of[..k], self.per));
+        self.data.from = before;
+        self.blend = 0.0;
+        self.stepping = self.stepping.max(k);
+        self.active = k;
+        if self.blend_time == 0.0 {
+            self.settle();
+        }
+        engine.set_followers(&self.data)?;
+        engine.set_active_strands(self.stepping);
+        Ok(())
+    }
+
+    /// Starts guides `new` where their current bindings put them: positions, velocities and
+    /// wetness from the simulated guides.
+    fn seed(&self, new: std::ops::Range<usize>, engine: &mut dyn Engine) -> Result<()> {
+        let states = engine.point_states()?;
+        let d = &self.data;
+        let at = |g: u32, j: u32| {
+            let s = &states[(d.spans[g as usize].first + j) as usize];
+            (s.0, s.2)
+        };
+        let vel = |g: u32, j: u32| states[(d.spans[g as usize].first + j) as usize].1;
+        let (mut x, mut v, mut w) = (Vec::new(), Vec::new(), Vec::new());
+        let head = self.head;
+        for e in new.clone() {
+            let h = self.host_of[e] as usize;
+            let first = d.strand_first[h];
+            let n = d.strand_first[h + 1] - first;
+            let f = &d.follow[h];
+            for i in 0..n {
+                let rest_i = d.rest[(first + i) as usize];
+                let (p, wet) = follow_point(f, &d.spans, i, n, rest_i, &d.rest, head, d.clump, &at);
+                x.push(p);
+                w.push(wet);
+                v.push(follow_velocity(f, &d.spans, i, n, &vel));
+            }
+        }
+        engine.seed_strands(new.start as u32, &x, &v, &w)
+    }
+
+    /// The blend's end: the old bindings go, and the dropped guides stop being stepped.
+    fn settle(&mut self) {
+        self.blend = 1.0;
+        self.data.from.clear();
+        self.stepping = self.active;
+    }
+
+    /// Before a step of `dt` that ends with the head at `to`: moves the blend on (settling
+    /// when it is done) and poses the followers.
+    pub(super) fn before_step(&mut self, dt: f32, to: &Affine3A, engine: &mut dyn Engine) -> Result<()> {
+        if self.blend < 1.0 {
+            self.blend = (self.blend + dt / self.blend_time).min(1.0);
+            if self.blend >= 1.0 {
+                self.settle();
+                engine.set_followers(&self.data)?;
+                engine.set_active_strands(self.stepping);
+            }
+        }
+        self.pose(to, engine);
+        Ok(())
+    }
+
+    /// Poses the followers for the head at `head` (and the blend as it stands).
+    pub(super) fn pose(&mut self, head: &Affine3A, engine: &mut dyn Engine) {
+        self.head = head.to_scale_rotation_translation().1;
+        engine.pose_followers(self.head, self.blend);
+    }
+
+    /// After a reset: settled, the bindings the fraction keeps.
+    pub(super) fn reset(&mut self, head: &Affine3A, engine: &mut dyn Engine) -> Result<()> {
+        if self.blend < 1.0 {
+            self.settle();
+            engine.set_followers(&self.data)?;
+            engine.set_active_strands(self.stepping);
+        }
+        self.pose(head, engine);
+        Ok(())
+    }
+}
