@@ -279,6 +279,12 @@ typedef uint32_t WetHairSpringModel;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Which strands of a groom are guides (simulated); the others follow them.
+typedef struct GuideChoice GuideChoice;
+
+// Guides and followers with level of detail (docs/GUIDES.md).
+typedef struct Guides Guides;
+
 // Material properties of a strand, from which [`SpringModel::MATERIAL`] derives each spring.
 // The paper scene is `EA = 40 N/m × 0.02 m = 0.8 N` and `EI = 10 N/m × (0.04 m)³ =
 // 6.4e-4 N·m²` (its springs then come out at its 40 and 10 N/m).
@@ -484,6 +490,29 @@ typedef struct WetHairVolume {
   uint32_t reserved;
 } WetHairVolume;
 
+// Guides and followers (since 0.5.0; docs/GUIDES.md): the backend simulates the guides only,
+// and writes every strand's vertices, each follower from its nearest guides (roots), wet
+// followers closing on their nearest guide. `wethair_sim_set_guide_fraction` changes the
+// simulated fraction at run time without pops.
+typedef struct WetHairGuides {
+  // A `WetHairGuideChoice`. Default `WETHAIR_GUIDES_ALL`.
+  uint32_t choice;
+  // `n` of every n-th, the spread choice's guide count, or the length of `strands`.
+  uint32_t count;
+  // The given guides' host strand indices (`WETHAIR_GUIDES_GIVEN` only; may be NULL
+  // otherwise); copied at create.
+  const uint32_t *strands;
+  // Guides per follower: 1 or 3. Default 3.
+  uint32_t per_follower;
+  // How far a wet follower closes on its nearest guide, 0..=1 (its offset shrinks by
+  // `clump × wetness`). Default 0.8.
+  float clump;
+  // The fraction of the guides simulated at create, (0, 1]. Default 1.
+  float fraction;
+  // Seconds over which a change of the fraction blends the output, >= 0. Default 0.25.
+  float blend_time;
+} WetHairGuides;
+
 // Everything a simulation is made from. Fill with `wethair_sim_desc_init(&desc, sizeof desc)`
 // (material springs, AUTO integrator: right for any groom), or with the older
 // `wethair_sim_desc_default()` (the paper scene's exact parameters in the 0.1.0 layout), then
@@ -592,6 +621,9 @@ typedef struct WetHairSimDesc {
   float root_teleport_distance;
   // Hair-hair volume (since 0.4.0; off by default).
   struct WetHairVolume volume;
+  // Guides and followers with level of detail (since 0.5.0; off by default: every strand
+  // simulated). A 296-byte layout (0.4.0) ended before it.
+  struct WetHairGuides guides;
 } WetHairSimDesc;
 
 // What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.
@@ -1054,6 +1086,16 @@ WetHairResult wethair_sim_set_head_transform(struct WetHairSim *sim, const float
 // # Safety
 // `sim` is valid; `matrix` is NULL or points to 16 floats.
 WetHairResult wethair_sim_set_sdf_transform(struct WetHairSim *sim, uint32_t index, const float *matrix);
+
+// Simulates the first `fraction` of the guides, (0, 1], from the next step on (a simulation
+// made with `WetHairSimDesc::guides`; others get `WETHAIR_ERROR_UNSUPPORTED`), as a host lowers
+// detail with distance: the output blends from the old guides to the new over
+// `guides.blend_time`, and guides that start to be simulated start where the output showed
+// them (on the GPU backend one blocking read of the guides).
+//
+// # Safety
+// `sim` is valid.
+WetHairResult wethair_sim_set_guide_fraction(struct WetHairSim *sim, float fraction);
 
 // Sets where every strand's root is at the end of the next step (or `wethair_sim_advance`
 // frame), for a simulation made with `skinned_roots`: `count` (the groom's strand count)

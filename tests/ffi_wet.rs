@@ -227,8 +227,9 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
     unsafe {
         assert!(at(std::ptr::addr_of!((*d).error_estimate_stride) as *const u8) >= 216);
         assert!(at(std::ptr::addr_of!((*d).fixed_step) as *const u8) >= 232);
+        assert!(at(std::ptr::addr_of!((*d).guides) as *const u8) >= 296);
     }
-    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 296, "no padding at the end");
+    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 328, "no padding at the end");
     assert_eq!(std::mem::size_of::<WetHairStats>(), 120);
 }
 

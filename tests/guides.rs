@@ -411,3 +411,94 @@ fn followers_show_the_fixed_steps_blend() {
         }
     }
 }
+
+/// Guides through the C ABI: a given list, the vertex layout covering every strand, the
+/// fraction changed at run time, and bad input refused with a message and nothing changed; a
+/// 0.4.0 host's 296-byte desc has no guides.
+#[test]
+fn guides_through_c() {
+    use std::ptr::null_mut;
+    use wethair::ffi::*;
+    use WetHairResult::*;
+    let mut g = null_mut();
+    assert_eq!(unsafe { wethair_groom_create_paper_scene(400, 8, &mut g) }, WETHAIR_OK);
+    let desc = |size: u32| {
+        let mut d = std::mem::MaybeUninit::<WetHairSimDesc>::zeroed();
+        assert_eq!(unsafe { wethair_sim_desc_init(d.as_mut_ptr(), size) }, WETHAIR_OK);
+        let mut d = unsafe { d.assume_init() };
+        d.groom = g;
+        d.backend = Backend::CPU as u32;
+        d
+    };
+    let full = std::mem::size_of::<WetHairSimDesc>() as u32;
+    let d0 = desc(full);
+    assert_eq!(
+        d0.guides.choice,
+        WetHairGuideChoice::WETHAIR_GUIDES_ALL as u32,
+        "off by default"
+    );
+    assert_eq!((d0.guides.per_follower, d0.guides.fraction), (3, 1.0));
+    let list: Vec<u32> = (0..400).step_by(5).collect();
+    let create = |d: &WetHairSimDesc| {
+        let mut s = null_mut();
+        let r = unsafe { wethair_sim_create(d, &mut s) };
+        (r, s)
+    };
+    let mut d = desc(full);
+    d.guides.choice = WetHairGuideChoice::WETHAIR_GUIDES_GIVEN as u32;
+    d.guides.count = list.len() as u32;
+    d.guides.strands = list.as_ptr();
+    let (r, s) = create(&d);
+    assert_eq!(r, WETHAIR_OK, "{}", crate::common::last_error());
+    let mut layout = std::mem::MaybeUninit::<WetHairVertexLayout>::zeroed();
+    unsafe { (*layout.as_mut_ptr()).struct_size = std::mem::size_of::<WetHairVertexLayout>() as u32 };
+    assert_eq!(
+        unsafe { wethair_sim_get_vertex_layout(s, layout.as_mut_ptr()) },
+        WETHAIR_OK
+    );
+    let layout = unsafe { layout.assume_init() };
+    assert_eq!((layout.vertex_count, layout.strand_count), (400 * 8, 400));
+    assert_eq!(unsafe { wethair_sim_step(s, DT) }, WETHAIR_OK);
+    assert_eq!(unsafe { wethair_sim_set_guide_fraction(s, 0.5) }, WETHAIR_OK);
+    for bad in [0.0, 1.5, f32::NAN] {
+        assert_eq!(
+            unsafe { wethair_sim_set_guide_fraction(s, bad) },
+            WETHAIR_ERROR_INVALID_ARGUMENT
+        );
+        assert!(crate::common::last_error().contains("guide fraction"));
+    }
+    assert_eq!(
+        unsafe { wethair_sim_set_guide_fraction(null_mut(), 0.5) },
+        WETHAIR_ERROR_NULL_POINTER
+    );
+    assert_eq!(unsafe { wethair_sim_step(s, DT) }, WETHAIR_OK);
+    unsafe { wethair_sim_destroy(s) };
+    // A NULL list, a bad choice, a repeated strand: refused by name, no simulation made.
+    let mut bad = d;
+    bad.guides.strands = std::ptr::null();
+    assert_eq!(create(&bad), (WETHAIR_ERROR_NULL_POINTER, null_mut()));
+    assert!(crate::common::last_error().contains("guides.strands"));
+    let mut bad = d;
+    bad.guides.choice = 9;
+    assert_eq!(create(&bad), (WETHAIR_ERROR_INVALID_ARGUMENT, null_mut()));
+    assert!(crate::common::last_error().contains("guides.choice"));
+    let twice = [3u32, 3];
+    let mut bad = d;
+    bad.guides.strands = twice.as_ptr();
+    bad.guides.count = 2;
+    assert_eq!(create(&bad), (WETHAIR_ERROR_INVALID_ARGUMENT, null_mut()));
+    assert!(crate::common::last_error().contains("given twice"));
+    // A 0.4.0 host: its desc ends before the guides, which take their default (off).
+    let mut old = d;
+    old.struct_size = 296;
+    let (r, s) = create(&old);
+    assert_eq!(r, WETHAIR_OK);
+    assert_eq!(
+        unsafe { wethair_sim_set_guide_fraction(s, 0.5) },
+        WETHAIR_ERROR_UNSUPPORTED
+    );
+    unsafe {
+        wethair_sim_destroy(s);
+        wethair_groom_destroy(g);
+    }
+}

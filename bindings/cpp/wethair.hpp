@@ -157,6 +157,9 @@ public:
         detail::check(wethair_sim_set_root_frames(h_.get(), positions.data(), rotations.data(),
                                                   static_cast<uint32_t>(positions.size() / 3)));
     }
+    /// Simulates the first `fraction` of the guides from the next step on (a simulation made
+    /// with `guides`): the output blends to the new guides over `guides.blend_time`.
+    void set_guide_fraction(float fraction) { detail::check(wethair_sim_set_guide_fraction(h_.get(), fraction)); }
     /// Adds `count` particles; positions and velocities hold x y z each (velocities may be null).
     void add_water(const float *positions, const float *velocities, uint32_t count) {
         detail::check(wethair_sim_add_water(h_.get(), positions, velocities, count));

@@ -5,7 +5,7 @@
 //! refuses unknown values naming the field and the type) and the C names of its constants.
 
 use super::boundary::{Fail, WetHairResult};
-use super::types::{WetHairColliderType, WetHairVertexAttribute};
+use super::types::{WetHairColliderType, WetHairGuideChoice, WetHairVertexAttribute};
 use crate::groom::UpAxis;
 use crate::params::{Backend, Integrator, Readback, SpringModel};
 use crate::physics::spring::DampingModel;
@@ -71,6 +71,17 @@ c_enum!(
     "WetHairSpringModel",
     "WETHAIR_SPRING_MODEL_",
     [PER_SPRING, MATERIAL]
+);
+c_enum!(
+    WetHairGuideChoice,
+    "WetHairGuideChoice",
+    "",
+    [
+        WETHAIR_GUIDES_ALL,
+        WETHAIR_GUIDES_EVERY_NTH,
+        WETHAIR_GUIDES_SPREAD,
+        WETHAIR_GUIDES_GIVEN
+    ]
 );
 c_enum!(
     WetHairColliderType,

@@ -82,6 +82,23 @@ pub unsafe extern "C" fn wethair_sim_set_sdf_transform(
     })
 }
 
+/// Simulates the first `fraction` of the guides, (0, 1], from the next step on (a simulation
+/// made with `WetHairSimDesc::guides`; others get `WETHAIR_ERROR_UNSUPPORTED`), as a host lowers
+/// detail with distance: the output blends from the old guides to the new over
+/// `guides.blend_time`, and guides that start to be simulated start where the output showed
+/// them (on the GPU backend one blocking read of the guides).
+///
+/// # Safety
+/// `sim` is valid.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_set_guide_fraction(sim: *mut WetHairSim, fraction: f32) -> WetHairResult {
+    boundary!({
+        let s = nonnull_mut!(sim, "sim");
+        s.0.set_guide_fraction(fraction)?;
+        Ok(())
+    })
+}
+
 /// Sets where every strand's root is at the end of the next step (or `wethair_sim_advance`
 /// frame), for a simulation made with `skinned_roots`: `count` (the groom's strand count)
 /// positions (x y z each, m, world: the strand's first point) and rotations (x y z w each, a

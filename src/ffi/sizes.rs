@@ -51,6 +51,7 @@ sized!(
     // WetHairStats to 120 (error_estimate, error_estimate_max, substeps)
     // 0.4.0 (WetHairSimDesc grew to 296: fixed_step, max_frame_time, interpolate, sdfs,
     // sdf_count, skinned_roots, root_teleport_distance, volume)
+    // 0.5.0: WetHairSimDesc grew to 328 (guides)
     WetHairAdvance = 16,
 );
 

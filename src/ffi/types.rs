@@ -241,6 +241,115 @@ pub struct WetHairSimDesc {
     pub root_teleport_distance: f32,
     /// Hair-hair volume (since 0.4.0; off by default).
     pub volume: WetHairVolume,
+    /// Guides and followers with level of detail (since 0.5.0; off by default: every strand
+    /// simulated). A 296-byte layout (0.4.0) ended before it.
+    pub guides: WetHairGuides,
+}
+
+/// Which strands are guides (`WetHairGuides::choice`).
+#[repr(u32)]
+#[allow(non_camel_case_types)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WetHairGuideChoice {
+    /// Every strand simulated, no followers (the default).
+    WETHAIR_GUIDES_ALL = 0,
+    /// Strands `0, count, 2 count, …` (`count` >= 1).
+    WETHAIR_GUIDES_EVERY_NTH = 1,
+    /// `count` strands spread evenly over the scalp, chosen by wethair.
+    WETHAIR_GUIDES_SPREAD = 2,
+    /// The `count` host strands listed in `strands` (each once).
+    WETHAIR_GUIDES_GIVEN = 3,
+}
+
+/// Guides and followers (since 0.5.0; docs/GUIDES.md): the backend simulates the guides only,
+/// and writes every strand's vertices, each follower from its nearest guides (roots), wet
+/// followers closing on their nearest guide. `wethair_sim_set_guide_fraction` changes the
+/// simulated fraction at run time without pops.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct WetHairGuides {
+    /// A `WetHairGuideChoice`. Default `WETHAIR_GUIDES_ALL`.
+    pub choice: u32,
+    /// `n` of every n-th, the spread choice's guide count, or the length of `strands`.
+    pub count: u32,
+    /// The given guides' host strand indices (`WETHAIR_GUIDES_GIVEN` only; may be NULL
+    /// otherwise); copied at create.
+    pub strands: *const u32,
+    /// Guides per follower: 1 or 3. Default 3.
+    pub per_follower: u32,
+    /// How far a wet follower closes on its nearest guide, 0..=1 (its offset shrinks by
+    /// `clump × wetness`). Default 0.8.
+    pub clump: f32,
+    /// The fraction of the guides simulated at create, (0, 1]. Default 1.
+    pub fraction: f32,
+    /// Seconds over which a change of the fraction blends the output, >= 0. Default 0.25.
+    pub blend_time: f32,
+}
+
+impl From<&crate::Guides> for WetHairGuides {
+    fn from(g: &crate::Guides) -> Self {
+        use crate::GuideChoice as C;
+        let (choice, count) = match &g.choice {
+            C::All => (WetHairGuideChoice::WETHAIR_GUIDES_ALL, 0),
+            C::EveryNth(n) => (WetHairGuideChoice::WETHAIR_GUIDES_EVERY_NTH, *n),
+            C::Spread(c) => (WetHairGuideChoice::WETHAIR_GUIDES_SPREAD, *c),
+            // A given list has no pointer to hand back; the defaults never hold one.
+            C::Given(l) => (WetHairGuideChoice::WETHAIR_GUIDES_GIVEN, l.len() as u32),
+        };
+        WetHairGuides {
+            choice: choice as u32,
+            count,
+            strands: std::ptr::null(),
+            per_follower: g.per_follower,
+            clump: g.clump,
+            fraction: g.fraction,
+            blend_time: g.blend_time,
+        }
+    }
+}
+
+impl WetHairGuides {
+    /// As [`crate::Guides`], the given list copied (its floats and indices are checked by
+    /// `SimParams::validate` and at create).
+    ///
+    /// # Safety
+    /// `strands` holds `count` indices when the choice is `WETHAIR_GUIDES_GIVEN`.
+    unsafe fn params(&self) -> Result<crate::Guides, Fail> {
+        use crate::GuideChoice as C;
+        let choice = match super::enums::read_enum::<WetHairGuideChoice>(self.choice, "guides.choice")? {
+            WetHairGuideChoice::WETHAIR_GUIDES_ALL => C::All,
+            WetHairGuideChoice::WETHAIR_GUIDES_EVERY_NTH => C::EveryNth(self.count),
+            WetHairGuideChoice::WETHAIR_GUIDES_SPREAD => C::Spread(self.count),
+            WetHairGuideChoice::WETHAIR_GUIDES_GIVEN => {
+                if self.count as usize > crate::groom::MAX_STRANDS {
+                    return Err(Fail(
+                        super::WetHairResult::WETHAIR_ERROR_CAPACITY,
+                        format!(
+                            "guides.count {} exceeds {} strands",
+                            self.count,
+                            crate::groom::MAX_STRANDS
+                        ),
+                    ));
+                }
+                if self.count > 0 && self.strands.is_null() {
+                    return Err(super::boundary::null("guides.strands"));
+                }
+                let list = if self.count == 0 {
+                    Vec::new()
+                } else {
+                    std::slice::from_raw_parts(self.strands, self.count as usize).to_vec()
+                };
+                C::Given(list)
+            }
+        };
+        Ok(crate::Guides {
+            choice,
+            per_follower: self.per_follower,
+            clump: self.clump,
+            fraction: self.fraction,
+            blend_time: self.blend_time,
+        })
+    }
 }
 
 /// Hair-hair volume (since 0.4.0; docs/VOLUME.md): once a step the hair's mass and momentum
@@ -585,6 +694,7 @@ impl WetHairSimDesc {
             skinned_roots: p.skinned_roots as u32,
             root_teleport_distance: p.root_teleport_distance,
             volume: p.volume.into(),
+            guides: (&p.guides).into(),
         }
     }
 
@@ -717,7 +827,7 @@ impl WetHairSimDesc {
             readback,
             held_water: self.held_water.params()?,
             volume: self.volume.params()?,
-            guides: crate::params::Guides::ALL,
+            guides: unsafe { self.guides.params()? },
             wind: self.wind.into(),
             error_estimate_stride: self.error_estimate_stride,
             tolerance: self.tolerance,

@@ -170,6 +170,32 @@ namespace WetHair
         public float root_teleport_distance;
         /// <summary>Since 0.4.0: hair-hair volume (off by default).</summary>
         public WetHairVolume volume;
+        /// <summary>Since 0.5.0: guides and followers with level of detail (off by default).</summary>
+        public WetHairGuides guides;
+    }
+
+    /// <summary>Which strands are guides (WetHairGuideChoice).</summary>
+    public enum GuideChoice : uint { All = 0, EveryNth = 1, Spread = 2, Given = 3 }
+
+    /// <summary>Since 0.5.0: guides and followers (docs/GUIDES.md): only the guides are
+    /// simulated; every strand is written, followers from their nearest guides.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct WetHairGuides
+    {
+        /// <summary>A GuideChoice.</summary>
+        public uint choice;
+        /// <summary>n of every n-th, the spread count, or the length of strands.</summary>
+        public uint count;
+        /// <summary>The given guides' strand indices (uint array), or IntPtr.Zero.</summary>
+        public IntPtr strands;
+        /// <summary>Guides per follower: 1 or 3.</summary>
+        public uint per_follower;
+        /// <summary>How far a wet follower closes on its nearest guide, 0..1.</summary>
+        public float clump;
+        /// <summary>The fraction of the guides simulated at create, (0, 1].</summary>
+        public float fraction;
+        /// <summary>Seconds a change of the fraction blends over.</summary>
+        public float blend_time;
     }
 
     /// <summary>Since 0.4.0: hair-hair volume (density pressure and friction over a grid).</summary>
@@ -354,6 +380,7 @@ namespace WetHair
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_clear_water(SimulationHandle sim);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_step(SimulationHandle sim, float dt);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_sdf_transform(SimulationHandle sim, uint index, float* matrix);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_guide_fraction(SimulationHandle sim, float fraction);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_root_frames(SimulationHandle sim, float* positions, float* rotations, uint count);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_advance(SimulationHandle sim, float frameTime, WetHairAdvance* result);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_reset(SimulationHandle sim);

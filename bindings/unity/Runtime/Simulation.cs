@@ -156,6 +156,10 @@ namespace WetHair
         /// <summary>Advances by dt seconds.</summary>
         public void Step(float dt) => WetHairException.Check(Native.wethair_sim_step(handle, dt));
 
+        /// <summary>Simulates the first <paramref name="fraction"/> of the guides from the next
+        /// step on (a simulation made with guides), blending the output over guides.blend_time.</summary>
+        public void SetGuideFraction(float fraction) => WetHairException.Check(Native.wethair_sim_set_guide_fraction(handle, fraction));
+
         /// <summary>Advances by a frame of <paramref name="frameTime"/> seconds in the desc's
         /// fixed steps (Time.deltaTime from Update: the same steps at any frame rate); without
         /// a fixed step, one step of the frame.</summary>
