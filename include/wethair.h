@@ -126,6 +126,29 @@ typedef uint32_t WetHairColliderType;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Which strands are guides (`WetHairGuides::choice`).
+enum WetHairGuideChoice
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Every strand simulated, no followers (the default).
+  WETHAIR_GUIDES_ALL = 0,
+  // Strands `0, count, 2 count, …` (`count` >= 1).
+  WETHAIR_GUIDES_EVERY_NTH = 1,
+  // `count` strands spread evenly over the scalp, chosen by wethair.
+  WETHAIR_GUIDES_SPREAD = 2,
+  // The `count` host strands listed in `strands` (each once).
+  WETHAIR_GUIDES_GIVEN = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum WetHairGuideChoice WetHairGuideChoice;
+#else
+typedef uint32_t WetHairGuideChoice;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // Vertex attribute bits (`WetHairSimDesc::vertex_attributes`). Present attributes are written
 // interleaved per vertex in this order: position (3 floats), tangent (3), wetness (1).
 enum WetHairVertexAttribute

@@ -44,8 +44,13 @@ fn output_modules_validate() {
             ("output", output_source(c), "write_vertices"),
             ("output", output_source(c), "write_vertices_blended"),
             (
+                "guide frames",
+                wethair::gpu::pipelines::guide_frames_source(c),
+                "guide_frames",
+            ),
+            (
                 "followers",
-                wethair::gpu::pipelines::followers_source(c),
+                wethair::gpu::pipelines::write_followers_source(c),
                 "write_followers",
             ),
             ("water", water_source(c), "water_cull"),
@@ -130,8 +135,12 @@ fn all_modules() -> Vec<(String, String)> {
         out.push((format!("output bend={bend}"), output_source(c)));
         out.push((format!("water output bend={bend}"), water_output_source(c)));
         out.push((
+            format!("guide frames bend={bend}"),
+            wethair::gpu::pipelines::guide_frames_source(c),
+        ));
+        out.push((
             format!("followers bend={bend}"),
-            wethair::gpu::pipelines::followers_source(c),
+            wethair::gpu::pipelines::write_followers_source(c),
         ));
         out.push((format!("held bend={bend}"), held_source(c)));
         out.push((format!("roots bend={bend}"), wethair::gpu::pipelines::roots_source(c)));
@@ -203,8 +212,8 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
     }
     assert_eq!(
         checked,
-        records().len() * 36,
-        "every record in every module (36 modules)"
+        records().len() * 38,
+        "every record in every module (38 modules)"
     );
 }
 

@@ -6,12 +6,13 @@
  *
  * usage: viewer [--groom FILE.tfx|.hair] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl]
  *               [--size WxH] [--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N]
- *               [--wet-model]
+ *               [--wet-model] [--guides N] [--volume]
  *
  * Controls: left drag orbit, wheel zoom; space or right mouse: spray at the cursor; arrows turn
  * the head (left/right yaw, up/down pitch), W/A/S/D/Q/E move it; C dry (remove all water);
  * R reset; B switch backend (CPU/GPU); I switch integrator; P pause; N single step; + and -
- * line width; T rain on/off; G gusty wind on/off; K soak the hair (--wet-model); Esc quit. Drawn in the window (and in its title, and on stdout every second):
+ * line width; T rain on/off; G gusty wind on/off; K soak the hair (--wet-model); L the simulated
+ * fraction of the guides, 100/50/25/10% (--guides); Esc quit. Drawn in the window (and in its title, and on stdout every second):
  * simulation and draw ms/frame, renderer and vertex source, backend and adapter, integrator,
  * points, particles, the clumping measure, the spray rate.
  *
@@ -24,6 +25,8 @@
  *   frame drawn next), resize WxH (the window), stats, rain on|off, wind on|off, soak, quit
  * --wet-model runs the full wet model (held water, liquid bridges, drip, drying in 20 s; on
  *   either backend) and shows the water ledger.
+ * --guides N simulates every N-th strand and writes the others as followers (docs/GUIDES.md);
+ *   script command "fraction F" sets the simulated fraction. --volume turns hair-hair volume on.
  * In script mode the spray aims from the camera at the head, the frame step is a fixed 1/60 s
  * and every frame is stepped (no dropped frames), so runs repeat. */
 #include <GLFW/glfw3.h>
@@ -137,6 +140,17 @@ static void set_weather(Viewer *v) {
     wh_check(wethair_sim_set_wind(v->sim, &wind), "wethair_sim_set_wind");
 }
 
+/* Sets the simulated fraction of the guides (--guides only; says so otherwise). */
+static void set_fraction(Viewer *v, float f) {
+    if (!v->guides) {
+        printf("viewer: a guide fraction needs --guides N\n");
+        return;
+    }
+    v->guide_fraction = f;
+    wh_check(wethair_sim_set_guide_fraction(v->sim, f), "wethair_sim_set_guide_fraction");
+    printf("viewer: simulating %.0f%% of the guides\n", 100.0 * f);
+}
+
 /* Soaks the hair (the wet model only; says so otherwise). */
 static void soak(Viewer *v) {
     if (v->wet_model) wh_check(wethair_sim_soak(v->sim, 1.0f), "wethair_sim_soak");
@@ -148,11 +162,15 @@ static void make_sim(Viewer *v) {
     /* The paper scene runs the paper's exact parameters; a groom file the current defaults
      * (springs from material properties, right for any sampling). */
     WetHairSimDesc desc;
-    if (v->is_paper && !v->wet_model) wethair_sim_desc_default(&desc);
+    /* The 0.1.0 layout has neither the wet model, nor guides, nor the volume. */
+    int current = v->wet_model || v->guides || v->volume;
+    if (v->is_paper && !current) wethair_sim_desc_default(&desc);
     else wh_check(wethair_sim_desc_init(&desc, sizeof desc), "wethair_sim_desc_init");
-    if (v->is_paper && v->wet_model) {
+    if (v->is_paper && current) {
         desc.spring_model = WETHAIR_SPRING_MODEL_PER_SPRING; /* the paper's springs, current layout */
         desc.integrator = WETHAIR_INTEGRATOR_SYMPLECTIC_EULER;
+    }
+    if (v->is_paper && v->wet_model) {
         /* 1 g points (wisps of thousands of hairs): a thirtieth of the capacity, 30 mg drops. */
         desc.held_water.capacity_ratio = 0.01f;
         desc.held_water.drip_mass = 3.0e-5f;
@@ -167,6 +185,12 @@ static void make_sim(Viewer *v) {
         desc.colliders = &head;
         desc.collider_count = 1;
     }
+    if (v->guides > 0) {
+        desc.guides.choice = WETHAIR_GUIDES_EVERY_NTH;
+        desc.guides.count = v->guides;
+        desc.guides.fraction = v->guide_fraction;
+    }
+    if (v->volume) desc.volume.enabled = 1;
     desc.backend = v->backend;
     desc.integrator = v->integrator;
     desc.readback = WETHAIR_READBACK_LATEST;
@@ -300,6 +324,7 @@ static const char *run_event(Viewer *v, const Event *e) {
     else if (!strcmp(e->cmd, "pitch")) v->head_pitch = (float)atof(e->arg) * 3.14159265f / 180.0f;
     else if (!strcmp(e->cmd, "move")) sscanf(e->arg, "%f %f %f", &v->head_pos[0], &v->head_pos[1], &v->head_pos[2]);
     else if (!strcmp(e->cmd, "dry")) wh_check(wethair_sim_clear_water(v->sim), "wethair_sim_clear_water");
+    else if (!strcmp(e->cmd, "fraction")) set_fraction(v, (float)atof(e->arg));
     else if (!strcmp(e->cmd, "reset")) wh_check(wethair_sim_reset(v->sim), "wethair_sim_reset");
     else if (!strcmp(e->cmd, "backend")) {
         v->backend = wh_parse_backend(e->arg);
@@ -369,6 +394,12 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
         set_weather(v);
         break;
     case GLFW_KEY_K: soak(v); break;
+    case GLFW_KEY_L: {
+        /* 100% -> 50% -> 25% -> 10% -> 100% */
+        float f = v->guide_fraction;
+        set_fraction(v, f > 0.75f ? 0.5f : f > 0.4f ? 0.25f : f > 0.2f ? 0.1f : 1.0f);
+        break;
+    }
     case GLFW_KEY_N: v->step_once = 1; break;
     case GLFW_KEY_EQUAL:
     case GLFW_KEY_KP_ADD: v->line_width = fminf(8.0f, v->line_width + 0.5f); break;
@@ -467,11 +498,14 @@ int main(int argc, char **argv) {
     v.fov = 40.0f * 3.14159265f / 180.0f;
     v.cam_pitch = 0.25f;
     v.line_width = 1.0f;
+    v.guide_fraction = 1.0f;
     const char *groom_path = NULL, *shot = NULL, *script = NULL, *renderer = "auto";
     int frames = 0, msaa = 0;
     for (int i = 1; i < argc; i++) {
         if (i + 1 < argc && !strcmp(argv[i], "--groom")) groom_path = argv[++i];
         else if (!strcmp(argv[i], "--wet-model")) v.wet_model = 1;
+        else if (i + 1 < argc && !strcmp(argv[i], "--guides")) v.guides = (uint32_t)atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--volume")) v.volume = 1;
         else if (i + 1 < argc && !strcmp(argv[i], "--backend")) v.backend = wh_parse_backend(argv[++i]);
         else if (i + 1 < argc && !strcmp(argv[i], "--renderer")) renderer = argv[++i];
         else if (i + 1 < argc && !strcmp(argv[i], "--script")) script = argv[++i];
@@ -483,7 +517,8 @@ int main(int argc, char **argv) {
         else {
             fprintf(stderr,
                     "usage: %s [--groom FILE] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl] [--size WxH] "
-                    "[--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N] [--wet-model]\n",
+                    "[--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N] [--wet-model] "
+                    "[--guides N] [--volume]\n",
                     argv[0]);
             return 2;
         }

@@ -41,6 +41,11 @@ struct Viewer {
     /* Weather and the wet model: rain and wind toggles (both backends); --wet-model holds
      * water in the hair (the CPU backend for now) and shows the ledger. */
     int raining, windy, wet_model;
+    /* Production features: every guides-th strand simulated (0: all), the simulated fraction
+     * (L cycles it), hair-hair volume. */
+    uint32_t guides;
+    float guide_fraction;
+    int volume;
     uint32_t seed;
     WetHairVertexLayout lay;
     /* Camera: orbit around target */

@@ -90,13 +90,7 @@ impl Engine for CpuBackend {
     fn set_followers(&mut self, f: &Followers) -> Result<()> {
         match &mut self.followers {
             Some(c) => c.data = f.clone(),
-            None => {
-                self.followers = Some(super::followers::CpuFollowers {
-                    data: f.clone(),
-                    head: Quat::IDENTITY,
-                    blend: 1.0,
-                })
-            }
+            None => self.followers = Some(super::followers::CpuFollowers::new(f.clone())),
         }
         Ok(())
     }

@@ -660,7 +660,17 @@ impl CpuBackend {
             .filter(|_| self.output_from.len() == self.state.len())
             .map(|a| (self.output_from.as_slice(), a));
         if let Some(f) = &self.followers {
-            return f.write_vertices(&self.lay, &self.state, &self.wet, blend, attrs, self.pool.as_ref(), dst);
+            let guides = self.active_blocks * crate::physics::lanes::W;
+            return f.write_vertices(
+                &self.lay,
+                &self.state,
+                &self.wet,
+                blend,
+                guides,
+                attrs,
+                self.pool.as_ref(),
+                dst,
+            );
         }
         super::output::write_vertices(
             &self.lay,

@@ -146,6 +146,7 @@ pub fn c_enum_constants() -> Vec<(&'static str, &'static str, u32)> {
     all::<UpAxis>(&mut out);
     all::<SpringModel>(&mut out);
     all::<WetHairColliderType>(&mut out);
+    all::<WetHairGuideChoice>(&mut out);
     all::<WetHairVertexAttribute>(&mut out);
     all::<WetHairResult>(&mut out);
     out

@@ -230,9 +230,9 @@ gpu_record! {
         pub kept: u32,
         /// The fixed steps' blend factor.
         pub kept_a: f32,
+        /// Guides pass `guide_frames` gathers (those the backend steps).
+        pub guides: u32,
         /// Unused: rounds the record to WGSL's 16-byte uniform size.
-        pub pad0: u32,
-        /// Unused.
         pub pad1: u32,
     }
 }

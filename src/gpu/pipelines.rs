@@ -11,7 +11,10 @@ const HAIR: &str = include_str!("shaders/hair.wgsl");
 const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
 const WATER: &str = include_str!("shaders/water.wgsl");
 const OUTPUT: &str = include_str!("shaders/output.wgsl");
-const FOLLOWERS: &str = include_str!("shaders/followers.wgsl");
+const VERTEX: &str = include_str!("shaders/vertex.wgsl");
+const FOLLOW: &str = include_str!("shaders/follow.wgsl");
+const GUIDE_FRAMES: &str = include_str!("shaders/guide_frames.wgsl");
+const WRITE_FOLLOWERS: &str = include_str!("shaders/write_followers.wgsl");
 const WATER_OUTPUT: &str = include_str!("shaders/water_output.wgsl");
 const SDF: &str = include_str!("shaders/sdf.wgsl");
 const ROOTS: &str = include_str!("shaders/roots.wgsl");
@@ -201,12 +204,17 @@ pub fn bridges_source(c: SceneConsts, buckets: u32) -> String {
 
 /// The vertex output module.
 pub fn output_source(c: SceneConsts) -> String {
-    format!("{}{OUTPUT}", prelude(c))
+    format!("{}{VERTEX}{OUTPUT}", prelude(c))
 }
 
-/// The followers' output module (scenes with guides only).
-pub fn followers_source(c: SceneConsts) -> String {
-    format!("{}{FOLLOWERS}", prelude(c))
+/// The guides' frames pass (`guide_frames`; scenes with guides only).
+pub fn guide_frames_source(c: SceneConsts) -> String {
+    format!("{}{FOLLOW}{GUIDE_FRAMES}", prelude(c))
+}
+
+/// The followers' output pass (`write_followers`; scenes with guides only).
+pub fn write_followers_source(c: SceneConsts) -> String {
+    format!("{}{FOLLOW}{VERTEX}{WRITE_FOLLOWERS}", prelude(c))
 }
 
 /// The SDF colliders' hair pass, for a scene with `nsdf` SDFs.

@@ -157,7 +157,7 @@ pub fn constants() -> Vec<(&'static str, Const)> {
         ("ARMIJO_C1", F32(implicit::ARMIJO_C1 as f32)),
         ("ARMIJO_SLACK_F32", F32(implicit::ARMIJO_SLACK_F32)),
         ("SUBSTEP_HEAD_BYTES", U32(buffers::SUBSTEP_HEAD_BYTES)),
-        ("TURN_EPS", F32(crate::physics::followers::TURN_EPS)),
+        ("TURN_EPS", F32(crate::physics::follow::TURN_EPS)),
         ("MAX_SPREAD_SPEED", F32(crate::physics::volume::MAX_SPREAD_SPEED)),
         (
             "VOLUME_QUANTA",

@@ -1,10 +1,9 @@
 //! Guides and followers (docs/GUIDES.md): which strands are guides and in what order a lower
 //! simulated fraction keeps them ([`spread_order`], [`choose`]), which guides each strand
-//! follows ([`bind`]), and where a follower's points are ([`follow_point`]). Written once: the
-//! CPU backend's vertex writer and the simulation's seeding of newly simulated guides call it,
-//! and `followers.wgsl` mirrors it function by function.
+//! follows ([`bind`]), and what a backend needs to write them ([`Followers`]). Where a
+//! follower's points are is the law in [`super::follow`].
 
-use glam::{Quat, Vec3};
+use glam::Vec3;
 
 /// How one host strand follows: up to three guide strands (guide-groom order) and their
 /// weights (summing to 1; an unused slot repeats the first guide with weight 0). A simulated
@@ -57,29 +56,9 @@ pub struct Followers {
     pub from: Vec<Follow>,
     /// [`crate::params::Guides::clump`].
     pub clump: f32,
-}
-
-/// Point `i` of host strand `h` as the output shows it: `follow` (or, blending by `a` < 1,
-/// `from` moved toward it by `a`).
-#[allow(clippy::too_many_arguments)]
-#[inline]
-pub fn output_point(
-    fl: &Followers,
-    h: usize,
-    i: u32,
-    head: Quat,
-    a: f32,
-    at: &impl Fn(u32, u32) -> (Vec3, f32),
-) -> (Vec3, f32) {
-    let first = fl.strand_first[h];
-    let n = fl.strand_first[h + 1] - first;
-    let rest_i = fl.rest[(first + i) as usize];
-    let new = follow_point(&fl.follow[h], &fl.spans, i, n, rest_i, &fl.rest, head, fl.clump, at);
-    if a >= 1.0 || fl.from.is_empty() {
-        return new;
-    }
-    let old = follow_point(&fl.from[h], &fl.spans, i, n, rest_i, &fl.rest, head, fl.clump, at);
-    (mix(old.0, new.0, a), old.1 * (1.0 - a) + new.1 * a)
+    /// Host strands in Morton order of their roots: the order the CPU writes them in, so that
+    /// strands written one after another read the same guides from cache.
+    pub order: Vec<u32>,
 }
 
 /// The strands of `roots` in spread order: Morton order of the roots taken in bit-reversed
@@ -247,152 +226,6 @@ impl<'a> RootGrid<'a> {
     }
 }
 
-/// `a` moved to `b` by `u` as `a (1 - u) + b u`, which gives `a` at 0 and `b` at 1 exactly.
-#[inline]
-pub fn mix(a: Vec3, b: Vec3, u: f32) -> Vec3 {
-    a * (1.0 - u) + b * u
-}
-
-/// `v` turned by the smallest rotation that takes unit `a` to unit `b` (Rodrigues, with
-/// `k = a × b`, `c = a · b`: `v c + k × v + k (k · v) / (1 + c)`); unturned when `a` and `b`
-/// are (nearly) opposite, where that rotation is not unique.
-#[inline]
-pub fn turn(v: Vec3, a: Vec3, b: Vec3) -> Vec3 {
-    let k = a.cross(b);
-    let c = a.dot(b);
-    if 1.0 + c < TURN_EPS {
-        return v;
-    }
-    v * c + k.cross(v) + k * (k.dot(v) / (1.0 + c))
-}
-
-/// `v` turned by the unit quaternion `q` (`v + w t + q⃗ × t` with `t = 2 q⃗ × v`; the same
-/// sums as `followers.wgsl` `rotate`).
-#[inline]
-pub fn rotate(q: Quat, v: Vec3) -> Vec3 {
-    let axis = Vec3::new(q.x, q.y, q.z);
-    let t = 2.0 * axis.cross(v);
-    v + q.w * t + axis.cross(t)
-}
-
-/// Below this `1 + a · b` a segment's turn is skipped (more than about 179 degrees).
-pub const TURN_EPS: f32 = 1e-4;
-
-/// `d` over its length, or `None` when that is zero or not finite.
-#[inline]
-pub fn unit(d: Vec3) -> Option<Vec3> {
-    let len2 = d.dot(d);
-    (len2 > 0.0 && len2 < f32::INFINITY).then(|| d * (1.0 / len2.sqrt()))
-}
-
-/// Where guide `g` (its `span`) puts point `i` of a follower of `n` points whose rest
-/// position is `rest_i`: the guide's point at the same fraction of its length (`s = i (m - 1)
-/// / (n - 1)` for a guide of `m` points, between its points `j` and `j + 1`), and the
-/// follower's rest offset from there, turned by the head's rotation `head` and then by the
-/// smallest rotation from the rest direction (turned by the head) of the guide segment that
-/// arrives at `s` to its current one. At the root (`s = 0`) no segment arrives: the offset
-/// turns with the head alone, so a follower's root stays on the head. Returns that point, the turned offset, and the guide's wetness there.
-/// `rest` is the host's rest pose; `at(g, j)` guide `g`'s point `j`'s position and wetness.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-pub fn from_guide(
-    g: u32,
-    span: GuideSpan,
-    i: u32,
-    n: u32,
-    rest_i: Vec3,
-    rest: &[Vec3],
-    head: Quat,
-    at: &impl Fn(u32, u32) -> (Vec3, f32),
-) -> (Vec3, Vec3, f32) {
-    let m = span.count;
-    let s = (i * (m - 1)) as f32 / (n - 1).max(1) as f32;
-    let j = (s as u32).min(m - 2);
-    let u = s - j as f32;
-    let (x0, w0) = at(g, j);
-    let (x1, w1) = at(g, j + 1);
-    let r0 = rest[(span.rest + j) as usize];
-    let r1 = rest[(span.rest + j + 1) as usize];
-    let offset = rotate(head, rest_i - mix(r0, r1, u));
-    // The segment arriving at s: j's own inside it, the one before at a point.
-    let turned = if u > 0.0 || j > 0 {
-        let k = if u > 0.0 { j } else { j - 1 };
-        let (a0, b0) = (rest[(span.rest + k) as usize], rest[(span.rest + k + 1) as usize]);
-        let (a1, b1) = if k == j { (x0, x1) } else { (at(g, k).0, x0) };
-        match (unit(rotate(head, b0 - a0)), unit(b1 - a1)) {
-            (Some(a), Some(b)) => turn(offset, a, b),
-            _ => offset,
-        }
-    } else {
-        offset
-    };
-    (mix(x0, x1, u), turned, w0 * (1.0 - u) + w1 * u)
-}
-
-/// Point `i` of a follower of `n` points with rest position `rest_i`, following `f` over
-/// guides `spans`: each guide's point plus its offset, shrunk by `clump` times that guide's
-/// wetness, weighted by `f`'s weights with `clump` times the nearest guide's wetness moved to
-/// the nearest guide (a wet follower closes on it: clumps). Returns the position and the
-/// weighted wetness.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-pub fn follow_point(
-    f: &Follow,
-    spans: &[GuideSpan],
-    i: u32,
-    n: u32,
-    rest_i: Vec3,
-    rest: &[Vec3],
-    head: Quat,
-    clump: f32,
-    at: &impl Fn(u32, u32) -> (Vec3, f32),
-) -> (Vec3, f32) {
-    let g = f.guides[0];
-    let (g0, d0, s0) = from_guide(g, spans[g as usize], i, n, rest_i, rest, head, at);
-    let shift = clump * s0;
-    let w0 = f.weights[0] + shift * (1.0 - f.weights[0]);
-    let mut x = (g0 + d0 * (1.0 - clump * s0)) * w0;
-    let mut wet = s0 * w0;
-    for k in 1..3 {
-        if f.weights[k] == 0.0 {
-            continue;
-        }
-        let gk = f.guides[k];
-        let (p, d, s) = from_guide(gk, spans[gk as usize], i, n, rest_i, rest, head, at);
-        let w = f.weights[k] * (1.0 - shift);
-        x += (p + d * (1.0 - clump * s)) * w;
-        wet += s * w;
-    }
-    (x, wet)
-}
-
-/// The velocity of point `i` of a follower of `n` points: its guides' velocities at the same
-/// fraction of their length, weighted as [`Follow::weights`] (what a guide that starts to be
-/// simulated starts with).
-pub fn follow_velocity(f: &Follow, spans: &[GuideSpan], i: u32, n: u32, vel: &impl Fn(u32, u32) -> Vec3) -> Vec3 {
-    let mut v = Vec3::ZERO;
-    for k in 0..3 {
-        if f.weights[k] == 0.0 {
-            continue;
-        }
-        let g = f.guides[k];
-        let span = spans[g as usize];
-        let m = span.count;
-        let s = (i * (m - 1)) as f32 / (n - 1).max(1) as f32;
-        let j = (s as u32).min(m - 2);
-        let u = s - j as f32;
-        v += mix(vel(g, j), vel(g, j + 1), u) * f.weights[k];
-    }
-    v
-}
-
-/// The unit tangent at a point from its neighbours before `a` and after `b` (the vertex
-/// output's: +z where they coincide).
-#[inline]
-pub fn tangent(a: Vec3, b: Vec3) -> Vec3 {
-    unit(b - a).unwrap_or(Vec3::Z)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -448,79 +281,6 @@ mod tests {
             assert_eq!(f.guides.to_vec(), want, "strand {s}");
             assert!((f.weights.iter().sum::<f32>() - 1.0).abs() < 1e-6);
             assert!(f.weights[0] >= f.weights[1] && f.weights[1] >= f.weights[2]);
-        }
-    }
-
-    /// A guide following itself gives its own points exactly; a follower offset from a straight
-    /// guide keeps its offset as the guide swings, turned with it (its root with the head only).
-    #[test]
-    fn follow_point_is_exact_on_guides_and_turns_offsets() {
-        let rest: Vec<Vec3> = (0..5)
-            .map(|i| Vec3::new(0.0, -0.1 * i as f32, 0.0))
-            .chain((0..5).map(|i| Vec3::new(0.01, -0.1 * i as f32, 0.0)))
-            .collect();
-        let spans = [GuideSpan {
-            first: 0,
-            rest: 0,
-            count: 5,
-        }];
-        // The guide swung 90 degrees about z: it now points along +x.
-        let x: Vec<Vec3> = (0..5).map(|i| Vec3::new(0.1 * i as f32, 0.0, 0.0)).collect();
-        let at = |_: u32, j: u32| (x[j as usize], 0.0);
-        for i in 0..5 {
-            let (p, _) = follow_point(
-                &Follow::own(0),
-                &spans,
-                i,
-                5,
-                rest[i as usize],
-                &rest,
-                Quat::IDENTITY,
-                0.8,
-                &at,
-            );
-            assert_eq!(p, x[i as usize], "the guide's own point {i}");
-            let (q, _) = follow_point(
-                &Follow::own(0),
-                &spans,
-                i,
-                5,
-                rest[5 + i as usize],
-                &rest,
-                Quat::IDENTITY,
-                0.8,
-                &at,
-            );
-            // Rest offset +x 1 cm from a guide along -y; turned by -y -> +x (a +90° turn about
-            // z), +x goes to +y; at the root no segment arrives and the offset stays +x.
-            let want = if i == 0 {
-                Vec3::new(0.01, 0.0, 0.0)
-            } else {
-                Vec3::new(0.0, 0.01, 0.0)
-            };
-            assert!((q - (x[i as usize] + want)).length() < 1e-6, "{i}: {q}");
-        }
-    }
-
-    /// A wet follower closes on its guide by `clump` times the wetness.
-    #[test]
-    fn wet_followers_clump() {
-        let rest = vec![
-            Vec3::ZERO,
-            Vec3::new(0.0, -0.1, 0.0),
-            Vec3::new(0.02, 0.0, 0.0),
-            Vec3::new(0.02, -0.1, 0.0),
-        ];
-        let spans = [GuideSpan {
-            first: 0,
-            rest: 0,
-            count: 2,
-        }];
-        for wet in [0.0f32, 0.5, 1.0] {
-            let at = |_: u32, j: u32| (rest[j as usize], wet);
-            let (q, w) = follow_point(&Follow::own(0), &spans, 1, 2, rest[3], &rest, Quat::IDENTITY, 0.8, &at);
-            assert!((q.x - 0.02 * (1.0 - 0.8 * wet)).abs() < 1e-7, "wet {wet}: {q}");
-            assert_eq!(w, wet);
         }
     }
 }

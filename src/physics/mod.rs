@@ -8,6 +8,7 @@ pub mod bdf2;
 pub mod clumping;
 pub mod collide;
 pub mod counting_sort;
+pub mod follow;
 pub mod followers;
 pub mod grid;
 pub mod hash_grid;

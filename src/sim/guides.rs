@@ -9,7 +9,8 @@ use crate::engine::Engine;
 use crate::error::Result;
 use crate::groom::Groom;
 use crate::params::{GuideChoice, Guides};
-use crate::physics::followers::{bind, choose, follow_point, follow_velocity, Followers, GuideSpan};
+use crate::physics::follow::{follow_point, follow_velocity, guide_frame_at, head_quat, GuidePoint};
+use crate::physics::followers::{bind, choose, Followers, GuideSpan};
 use glam::{Affine3A, Quat, Vec3};
 
 /// The guides' bookkeeping.
@@ -70,6 +71,10 @@ impl GuideState {
                 follow: Vec::new(),
                 from: Vec::new(),
                 clump: g.clump,
+                order: {
+                    let (lo, hi) = groom.bounds();
+                    crate::physics::morton::order(&roots, lo, hi)
+                },
             },
             host_of,
             roots,
@@ -135,13 +140,20 @@ impl GuideState {
     fn seed(&self, new: std::ops::Range<usize>, engine: &mut dyn Engine) -> Result<()> {
         let states = engine.point_states()?;
         let d = &self.data;
-        let at = |g: u32, j: u32| {
-            let s = &states[(d.spans[g as usize].first + j) as usize];
-            (s.0, s.2)
-        };
-        let vel = |g: u32, j: u32| states[(d.spans[g as usize].first + j) as usize].1;
+        let head = head_quat(self.head);
+        // Every guide point's position, wetness and frame, as the output's pass guide_frames
+        // makes them.
+        let mut points: Vec<GuidePoint> = Vec::with_capacity(states.len());
+        for span in &d.spans {
+            for j in 0..span.count {
+                let s = &states[(span.first + j) as usize];
+                let frame = guide_frame_at(*span, j, &d.rest, head, |p| states[p as usize].0);
+                points.push((s.0, s.2, frame, d.rest[(span.rest + j) as usize]));
+            }
+        }
+        let at = |p: u32| points[p as usize];
+        let vel = |p: u32| states[p as usize].1;
         let (mut x, mut v, mut w) = (Vec::new(), Vec::new(), Vec::new());
-        let head = self.head;
         for e in new.clone() {
             let h = self.host_of[e] as usize;
             let first = d.strand_first[h];
@@ -149,7 +161,7 @@ impl GuideState {
             let f = &d.follow[h];
             for i in 0..n {
                 let rest_i = d.rest[(first + i) as usize];
-                let (p, wet) = follow_point(f, &d.spans, i, n, rest_i, &d.rest, head, d.clump, &at);
+                let (p, wet) = follow_point(f, &d.spans, i, n, rest_i, d.clump, &at);
                 x.push(p);
                 w.push(wet);
                 v.push(follow_velocity(f, &d.spans, i, n, &vel));

@@ -336,10 +336,14 @@ impl GpuBackend {
         }
         let mut pass = enc.begin_compute_pass(&Default::default());
         if let Some(fg) = &self.followers {
-            // Guides and followers: every host vertex from the guides (the blend, if on, is
-            // read through the followers' uniform).
+            // Guides and followers: each guide point's frame, then every host vertex from
+            // them (the fixed steps' blend, if on, is read through the followers' uniform).
+            pass.set_pipeline(&fg.frames_pipe);
+            pass.set_bind_group(0, &fg.frames_bg[self.cur], &[]);
+            let (gx, gy) = groups(fg.guides());
+            pass.dispatch_workgroups(gx, gy, 1);
             pass.set_pipeline(&fg.pipe);
-            pass.set_bind_group(0, &fg.bg[self.cur], &[]);
+            pass.set_bind_group(0, &fg.bg, &[]);
             let (gx, gy) = groups(fg.host_points());
             pass.dispatch_workgroups(gx, gy, 1);
             drop(pass);

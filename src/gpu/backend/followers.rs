@@ -1,6 +1,8 @@
 //! Guides and followers on the GPU: the host's rest pose, each host strand's bindings and the
-//! guides' spans in storage buffers, the pose in a uniform, and pass `write_followers`
-//! (`followers.wgsl`), which writes every host vertex instead of `write_vertices`. Also the
+//! guides' spans in storage buffers, the pose in a uniform, and passes `guide_frames`
+//! (`guide_frames.wgsl`: each guide point's position, wetness and frame) and
+//! `write_followers` (`write_followers.wgsl`: every host vertex), which replace
+//! `write_vertices`. Also the
 //! simulated fraction (the hair passes dispatch over the first guides only) and the seeding
 //! of guides that start to be simulated. Nothing here exists in a scene without guides.
 
@@ -11,16 +13,21 @@ use crate::error::{Error, Result};
 use crate::physics::followers::{Follow, Followers};
 use glam::{Quat, Vec3};
 
-/// The followers' buffers, uniform, pipeline and bind groups (one per current state buffer).
+/// The followers' buffers, uniform, pipelines and bind groups (the frames' one per current
+/// state buffer).
 #[derive(Debug)]
 pub(super) struct FollowersGpu {
     uniform: wgpu::Buffer,
     strands: wgpu::Buffer,
     rest: wgpu::Buffer,
     spans: wgpu::Buffer,
-    layout: wgpu::BindGroupLayout,
+    /// Per guide point: position and wetness, frame, rest position (three vec4).
+    points: wgpu::Buffer,
+    frames_layout: wgpu::BindGroupLayout,
+    pub(super) frames_pipe: wgpu::ComputePipeline,
+    pub(super) frames_bg: [wgpu::BindGroup; 2],
     pub(super) pipe: wgpu::ComputePipeline,
-    pub(super) bg: [wgpu::BindGroup; 2],
+    pub(super) bg: wgpu::BindGroup,
     /// The uniform's contents (written whole when any part changes).
     pose: FollowUniformGpu,
 }
@@ -28,12 +35,17 @@ pub(super) struct FollowersGpu {
 impl FollowersGpu {
     /// Bytes held.
     pub(super) fn bytes(&self) -> usize {
-        (self.uniform.size() + self.strands.size() + self.rest.size() + self.spans.size()) as usize
+        (self.uniform.size() + self.strands.size() + self.rest.size() + self.spans.size() + self.points.size()) as usize
     }
 
     /// Host vertices written.
     pub(super) fn host_points(&self) -> u32 {
         self.pose.host_points
+    }
+
+    /// Guides gathered.
+    pub(super) fn guides(&self) -> u32 {
+        self.pose.guides
     }
 }
 
@@ -118,72 +130,66 @@ impl GpuBackend {
             clump: f.clump,
             host_points: f.rest.len() as u32,
             has_from: (!f.from.is_empty()) as u32,
+            guides: self.active_strands,
             ..Default::default()
         };
         self.dev.queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&pose));
+        let points = b::buffer(d, "guide_points", self.points.max(1) as u64 * 48, STORAGE);
+        use Slot::{Read, ReadWrite, Uniform};
+        let frames_layout = pl::layout(d, "guide_frames", &[Uniform, Read, Read, Read, Read, ReadWrite]);
+        let module = pl::module(d, "guide_frames", &pl::guide_frames_source(self.consts));
+        let frames_pipe = pl::pipelines(d, &module, &[&frames_layout], &["guide_frames"]).remove(0);
         let layout = pl::layout(
             d,
-            "followers",
-            &[
-                Slot::Uniform,
-                Slot::Uniform,
-                Slot::Read,
-                Slot::Read,
-                Slot::ReadWrite,
-                Slot::Read,
-                Slot::Read,
-                Slot::Read,
-                Slot::Read,
-            ],
+            "write_followers",
+            &[Uniform, Uniform, Read, ReadWrite, Read, Read, Read, Read],
         );
-        let module = pl::module(d, "followers", &pl::followers_source(self.consts));
+        let module = pl::module(d, "write_followers", &pl::write_followers_source(self.consts));
         let pipe = pl::pipelines(d, &module, &[&layout], &["write_followers"]).remove(0);
+        let bg = pl::bind(
+            d,
+            "write_followers",
+            &layout,
+            &[
+                &self.params_buf,
+                &uniform,
+                &self.status,
+                &self.vertices,
+                &strands,
+                &rest,
+                &spans,
+                &points,
+            ],
+            None,
+        );
         let mut fg = FollowersGpu {
             uniform,
             strands,
             rest,
             spans,
-            layout,
+            points,
+            frames_layout,
+            frames_pipe,
+            frames_bg: [bg.clone(), bg.clone()],
             pipe,
-            bg: [self.empty_bind_group(), self.empty_bind_group()],
+            bg,
             pose,
         };
-        fg.bg = [0, 1].map(|i| self.bind_followers(&fg, i));
+        fg.frames_bg = [0, 1].map(|i| self.bind_frames(&fg, i));
         self.followers = Some(fg);
         self.vertices_current = false;
         self.dev.check()
     }
 
-    /// A bind group that binds nothing (a placeholder while the real ones are made).
-    fn empty_bind_group(&self) -> wgpu::BindGroup {
-        let d = &self.dev.device;
-        let layout = pl::layout(d, "empty", &[]);
-        d.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("empty"),
-            layout: &layout,
-            entries: &[],
-        })
-    }
-
-    /// The followers' bind group over state buffer `i` (the kept state of the fixed steps'
+    /// Pass guide_frames' bind group over state buffer `i` (the kept state of the fixed steps'
     /// blend where it exists, else the state again, never read then).
-    fn bind_followers(&self, fg: &FollowersGpu, i: usize) -> wgpu::BindGroup {
+    fn bind_frames(&self, fg: &FollowersGpu, i: usize) -> wgpu::BindGroup {
         let from = self.blend.as_ref().map_or(&self.state[i], |bl| bl.from());
         pl::bind(
             &self.dev.device,
-            "followers",
-            &fg.layout,
-            &[
-                &self.params_buf,
-                &fg.uniform,
-                &self.state[i],
-                &self.status,
-                &self.vertices,
-                &fg.strands,
-                &fg.rest,
-                &fg.spans,
-                from,
-            ],
+            "guide_frames",
+            &fg.frames_layout,
+            &[&fg.uniform, &self.state[i], from, &fg.spans, &fg.rest, &fg.points],
             None,
         )
     }
@@ -191,8 +197,8 @@ impl GpuBackend {
     /// Binds the fixed steps' kept state (made after the followers) into the followers' pass.
     pub(super) fn rebind_followers(&mut self) {
         if let Some(fg) = self.followers.take() {
-            let bg = [0, 1].map(|i| self.bind_followers(&fg, i));
-            self.followers = Some(FollowersGpu { bg, ..fg });
+            let frames_bg = [0, 1].map(|i| self.bind_frames(&fg, i));
+            self.followers = Some(FollowersGpu { frames_bg, ..fg });
         }
     }
 
@@ -226,6 +232,13 @@ impl GpuBackend {
         self.active_points = self.strand_first[n];
         if let Some(v) = &mut self.volume {
             v.points = self.active_points;
+        }
+        if let Some(fg) = &mut self.followers {
+            fg.pose.guides = self.active_strands;
+            self.dev
+                .queue
+                .write_buffer(&fg.uniform, 0, bytemuck::bytes_of(&fg.pose));
+            self.vertices_current = false;
         }
     }
 
