@@ -57,12 +57,39 @@ fn a_groom_keeps_its_volume_under_gravity_where_it_collapses_without() {
     let without = least_silhouette(&mut paper(Volume::OFF, 0));
     let with = least_silhouette(&mut paper(Volume::ON, 0));
     eprintln!("filled silhouette under gravity: {without:.3} of rest without volume, {with:.3} with");
-    // Measured (2026-11-25): 0.17 without, 0.78 with the defaults.
+    // Measured (2026-11-25): 0.17 without, 0.63 with the defaults (pressure 1; the first
+    // default, 10, kept 0.78 by boiling: see a_groom_with_volume_settles).
     assert!(
         without < 0.4,
         "without volume the groom kept {without} of its silhouette"
     );
-    assert!(with > 0.7, "with volume the groom kept only {with} of its silhouette");
+    assert!(with > 0.55, "with volume the groom kept only {with} of its silhouette");
+}
+
+/// With volume on the groom settles as it does without: after 150 frames under gravity its
+/// mean point speed is within twice the speed without volume, and no point moves faster than
+/// 5 m/s (the first default pressure, past the step's stability limit, left the groom boiling
+/// at 3 m/s on average with tips at 25 m/s).
+#[test]
+fn a_groom_with_volume_settles() {
+    let _serial = serial();
+    let settle = |volume: Volume| {
+        let mut s = paper(volume, 0);
+        for _ in 0..150 {
+            s.step(1.0 / 60.0).unwrap();
+        }
+        let v = s.velocities();
+        let mean = v.iter().map(|x| x.length()).sum::<f32>() / v.len() as f32;
+        (mean, v.iter().map(|x| x.length()).fold(0.0f32, f32::max))
+    };
+    let (off, off_max) = settle(Volume::OFF);
+    let (on, on_max) = settle(Volume::ON);
+    eprintln!("after 150 frames: mean speed {off:.3} m/s without volume, {on:.3} with; fastest {off_max:.2} and {on_max:.2} m/s");
+    assert!(
+        on < 2.0 * off,
+        "the groom boils with volume on: mean speed {on} m/s against {off}"
+    );
+    assert!(on_max < 5.0, "a point moves at {on_max} m/s with volume on");
 }
 
 #[test]
@@ -92,8 +119,11 @@ fn wet_hair_still_clumps_with_volume_on() {
         "clumping with volume on: dry {:.5} m, wet {:.5} m; off: dry {:.5} m, wet {:.5} m",
         c[0], c[1], c[2], c[3]
     );
+    // Measured (2026-11-25): with volume 3.26 mm wet against 3.51 mm dry (7% closer); without,
+    // 2.02 against 3.24 mm (38%). The pressure, scaled by 1 - wetness, still spreads partly wet
+    // bundles.
     assert!(
-        c[1] < 0.9 * c[0],
+        c[1] < 0.95 * c[0],
         "wet clumping {} against dry {}: the volume undid the bundles",
         c[1],
         c[0]
@@ -172,7 +202,7 @@ fn the_gpu_keeps_the_volume_as_the_cpu_does() {
     );
     let kept = least_silhouette(&mut paper_on(Backend::GPU, Volume::ON, 0));
     eprintln!("GPU: filled silhouette {kept:.3} of rest");
-    assert!(kept > 0.7, "the GPU kept only {kept} of the silhouette");
+    assert!(kept > 0.55, "the GPU kept only {kept} of the silhouette");
     // Integer sums: the same bits run after run.
     let bits = || -> Vec<[u32; 3]> {
         let mut s = paper_on(Backend::GPU, Volume::ON, 0);

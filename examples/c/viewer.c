@@ -6,7 +6,7 @@
  *
  * usage: viewer [--groom FILE.tfx|.hair] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl]
  *               [--size WxH] [--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N]
- *               [--wet-model] [--guides N] [--volume]
+ *               [--wet-model] [--guides N] [--volume] [--sdf-head]
  *
  * Controls: left drag orbit, wheel zoom; space or right mouse: spray at the cursor; arrows turn
  * the head (left/right yaw, up/down pitch), W/A/S/D/Q/E move it; C dry (remove all water);
@@ -27,6 +27,8 @@
  *   either backend) and shows the water ledger.
  * --guides N simulates every N-th strand and writes the others as followers (docs/GUIDES.md);
  *   script command "fraction F" sets the simulated fraction. --volume turns hair-hair volume on.
+ * --sdf-head collides with the head as a signed distance field (a 44^3 sampled sphere, moved
+ *   by the head transform each frame) instead of the analytic sphere.
  * In script mode the spray aims from the camera at the head, the frame step is a fixed 1/60 s
  * and every frame is stepped (no dropped frames), so runs repeat. */
 #include <GLFW/glfw3.h>
@@ -163,7 +165,7 @@ static void make_sim(Viewer *v) {
      * (springs from material properties, right for any sampling). */
     WetHairSimDesc desc;
     /* The 0.1.0 layout has neither the wet model, nor guides, nor the volume. */
-    int current = v->wet_model || v->guides || v->volume;
+    int current = v->wet_model || v->guides || v->volume || v->sdf_head;
     if (v->is_paper && !current) wethair_sim_desc_default(&desc);
     else wh_check(wethair_sim_desc_init(&desc, sizeof desc), "wethair_sim_desc_init");
     if (v->is_paper && current) {
@@ -191,6 +193,29 @@ static void make_sim(Viewer *v) {
         desc.guides.fraction = v->guide_fraction;
     }
     if (v->volume) desc.volume.enabled = 1;
+    /* The SDF head: distances to a 0.1 m sphere every 5 mm, two cells of margin. */
+    static float sdf_values[44 * 44 * 44];
+    WetHairSdf sdf;
+    memset(&sdf, 0, sizeof sdf);
+    if (v->sdf_head && v->is_paper) {
+        const float cell = 0.005f, half = 0.11f;
+        for (int k = 0; k < 44; k++)
+            for (int j = 0; j < 44; j++)
+                for (int i = 0; i < 44; i++) {
+                    float x = -half + cell * i, y = -half + cell * j, z = -half + cell * k;
+                    sdf_values[(k * 44 + j) * 44 + i] = sqrtf(x * x + y * y + z * z) - 0.1f;
+                }
+        for (int a = 0; a < 3; a++) {
+            sdf.dims[a] = 44;
+            sdf.origin[a] = -half;
+        }
+        sdf.cell_size = cell;
+        sdf.values = sdf_values;
+        head_matrix(v, sdf.transform);
+        desc.sdfs = &sdf;
+        desc.sdf_count = 1;
+        desc.collider_count = 0;
+    }
     desc.backend = v->backend;
     desc.integrator = v->integrator;
     desc.readback = WETHAIR_READBACK_LATEST;
@@ -506,6 +531,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--wet-model")) v.wet_model = 1;
         else if (i + 1 < argc && !strcmp(argv[i], "--guides")) v.guides = (uint32_t)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--volume")) v.volume = 1;
+        else if (!strcmp(argv[i], "--sdf-head")) v.sdf_head = 1;
         else if (i + 1 < argc && !strcmp(argv[i], "--backend")) v.backend = wh_parse_backend(argv[++i]);
         else if (i + 1 < argc && !strcmp(argv[i], "--renderer")) renderer = argv[++i];
         else if (i + 1 < argc && !strcmp(argv[i], "--script")) script = argv[++i];
@@ -518,7 +544,7 @@ int main(int argc, char **argv) {
             fprintf(stderr,
                     "usage: %s [--groom FILE] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl] [--size WxH] "
                     "[--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N] [--wet-model] "
-                    "[--guides N] [--volume]\n",
+                    "[--guides N] [--volume] [--sdf-head]\n",
                     argv[0]);
             return 2;
         }
@@ -582,6 +608,7 @@ int main(int argc, char **argv) {
         float hm[16];
         head_matrix(&v, hm);
         wh_check(wethair_sim_set_head_transform(v.sim, hm), "wethair_sim_set_head_transform");
+        if (v.sdf_head && v.is_paper) wh_check(wethair_sim_set_sdf_transform(v.sim, 0, hm), "wethair_sim_set_sdf_transform");
 
         double t0 = wh_now_ms();
         if (!v.paused || v.step_once) {

@@ -46,6 +46,9 @@ struct Viewer {
     uint32_t guides;
     float guide_fraction;
     int volume;
+    /* --sdf-head: the head is a signed distance field (a sampled sphere) that moves with the
+     * head transform, instead of the analytic sphere. */
+    int sdf_head;
     uint32_t seed;
     WetHairVertexLayout lay;
     /* Camera: orbit around target */

@@ -364,7 +364,8 @@ pub struct WetHairVolume {
     /// The grid's cell, m, in (0, 1]. Default 0.02.
     pub cell: f32,
     /// Pressure stiffness, m²/s², >= 0: a point where the density exceeds the rest density
-    /// accelerates by `pressure · ∇ρ / ρ_rest`. Default 10.
+    /// accelerates by `pressure · ∇ρ / ρ_rest`. Default 1 (stable while `√pressure · dt` is
+    /// under a cell: below 1.44 at 60 Hz with 2 cm cells).
     pub pressure: f32,
     /// Hair-hair friction, 1/s, >= 0: each step a point's velocity moves
     /// `1 - exp(-friction dt)` of the way to the hair's around it. Default 4.
