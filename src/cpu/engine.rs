@@ -89,7 +89,11 @@ impl Engine for CpuBackend {
 
     fn set_followers(&mut self, f: &Followers) -> Result<()> {
         match &mut self.followers {
-            Some(c) => c.data = f.clone(),
+            // The rest pose, spans and order are fixed at create: only the bindings change.
+            Some(c) => {
+                c.data.follow.clone_from(&f.follow);
+                c.data.from.clone_from(&f.from);
+            }
             None => self.followers = Some(super::followers::CpuFollowers::new(f.clone())),
         }
         Ok(())

@@ -346,24 +346,20 @@ impl GpuBackend {
             pass.set_bind_group(0, &fg.bg, &[]);
             let (gx, gy) = groups(fg.host_points());
             pass.dispatch_workgroups(gx, gy, 1);
-            drop(pass);
-            self.encode_water_vertices(enc);
-            self.vertices_current = true;
-            self.wrote_vertices = true;
-            return;
-        }
-        match self.blend.as_ref().filter(|b| b.on) {
-            Some(b) => {
-                pass.set_pipeline(&b.pipe);
-                pass.set_bind_group(0, &b.bg[self.cur], &[]);
+        } else {
+            match self.blend.as_ref().filter(|b| b.on) {
+                Some(b) => {
+                    pass.set_pipeline(&b.pipe);
+                    pass.set_bind_group(0, &b.bg[self.cur], &[]);
+                }
+                None => {
+                    pass.set_pipeline(&self.output);
+                    pass.set_bind_group(0, &self.output_bg[self.cur], &[]);
+                }
             }
-            None => {
-                pass.set_pipeline(&self.output);
-                pass.set_bind_group(0, &self.output_bg[self.cur], &[]);
-            }
+            let (gx, gy) = groups(self.active_points);
+            pass.dispatch_workgroups(gx, gy, 1);
         }
-        let (gx, gy) = groups(self.active_points);
-        pass.dispatch_workgroups(gx, gy, 1);
         drop(pass);
         self.encode_water_vertices(enc);
         self.vertices_current = true;
