@@ -130,6 +130,10 @@ xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --renderer gl -
     --script examples/c/viewer_wet.script --size 480x270 | tee target/viewer-wet.log | grep "^water:"
 ./examples/c/build/image_check out/viewer-wet-model-dry.ppm out/viewer-wet-model.ppm
 awk '/^water:/ {n++; if ($3 != $6 + $9 + $12 + $15) bad++} END {exit !(n > 0 && bad == 0)}' target/viewer-wet.log
+# Skinned roots: the host sets every root's frame each frame (a ripple over the scalp).
+xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --renderer gl --backend cpu --skinned-roots \
+    --screenshot out/viewer-skinned.png --frames 30 --size 320x180 | grep -v "^wethair |"
+test -s out/viewer-skinned.png
 # With no Vulkan driver the default renderer says why and falls back to OpenGL; the
 # screenshot mode writes a PNG.
 VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json xvfb-run -a -s "-screen 0 1280x720x24" \
@@ -195,5 +199,5 @@ grep -q "^timing (paper model): dry" target/main.log
 grep -q "^wet model .* ms/frame" target/main.log
 
 rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
-c_checks=37  # peer bench harness, build-tree links shared and static, 0.1.0 host, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback + wet model, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
+c_checks=38  # peer bench harness, build-tree links shared and static, 0.1.0 host, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback + wet model + skinned roots, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
 printf "\nwethair tests: %d passed, 0 failed (%d s)\n" "$((rust + c_checks))" "$SECONDS"

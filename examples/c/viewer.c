@@ -6,13 +6,14 @@
  *
  * usage: viewer [--groom FILE.tfx|.hair] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl]
  *               [--size WxH] [--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N]
- *               [--wet-model] [--guides N] [--volume] [--sdf-head]
+ *               [--wet-model] [--guides N] [--volume] [--sdf-head] [--skinned-roots]
  *
  * Controls: left drag orbit, wheel zoom; space or right mouse: spray at the cursor; arrows turn
  * the head (left/right yaw, up/down pitch), W/A/S/D/Q/E move it; C dry (remove all water);
  * R reset; B switch backend (CPU/GPU); I switch integrator; P pause; N single step; + and -
  * line width; T rain on/off; G gusty wind on/off; K soak the hair (--wet-model); L the simulated
- * fraction of the guides, 100/50/25/10% (--guides); Esc quit. Drawn in the window (and in its title, and on stdout every second):
+ * fraction of the guides, 100/50/25/10% (--guides); J the scalp's ripple on/off (--skinned-roots);
+ * Esc quit. Drawn in the window (and in its title, and on stdout every second):
  * simulation and draw ms/frame, renderer and vertex source, backend and adapter, integrator,
  * points, particles, the clumping measure, the spray rate.
  *
@@ -29,6 +30,10 @@
  *   script command "fraction F" sets the simulated fraction. --volume turns hair-hair volume on.
  * --sdf-head collides with the head as a signed distance field (a 44^3 sampled sphere, moved
  *   by the head transform each frame) instead of the analytic sphere.
+ * --skinned-roots roots the strands on a skin instead of the rigid head: each frame the host
+ *   sets every root's frame (wethair_sim_set_root_frames), the head's turn and offset plus a
+ *   ripple that swells the scalp by up to 2 cm as it runs across it; script command
+ *   "skin on|off" starts and stops the ripple.
  * In script mode the spray aims from the camera at the head, the frame step is a fixed 1/60 s
  * and every frame is stepped (no dropped frames), so runs repeat. */
 #include <GLFW/glfw3.h>
@@ -153,6 +158,56 @@ static void set_fraction(Viewer *v, float f) {
     printf("viewer: simulating %.0f%% of the guides\n", 100.0 * f);
 }
 
+/* The skinned roots' frames for this frame (--skinned-roots): each rest root (head space)
+ * pushed out from the roots' centre by a ripple that runs along x, 2 cm at its crest, 1.5
+ * times a second; then the head's turn and offset. Every root turns with the head. */
+static void set_root_frames(Viewer *v) {
+    if (!v->skinned || !v->rest_roots) return;
+    float m[16], c[3] = {0.0f, 0.0f, 0.0f};
+    head_matrix(v, m);
+    uint32_t n = v->root_count;
+    for (uint32_t k = 0; k < n; k++)
+        for (int a = 0; a < 3; a++) c[a] += v->rest_roots[3 * k + a] / (float)n;
+    float *pos = malloc(sizeof(float) * 7 * (size_t)n);
+    if (!pos) exit(1);
+    float *rot = pos + 3 * (size_t)n;
+    /* The head's turn as a quaternion: yaw about z, then pitch about x (as head_matrix). */
+    float hy = 0.5f * v->head_yaw, hp = 0.5f * v->head_pitch;
+    float q[4] = {sinf(hp) * cosf(hy), sinf(hp) * sinf(hy), cosf(hp) * sinf(hy), cosf(hp) * cosf(hy)};
+    for (uint32_t k = 0; k < n; k++) {
+        const float *r = v->rest_roots + 3 * (size_t)k;
+        float d[3] = {r[0] - c[0], r[1] - c[1], r[2] - c[2]};
+        float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        float swell = 0.02f * (0.5f + 0.5f * sinf(2.0f * 3.14159265f * 1.5f * v->skin_time - 40.0f * r[0]));
+        float p[3];
+        for (int a = 0; a < 3; a++) p[a] = r[a] + (len > 0.0f ? swell * d[a] / len : 0.0f);
+        for (int a = 0; a < 3; a++) pos[3 * k + a] = m[a] * p[0] + m[4 + a] * p[1] + m[8 + a] * p[2] + m[12 + a];
+        memcpy(rot + 4 * (size_t)k, q, sizeof q);
+    }
+    wh_check(wethair_sim_set_root_frames(v->sim, pos, rot, n), "wethair_sim_set_root_frames");
+    free(pos);
+}
+
+/* Reads the roots' rest positions in head space (--skinned-roots): the first vertex of each
+ * strand of a simulation just reset, taken back through the head transform. */
+static void read_rest_roots(Viewer *v) {
+    size_t cap = (size_t)v->lay.vertex_count * v->lay.stride_floats, written = 0;
+    float *buf = malloc(sizeof(float) * cap), m[16];
+    v->root_count = v->lay.strand_count;
+    v->rest_roots = malloc(sizeof(float) * 3 * (size_t)v->root_count);
+    if (!buf || !v->rest_roots) exit(1);
+    wh_check(wethair_sim_get_vertex_buffer(v->sim, buf, cap, &written), "wethair_sim_get_vertex_buffer");
+    head_matrix(v, m);
+    uint32_t per = v->lay.vertex_count / v->lay.strand_count;
+    for (uint32_t k = 0; k < v->root_count; k++) {
+        const float *p = buf + (size_t)k * per * v->lay.stride_floats;
+        float d[3] = {p[0] - m[12], p[1] - m[13], p[2] - m[14]};
+        for (int a = 0; a < 3; a++) /* the transpose of the head's turn */
+            v->rest_roots[3 * k + a] = m[4 * a] * d[0] + m[4 * a + 1] * d[1] + m[4 * a + 2] * d[2];
+    }
+    free(buf);
+}
+
 /* Soaks the hair (the wet model only; says so otherwise). */
 static void soak(Viewer *v) {
     if (v->wet_model) wh_check(wethair_sim_soak(v->sim, 1.0f), "wethair_sim_soak");
@@ -165,7 +220,7 @@ static void make_sim(Viewer *v) {
      * (springs from material properties, right for any sampling). */
     WetHairSimDesc desc;
     /* The 0.1.0 layout has neither the wet model, nor guides, nor the volume. */
-    int current = v->wet_model || v->guides || v->volume || v->sdf_head;
+    int current = v->wet_model || v->guides || v->volume || v->sdf_head || v->skinned;
     if (v->is_paper && !current) wethair_sim_desc_default(&desc);
     else wh_check(wethair_sim_desc_init(&desc, sizeof desc), "wethair_sim_desc_init");
     if (v->is_paper && current) {
@@ -193,6 +248,7 @@ static void make_sim(Viewer *v) {
         desc.guides.fraction = v->guide_fraction;
     }
     if (v->volume) desc.volume.enabled = 1;
+    desc.skinned_roots = (uint32_t)v->skinned;
     /* The SDF head: distances to a 0.1 m sphere every 5 mm, two cells of margin. */
     static float sdf_values[44 * 44 * 44];
     WetHairSdf sdf;
@@ -321,8 +377,9 @@ static void print_stats(Viewer *v) {
              v->draw_ms / n, v->api, v->r.source(v));
     snprintf(v->overlay[1], sizeof v->overlay[1], "%s %s  %s  %u POINTS  %u PARTICLES  CLUMPING %.2f MM", be,
              info.device, integrator_name(v->integrator), st.points, st.particles, 1e3 * st.clumping);
-    snprintf(v->overlay[2], sizeof v->overlay[2], "SPRAY %d PARTICLES/S (SPACE, RIGHT MOUSE)  LINES %.1f PX%s",
-             SPRAY_PER_FRAME * 60, v->line_width, v->paused ? "  PAUSED" : "");
+    snprintf(v->overlay[2], sizeof v->overlay[2], "SPRAY %d PARTICLES/S (SPACE, RIGHT MOUSE)  LINES %.1f PX%s%s",
+             SPRAY_PER_FRAME * 60, v->line_width, v->paused ? "  PAUSED" : "",
+             !v->skinned ? "" : v->skin_moving ? "  SKINNED ROOTS: RIPPLE (J)" : "  SKINNED ROOTS: STILL (J)");
     if (v->wet_model) {
         double g = WETHAIR_WATER_QUANTUM_KG * 1e3;
         snprintf(v->overlay[3], sizeof v->overlay[3],
@@ -419,6 +476,7 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
         set_weather(v);
         break;
     case GLFW_KEY_K: soak(v); break;
+    case GLFW_KEY_J: v->skin_moving = !v->skin_moving; break;
     case GLFW_KEY_L: {
         /* 100% -> 50% -> 25% -> 10% -> 100% */
         float f = v->guide_fraction;
@@ -532,6 +590,7 @@ int main(int argc, char **argv) {
         else if (i + 1 < argc && !strcmp(argv[i], "--guides")) v.guides = (uint32_t)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--volume")) v.volume = 1;
         else if (!strcmp(argv[i], "--sdf-head")) v.sdf_head = 1;
+        else if (!strcmp(argv[i], "--skinned-roots")) v.skinned = v.skin_moving = 1;
         else if (i + 1 < argc && !strcmp(argv[i], "--backend")) v.backend = wh_parse_backend(argv[++i]);
         else if (i + 1 < argc && !strcmp(argv[i], "--renderer")) renderer = argv[++i];
         else if (i + 1 < argc && !strcmp(argv[i], "--script")) script = argv[++i];
@@ -544,7 +603,7 @@ int main(int argc, char **argv) {
             fprintf(stderr,
                     "usage: %s [--groom FILE] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl] [--size WxH] "
                     "[--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N] [--wet-model] "
-                    "[--guides N] [--volume] [--sdf-head]\n",
+                    "[--guides N] [--volume] [--sdf-head] [--skinned-roots]\n",
                     argv[0]);
             return 2;
         }
@@ -591,6 +650,7 @@ int main(int argc, char **argv) {
     make_sim(&v);
     v.lay.struct_size = sizeof v.lay;
     wh_check(wethair_sim_get_vertex_layout(v.sim, &v.lay), "wethair_sim_get_vertex_layout");
+    if (v.skinned) read_rest_roots(&v);
     fit_camera(&v);
     snprintf(v.overlay[0], sizeof v.overlay[0], "WETHAIR %s", wethair_version_string());
 
@@ -612,6 +672,8 @@ int main(int argc, char **argv) {
 
         double t0 = wh_now_ms();
         if (!v.paused || v.step_once) {
+            if (v.skin_moving) v.skin_time += 1.0f / 60.0f;
+            set_root_frames(&v);
             wh_check(wethair_sim_step(v.sim, 1.0f / 60.0f), "wethair_sim_step");
             v.step_once = 0;
         }
@@ -631,6 +693,7 @@ int main(int argc, char **argv) {
     }
     if (v.frames_in_window) print_stats(&v);
     free(v.events);
+    free(v.rest_roots);
     wethair_sim_destroy(v.sim);
     wethair_groom_destroy(v.groom);
     v.r.close(&v);

@@ -49,6 +49,12 @@ struct Viewer {
     /* --sdf-head: the head is a signed distance field (a sampled sphere) that moves with the
      * head transform, instead of the analytic sphere. */
     int sdf_head;
+    /* --skinned-roots: every root follows its own frame (wethair_sim_set_root_frames), here a
+     * ripple that runs over the scalp while `skin_moving` (J toggles it); `rest_roots` holds
+     * the roots in head space, `skin_time` the ripple's clock (s). */
+    int skinned, skin_moving;
+    float *rest_roots, skin_time;
+    uint32_t root_count;
     uint32_t seed;
     WetHairVertexLayout lay;
     /* Camera: orbit around target */
