@@ -23,9 +23,9 @@ command -v glslangValidator >/dev/null 2>&1 || need+=(glslang-tools)
 [ -e /usr/lib/x86_64-linux-gnu/dri/swrast_dri.so ] || need+=(libgl1-mesa-dri)
 command -v xvfb-run >/dev/null 2>&1 || need+=(xvfb)
 command -v xauth >/dev/null 2>&1 || need+=(xauth)
-# The peer bench's harness (benches/peers) is checked with NumPy and wethair, on the
-# system Python (apt's NumPy), whatever python3 a PATH puts first.
-/usr/bin/python3 -c "import numpy" >/dev/null 2>&1 || need+=(python3-numpy)
+# The Python package's and the Blender add-on's tests (scripts/python.sh) run in a venv of
+# the system Python (whatever python3 a PATH puts first), which needs ensurepip; pip fills it.
+dpkg -s python3-venv >/dev/null 2>&1 || need+=(python3-venv)
 # The Unity bindings' C# is built and run with mono in the tests.
 command -v mcs >/dev/null 2>&1 || need+=(mono-mcs)
 command -v mono >/dev/null 2>&1 || need+=(mono-runtime)

@@ -90,7 +90,7 @@ mkdir -p target/cs
 mcs -unsafe -nologo -warnaserror -out:target/cs/drive.exe bindings/unity/Runtime/*.cs 'bindings/unity/Tests~/Drive.cs'
 LD_LIBRARY_PATH=target/release mono target/cs/drive.exe
 LD_LIBRARY_PATH=target/release mono target/cs/drive.exe --layout >target/cs/layout.txt
-bash 'bindings/unity/Tests~/check_layout.sh' target/cs/layout.txt include
+bash 'bindings/check_layout.sh' target/cs/layout.txt include
 
 step "Viewer, Vulkan renderer, under xvfb on lavapipe with validation: drawn from the shared VkBuffer"
 make -C examples/c --quiet build/viewer
@@ -188,8 +188,13 @@ step "C smoke under Valgrind (memcheck; definite leaks and errors fail)"
 valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite --errors-for-leak-kinds=definite \
     ./examples/c/build/smoke 60 1000 --backend cpu
 
-step "Peer bench harness: NumPy and wethair (through its C ABI, ctypes) agree on the tiny scene"
-/usr/bin/python3 benches/peers/bench.py --scenes tiny --engines numpy,wethair --threads 2 --reps 1 \
+step "Python package and Blender add-on: the wheel with this library, pytest; the add-on inside real Blender (bpy 4.5 LTS)"
+bash scripts/python.sh test 2>&1 | tee target/python-tests.log
+grep -q "passed" target/python-tests.log
+! grep -Eq "[0-9]+ (failed|error)" target/python-tests.log
+
+step "Peer bench harness: NumPy and wethair (through its Python package) agree on the tiny scene"
+target/pyenv/bin/python benches/peers/bench.py --scenes tiny --engines numpy,wethair --threads 2 --reps 1 \
     --max-disagreement 1e-6 --out target/peers-smoke
 
 step "The main job prints only its own lines (no Mesa warning without XDG_RUNTIME_DIR); last, as it rebuilds the library without the unity feature"
@@ -198,6 +203,6 @@ env -u XDG_RUNTIME_DIR bash scripts/main.sh --frames 10 --strip-seconds 2 --out 
 grep -q "^timing (paper model): dry" target/main.log
 grep -q "^wet model .* ms/frame" target/main.log
 
-rust=$(grep -o "[0-9]* passed" target/rust-tests.log | awk '{s+=$1} END {print s}')
+rust=$(cat target/rust-tests.log target/python-tests.log | grep -o "[0-9]* passed" | awk '{s+=$1} END {print s}')
 c_checks=38  # peer bench harness, build-tree links shared and static, 0.1.0 host, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback + wet model + skinned roots, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
 printf "\nwethair tests: %d passed, 0 failed (%d s)\n" "$((rust + c_checks))" "$SECONDS"

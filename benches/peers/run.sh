@@ -13,5 +13,7 @@ if [ "${SETUP:-0}" = 1 ]; then
 fi
 [ -x "$venv/bin/python" ] || { echo "no $venv: run with SETUP=1 first" >&2; exit 1; }
 (cd "$root" && cargo build --release --quiet)
+# wethair runs through its Python package, rebuilt from this build's library.
+"$venv/bin/pip" install -q --force-reinstall --no-deps "$root/bindings/python"
 # shellcheck disable=SC2086
 "$venv/bin/python" "$root/benches/peers/bench.py" --out "$root/target/peers" ${ARGS:-}

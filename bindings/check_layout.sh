@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Compares the C# structs' sizes and field offsets (mono drive.exe --layout) with the C
-# header's: writes a C program with sizeof/offsetof for every line, runs it, diffs.
-# usage: check_layout.sh CSHARP_LAYOUT.txt INCLUDE_DIR
+# Compares a binding's struct sizes and field offsets with the C header's: the binding prints
+# "size TYPE N" and "offset TYPE FIELD N" lines (C#: mono drive.exe --layout; Python:
+# python -m wethair.layout); this writes a C program with sizeof/offsetof for every line,
+# runs it, and diffs.
+# usage: check_layout.sh LAYOUT.txt INCLUDE_DIR
 set -euo pipefail
-cs=$1
+cs=$1  # the binding's lines
 inc=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -25,4 +27,4 @@ trap 'rm -rf "$tmp"' EXIT
 cc -std=c11 -Wall -Werror -I"$inc" "$tmp/layout.c" -o "$tmp/layout"
 "$tmp/layout" >"$tmp/c.txt"
 diff -u "$tmp/c.txt" "$cs"
-echo "C# layout equals the C header's: $(grep -c '^size' "$cs") structs, $(grep -c '^offset' "$cs") fields"
+echo "$(basename "$cs"): layout equals the C header's: $(grep -c '^size' "$cs") structs, $(grep -c '^offset' "$cs") fields"
