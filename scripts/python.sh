@@ -20,9 +20,21 @@ rm -rf target/wheels
 WETHAIR_LIBRARY="$PWD/$lib" "$venv/bin/pip" wheel -q --disable-pip-version-check --no-deps -w target/wheels bindings/python
 "$venv/bin/pip" install -q --disable-pip-version-check --force-reinstall --no-deps target/wheels/wethair-*.whl
 rm -rf bindings/python/build bindings/python/src/*.egg-info
+# The add-on as a Blender 4.2+ extension: its files, the manifest and the wheel in one zip.
+pack_addon() {
+    stage=target/blender-addon
+    rm -rf "$stage" && mkdir -p "$stage/wheels" dist
+    cp bindings/blender/wethair_blender/*.py bindings/blender/wethair_blender/blender_manifest.toml "$stage/"
+    cp target/wheels/wethair-*.whl "$stage/wheels/"
+    rm -f dist/wethair-blender-0.1.0.zip
+    (cd "$stage" && python3 -m zipfile -c ../../dist/wethair-blender-0.1.0.zip ./*)
+    echo "dist/wethair-blender-0.1.0.zip"
+}
 # Run from outside the source tree, so that tests import the installed package.
 case $what in
 test)
+    pack_addon
+    export WETHAIR_ADDON_ZIP=$PWD/dist/wethair-blender-0.1.0.zip
     (cd target && "$PWD/pyenv/bin/python" -m pytest -q -p no:cacheprovider ../bindings/python/tests)
     (cd target && "$PWD/pyenv/bin/python" -m pytest -q -p no:cacheprovider ../bindings/blender/tests)
     ;;
@@ -30,12 +42,7 @@ picture)
     (cd target && "$PWD/pyenv/bin/python" ../bindings/blender/tests/picture.py ../docs/blender-wet.png)
     ;;
 addon)
-    stage=target/blender-addon
-    rm -rf "$stage" && mkdir -p "$stage/wheels" dist
-    cp bindings/blender/wethair_blender/*.py bindings/blender/wethair_blender/blender_manifest.toml "$stage/"
-    cp target/wheels/wethair-*.whl "$stage/wheels/"
-    (cd "$stage" && rm -f ../../dist/wethair-blender-0.1.0.zip && python3 -m zipfile -c ../../dist/wethair-blender-0.1.0.zip ./*)
-    echo "dist/wethair-blender-0.1.0.zip"
+    pack_addon
     ;;
 *) echo "usage: $0 test|picture|addon" >&2; exit 2 ;;
 esac
