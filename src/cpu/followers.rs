@@ -127,8 +127,10 @@ impl CpuFollowers {
         for_tasks(pool, guides.div_ceil(STRANDS_PER_TASK), task);
     }
 
-    /// Pass write_followers: every host strand from the guide points, in Morton order of their
-    /// roots (neighbours read the same guides).
+    /// Pass write_followers: every host strand from the guide points, in the host's order (its
+    /// rest pose, bindings and vertices are read and written in memory order; a groom's
+    /// neighbouring strands are near each other in it, so they read the same guides from
+    /// cache), each strand's vertices written once, in place.
     fn write_followers(
         &self,
         points: &[GuidePoint],
@@ -149,16 +151,15 @@ impl CpuFollowers {
         let task = |t: usize| {
             let out = &out;
             let mut pts: Vec<(Vec3, f32)> = Vec::with_capacity(crate::groom::MAX_POINTS_PER_STRAND);
-            let mut stage: Vec<f32> = Vec::with_capacity(crate::groom::MAX_POINTS_PER_STRAND * 7);
-            for &h in &fl.order[t * STRANDS_PER_TASK..((t + 1) * STRANDS_PER_TASK).min(strands)] {
-                let h = h as usize;
+            for h in t * STRANDS_PER_TASK..((t + 1) * STRANDS_PER_TASK).min(strands) {
                 let first = fl.strand_first[h] as usize;
                 let n = fl.strand_first[h + 1] as usize - first;
                 pts.clear();
                 pts.extend((0..n as u32).map(|i| output_point(fl, h, i, self.blend, &at)));
-                stage.clear();
-                stage.resize(n * stride, 0.0);
-                for (i, (&(x, w), v)) in pts.iter().zip(stage.chunks_exact_mut(stride)).enumerate() {
+                // SAFETY: strand `h`'s vertices lie inside `dst` (asserted by the caller: one
+                // vertex per host point), and only this task writes them.
+                let v = unsafe { std::slice::from_raw_parts_mut(out.0.add(first * stride), n * stride) };
+                for (i, (&(x, w), v)) in pts.iter().zip(v.chunks_exact_mut(stride)).enumerate() {
                     if let Some(o) = pos {
                         v[o..o + 3].copy_from_slice(&x.to_array());
                     }
@@ -170,11 +171,6 @@ impl CpuFollowers {
                     if let Some(o) = wetness {
                         v[o] = w;
                     }
-                }
-                // SAFETY: strand `h`'s vertices lie inside `dst` (asserted by the caller: one
-                // vertex per host point), and only this task writes them.
-                unsafe {
-                    std::ptr::copy_nonoverlapping(stage.as_ptr(), out.0.add(first * stride), n * stride);
                 }
             }
         };

@@ -56,9 +56,6 @@ pub struct Followers {
     pub from: Vec<Follow>,
     /// [`crate::params::Guides::clump`].
     pub clump: f32,
-    /// Host strands in Morton order of their roots: the order the CPU writes them in, so that
-    /// strands written one after another read the same guides from cache.
-    pub order: Vec<u32>,
 }
 
 /// The strands of `roots` in spread order: Morton order of the roots taken in bit-reversed

@@ -71,10 +71,6 @@ impl GuideState {
                 follow: Vec::new(),
                 from: Vec::new(),
                 clump: g.clump,
-                order: {
-                    let (lo, hi) = groom.bounds();
-                    crate::physics::morton::order(&roots, lo, hi)
-                },
             },
             host_of,
             roots,
