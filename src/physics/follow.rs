@@ -5,7 +5,7 @@
 //! (passes `guide_frames` and `write_followers`).
 
 use super::followers::{Follow, Followers, GuideSpan};
-use glam::{Quat, Vec3, Vec4};
+use glam::{Quat, Vec3, Vec3A, Vec4};
 
 /// `a` moved to `b` by `u` as `a (1 - u) + b u`, which gives `a` at 0 and `b` at 1 exactly.
 #[inline]
@@ -16,9 +16,10 @@ pub fn mix(a: Vec3, b: Vec3, u: f32) -> Vec3 {
 /// `v` turned by the unit quaternion `q` (`v + w t + q⃗ × t` with `t = 2 q⃗ × v`).
 #[inline]
 pub fn rotate(q: Vec4, v: Vec3) -> Vec3 {
-    let axis = q.truncate();
+    // In SSE lanes (`Vec3A`): the same products and sums, in the same order, as the scalar form.
+    let (axis, v) = (Vec3A::from_vec4(q), Vec3A::from(v));
     let t = 2.0 * axis.cross(v);
-    v + q.w * t + axis.cross(t)
+    Vec3::from(v + q.w * t + axis.cross(t))
 }
 
 /// The quaternion product `a b` (turn by `b`, then by `a`), xyzw.
