@@ -131,3 +131,41 @@ def test_gpu_backend_matches_the_cpu(paper):
             cpu.step(DT)
         # The backends' f32 sums round differently: within 10 micrometres after 10 frames.
         assert np.abs(gpu.positions() - cpu.positions()).max() < 1e-5
+
+
+def test_head_transform_and_root_frames_in_numpys_convention(paper):
+    """A 4 x 4 matrix with the translation in its last column moves the roots there (the
+    package hands C its column-major floats); skinned roots land on their frames."""
+    with wethair.Simulation(paper, backend="cpu") as sim:
+        rest = sim.strands()[:, 0].copy()
+        m = np.eye(4)
+        m[:3, 3] = (0.05, -0.02, 0.01)
+        c, s = np.cos(0.3), np.sin(0.3)
+        m[:2, :2] = [[c, -s], [s, c]]  # a turn of 0.3 rad about z
+        sim.set_head_transform(m)
+        sim.step(DT)
+        want = rest @ m[:3, :3].T + m[:3, 3]
+        assert np.abs(sim.strands()[:, 0] - want).max() < 1e-6
+    with wethair.Simulation(paper, backend="cpu", skinned_roots=True) as sim:
+        rest = sim.strands()[:, 0].copy()
+        target = rest + [0.0, 0.0, 0.05]
+        quats = np.tile([0.0, 0.0, 0.0, 1.0], (len(rest), 1))
+        sim.set_root_frames(target, quats)
+        sim.step(DT)
+        assert np.abs(sim.strands()[:, 0] - target).max() < 1e-6
+        with pytest.raises(wethair.InvalidArgumentError):
+            sim.set_root_frames(target[:-1], quats[:-1])  # one short
+
+
+def test_a_real_groom_loads_in_metres_and_settles(root):
+    """The TressFX ponytail (centimetres, y up in the file) through the load desc's keywords."""
+    with wethair.Groom.load(root / "tests/data/ponytail_back.tfx", scale=0.01, up_axis="y_to_z") as g:
+        assert g.counts == (517, 517 * 16)
+        with wethair.Simulation(g, backend="cpu") as sim:
+            x0 = sim.positions().copy()
+            extent = x0.max(axis=0) - x0.min(axis=0)
+            assert 0.05 < extent.max() < 1.0  # metres, not centimetres
+            for _ in range(30):
+                sim.step(DT)
+            x = sim.positions()
+            assert np.isfinite(x).all() and np.abs(x - x0).max() < 0.5
