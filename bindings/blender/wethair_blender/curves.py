@@ -23,24 +23,26 @@ def set_positions(curves, p: np.ndarray) -> None:
     curves.update_tag()
 
 
-def set_point_attribute(curves, name: str, values: np.ndarray) -> None:
-    """A float point attribute (made when missing), e.g. ``wetness`` for a material to read."""
+def _point_attribute(curves, name: str, data_type: str):
+    """The point attribute ``name`` of ``data_type`` (made, or made again, when missing or different)."""
     attr = curves.attributes.get(name)
-    if attr is None or attr.domain != "POINT" or attr.data_type != "FLOAT":
+    if attr is None or attr.domain != "POINT" or attr.data_type != data_type:
         if attr is not None:
             curves.attributes.remove(attr)
-        attr = curves.attributes.new(name, "FLOAT", "POINT")
-    attr.data.foreach_set("value", np.ascontiguousarray(values, dtype=np.float32))
+        attr = curves.attributes.new(name, data_type, "POINT")
+    return attr
+
+
+def set_point_attribute(curves, name: str, values: np.ndarray) -> None:
+    """A float point attribute, e.g. ``wetness`` for a material to read."""
+    data = _point_attribute(curves, name, "FLOAT").data
+    data.foreach_set("value", np.ascontiguousarray(values, dtype=np.float32))
 
 
 def set_point_color(curves, name: str, rgba: np.ndarray) -> None:
     """A float colour point attribute (for the Workbench's Attribute colouring)."""
-    attr = curves.attributes.get(name)
-    if attr is None or attr.domain != "POINT" or attr.data_type != "FLOAT_COLOR":
-        if attr is not None:
-            curves.attributes.remove(attr)
-        attr = curves.attributes.new(name, "FLOAT_COLOR", "POINT")
-    attr.data.foreach_set("color", np.ascontiguousarray(rgba, dtype=np.float32).ravel())
+    data = _point_attribute(curves, name, "FLOAT_COLOR").data
+    data.foreach_set("color", np.ascontiguousarray(rgba, dtype=np.float32).ravel())
 
 
 def transform(m, p: np.ndarray) -> np.ndarray:

@@ -10,17 +10,21 @@ import numpy as np
 
 from . import _structs as S
 from ._arrays import as_f32, as_u32, as_u8, ptr
+from ._handle import Handle
 from ._lib import lib
 from .enums import UpAxis, coerce
 from .errors import check
 
 
-class Groom:
+class Groom(Handle):
     """A groom handle (``WetHairGroom``). Use as a context manager, or call ``close()``;
     simulations copy what they need, so a groom may be closed once they are made."""
 
+    _destroy = staticmethod(lib.wethair_groom_destroy)
+    _what = "groom"
+
     def __init__(self, handle: C.c_void_p, point_counts: Optional[np.ndarray] = None):
-        self._h = handle
+        super().__init__(handle)
         self._point_counts = point_counts
 
     # -- constructors -------------------------------------------------------------------
@@ -114,12 +118,6 @@ class Groom:
     # -- queries --------------------------------------------------------------------------
 
     @property
-    def handle(self) -> C.c_void_p:
-        if not self._h:
-            raise ValueError("wethair: this groom is closed")
-        return self._h
-
-    @property
     def counts(self) -> tuple:
         """``(strands, points)``."""
         s, p = C.c_uint32(), C.c_uint32()
@@ -136,20 +134,3 @@ class Groom:
         """What the loader did to a file's groom (units, fixes), or ""."""
         m = lib.wethair_groom_get_load_message(self.handle)
         return m.decode("utf-8", "replace") if m else ""
-
-    # -- lifetime ---------------------------------------------------------------------------
-
-    def close(self) -> None:
-        """Destroys the groom (idempotent)."""
-        if self._h:
-            lib.wethair_groom_destroy(self._h)
-            self._h = None
-
-    def __enter__(self) -> "Groom":
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
-
-    def __del__(self) -> None:
-        self.close()

@@ -10,6 +10,7 @@ import numpy as np
 
 from . import _structs as S
 from ._arrays import as_f32, as_u32, ptr
+from ._handle import Handle
 from ._lib import lib
 from .desc import sim_desc
 from .enums import Backend, ColliderShape, Integrator, Result
@@ -110,13 +111,16 @@ def _matrix(m, name: str) -> np.ndarray:
     return np.ascontiguousarray(a.T)
 
 
-class Simulation:
+class Simulation(Handle):
     """A simulation (``WetHairSim``) of ``groom``.
 
     ``params`` are ``WetHairSimDesc`` fields by name over the ``preset``'s defaults (see
     ``wethair.sim_desc``): ``Simulation(groom, backend="cpu", substeps=8,
     held_water={"enabled": True})``. Colliders (``sphere``, ``capsule``), SDFs (``Sdf``) and
     a ``GIVEN`` guide list are copied at creation. Use as a context manager, or ``close()``."""
+
+    _destroy = staticmethod(lib.wethair_sim_destroy)
+    _what = "simulation"
 
     def __init__(
         self,
@@ -128,7 +132,7 @@ class Simulation:
         guide_strands: Optional[Sequence[int]] = None,
         **params: Any,
     ):
-        self._h = None
+        super().__init__()
         d = sim_desc(preset, **params)
         d.groom = groom.handle
         cols = (S.WetHairCollider * max(1, len(colliders)))(*colliders)
@@ -170,12 +174,6 @@ class Simulation:
         self.point_counts = groom.point_counts
 
     # -- stepping ---------------------------------------------------------------------------
-
-    @property
-    def handle(self) -> C.c_void_p:
-        if not self._h:
-            raise ValueError("wethair: this simulation is closed")
-        return self._h
 
     def step(self, dt: float = 1.0 / 60.0) -> None:
         """Advances ``dt`` seconds (the desc's substeps)."""
@@ -308,20 +306,3 @@ class Simulation:
         b = S.WetHairBackendInfo(struct_size=C.sizeof(S.WetHairBackendInfo))
         check(lib.wethair_sim_get_backend_info(self.handle, C.byref(b)))
         return BackendInfo(Backend(b.backend), b.device.decode("utf-8", "replace"), b.fallback_reason.decode("utf-8", "replace"))
-
-    # -- lifetime -------------------------------------------------------------------------------
-
-    def close(self) -> None:
-        """Destroys the simulation (idempotent)."""
-        if self._h:
-            lib.wethair_sim_destroy(self._h)
-            self._h = None
-
-    def __enter__(self) -> "Simulation":
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
-
-    def __del__(self) -> None:
-        self.close()
