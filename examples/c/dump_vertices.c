@@ -1,21 +1,11 @@
 /* Writes the vertex buffer a C host reads, as raw little-endian floats, after a fixed run:
- * the paper scene's exact parameters (wethair_sim_desc_default), N strands x 6 points on the
- * CPU backend, 40 water particles on a 1 cm grid above the head at frame 0, then FRAMES steps of
+ * the paper scene's exact parameters and head sphere (wh_create_paper_sim), N strands x 6
+ * points on the CPU backend, 40 water particles on a 1 cm grid above the head at frame 0, then FRAMES steps of
  * 1/60 s. The Python package's tests run the same scene through their binding and require
  * the same bytes (bindings/python/tests/test_against_c.py).
  *
  * usage: dump_vertices STRANDS FRAMES OUT.bin */
-#include <stdio.h>
-#include <stdlib.h>
-
-#include "wethair.h"
-
-static void check(WetHairResult r, const char *what) {
-    if (r != WETHAIR_OK) {
-        fprintf(stderr, "%s: %s (%s)\n", what, wethair_result_string(r), wethair_last_error_message());
-        exit(1);
-    }
-}
+#include "scene.h"
 
 int main(int argc, char **argv) {
     if (argc != 4) {
@@ -25,13 +15,8 @@ int main(int argc, char **argv) {
     uint32_t strands = (uint32_t)atoi(argv[1]);
     int frames = atoi(argv[2]);
     WetHairGroom *groom = NULL;
-    check(wethair_groom_create_paper_scene(strands, 6, &groom), "wethair_groom_create_paper_scene");
-    WetHairSimDesc desc;
-    wethair_sim_desc_default(&desc);
-    desc.groom = groom;
-    desc.backend = WETHAIR_BACKEND_CPU;
-    WetHairSim *sim = NULL;
-    check(wethair_sim_create(&desc, &sim), "wethair_sim_create");
+    wh_check(wethair_groom_create_paper_scene(strands, 6, &groom), "wethair_groom_create_paper_scene");
+    WetHairSim *sim = wh_create_paper_sim(groom, 0, WETHAIR_BACKEND_CPU);
     wethair_groom_destroy(groom);
     float pos[40 * 3];
     for (int i = 0; i < 40; i++) { /* exact in float, so any host computes the same */
@@ -39,15 +24,15 @@ int main(int argc, char **argv) {
         pos[3 * i + 1] = ((float)(i / 8) - 2.0f) * 0.01f;
         pos[3 * i + 2] = 0.13f;
     }
-    check(wethair_sim_add_water(sim, pos, NULL, 40), "wethair_sim_add_water");
-    for (int f = 0; f < frames; f++) check(wethair_sim_step(sim, 1.0f / 60.0f), "wethair_sim_step");
+    wh_check(wethair_sim_add_water(sim, pos, NULL, 40), "wethair_sim_add_water");
+    for (int f = 0; f < frames; f++) wh_check(wethair_sim_step(sim, 1.0f / 60.0f), "wethair_sim_step");
     WetHairVertexLayout lay = {0};
     lay.struct_size = sizeof lay;
-    check(wethair_sim_get_vertex_layout(sim, &lay), "wethair_sim_get_vertex_layout");
+    wh_check(wethair_sim_get_vertex_layout(sim, &lay), "wethair_sim_get_vertex_layout");
     size_t cap = (size_t)lay.vertex_count * lay.stride_floats, written = 0;
     float *v = malloc(cap * sizeof *v);
     if (!v) return 1;
-    check(wethair_sim_get_vertex_buffer(sim, v, cap, &written), "wethair_sim_get_vertex_buffer");
+    wh_check(wethair_sim_get_vertex_buffer(sim, v, cap, &written), "wethair_sim_get_vertex_buffer");
     FILE *f = fopen(argv[3], "wb");
     if (!f || fwrite(v, sizeof *v, written, f) != written || fclose(f) != 0) {
         fprintf(stderr, "cannot write %s\n", argv[3]);

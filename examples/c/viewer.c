@@ -163,14 +163,11 @@ static void set_fraction(Viewer *v, float f) {
  * times a second; then the head's turn and offset. Every root turns with the head. */
 static void set_root_frames(Viewer *v) {
     if (!v->skinned || !v->rest_roots) return;
-    float m[16], c[3] = {0.0f, 0.0f, 0.0f};
+    float m[16];
     head_matrix(v, m);
     uint32_t n = v->root_count;
-    for (uint32_t k = 0; k < n; k++)
-        for (int a = 0; a < 3; a++) c[a] += v->rest_roots[3 * k + a] / (float)n;
-    float *pos = malloc(sizeof(float) * 7 * (size_t)n);
-    if (!pos) exit(1);
-    float *rot = pos + 3 * (size_t)n;
+    const float *c = v->root_center;
+    float *pos = v->root_frames, *rot = v->root_frames + 3 * (size_t)n;
     /* The head's turn as a quaternion: yaw about z, then pitch about x (as head_matrix). */
     float hy = 0.5f * v->head_yaw, hp = 0.5f * v->head_pitch;
     float q[4] = {sinf(hp) * cosf(hy), sinf(hp) * sinf(hy), cosf(hp) * sinf(hy), cosf(hp) * cosf(hy)};
@@ -185,7 +182,6 @@ static void set_root_frames(Viewer *v) {
         memcpy(rot + 4 * (size_t)k, q, sizeof q);
     }
     wh_check(wethair_sim_set_root_frames(v->sim, pos, rot, n), "wethair_sim_set_root_frames");
-    free(pos);
 }
 
 /* Reads the roots' rest positions in head space (--skinned-roots): the first vertex of each
@@ -195,7 +191,8 @@ static void read_rest_roots(Viewer *v) {
     float *buf = malloc(sizeof(float) * cap), m[16];
     v->root_count = v->lay.strand_count;
     v->rest_roots = malloc(sizeof(float) * 3 * (size_t)v->root_count);
-    if (!buf || !v->rest_roots) exit(1);
+    v->root_frames = malloc(sizeof(float) * 7 * (size_t)v->root_count);
+    if (!buf || !v->rest_roots || !v->root_frames) exit(1);
     wh_check(wethair_sim_get_vertex_buffer(v->sim, buf, cap, &written), "wethair_sim_get_vertex_buffer");
     head_matrix(v, m);
     uint32_t per = v->lay.vertex_count / v->lay.strand_count;
@@ -205,6 +202,8 @@ static void read_rest_roots(Viewer *v) {
         for (int a = 0; a < 3; a++) /* the transpose of the head's turn */
             v->rest_roots[3 * k + a] = m[4 * a] * d[0] + m[4 * a + 1] * d[1] + m[4 * a + 2] * d[2];
     }
+    for (uint32_t k = 0; k < v->root_count; k++)
+        for (int a = 0; a < 3; a++) v->root_center[a] += v->rest_roots[3 * k + a] / (float)v->root_count;
     free(buf);
 }
 
@@ -694,6 +693,7 @@ int main(int argc, char **argv) {
     if (v.frames_in_window) print_stats(&v);
     free(v.events);
     free(v.rest_roots);
+    free(v.root_frames);
     wethair_sim_destroy(v.sim);
     wethair_groom_destroy(v.groom);
     v.r.close(&v);

@@ -51,9 +51,10 @@ struct Viewer {
     int sdf_head;
     /* --skinned-roots: every root follows its own frame (wethair_sim_set_root_frames), here a
      * ripple that runs over the scalp while `skin_moving` (J toggles it); `rest_roots` holds
-     * the roots in head space, `skin_time` the ripple's clock (s). */
+     * the roots in head space and `root_center` their mean, `root_frames` room for each
+     * frame's positions and rotations (7 floats a root), `skin_time` the ripple's clock (s). */
     int skinned, skin_moving;
-    float *rest_roots, skin_time;
+    float *rest_roots, *root_frames, root_center[3], skin_time;
     uint32_t root_count;
     uint32_t seed;
     WetHairVertexLayout lay;

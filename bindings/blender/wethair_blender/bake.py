@@ -8,7 +8,7 @@ import time
 
 import bpy
 import numpy as np
-from mathutils import Vector
+from mathutils import Matrix, Vector
 
 import wethair
 
@@ -22,8 +22,6 @@ class BakeError(Exception):
 
 def _head_matrix(settings):
     """The head's rigid frame (or the world's when there is no head mesh)."""
-    from mathutils import Matrix
-
     return collider.rigid(settings.collider.matrix_world) if settings.collider else Matrix.Identity(4)
 
 
@@ -126,9 +124,10 @@ def bake(scene, obj, progress=None) -> str:
         out_pos[0], out_wet[0] = rest_local, 0.0
         for i, frame in enumerate(range(start + 1, end + 1), start=1):
             scene.frame_set(frame)
-            sim.set_head_transform(np.array(_head_matrix(s)))
+            head = np.array(_head_matrix(s))
+            sim.set_head_transform(head)
             if sdfs:
-                sim.set_sdf_transform(0, np.array(_head_matrix(s)))
+                sim.set_sdf_transform(0, head)
             _emit(sim, s, frame)
             sim.step(1.0 / fps)
             v = sim.vertices()

@@ -4,6 +4,12 @@ attribute."""
 import numpy as np
 
 
+def active_hair(context):
+    """The active object when it is a hair Curves object, else None (the operators' and panel's poll)."""
+    obj = context.object
+    return obj if obj is not None and obj.type == "CURVES" else None
+
+
 def sizes(curves) -> np.ndarray:
     """Points per curve."""
     offsets = np.zeros(len(curves.curves) + 1, dtype=np.int32)

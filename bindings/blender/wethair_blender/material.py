@@ -5,6 +5,7 @@ surface turns specular)."""
 import bpy
 
 from .cache import WETNESS
+from .curves import active_hair
 
 DRY = (0.42, 0.26, 0.14, 1.0)
 WET = (0.10, 0.06, 0.035, 1.0)
@@ -45,7 +46,7 @@ class WETHAIR_OT_wet_material(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return context.object is not None and context.object.type == "CURVES"
+        return active_hair(context) is not None
 
     def execute(self, context):
         mats = context.object.data.materials

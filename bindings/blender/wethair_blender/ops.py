@@ -6,6 +6,7 @@ import wethair
 
 from . import cache
 from .bake import BakeError, bake
+from .curves import active_hair
 
 
 class WETHAIR_OT_bake(bpy.types.Operator):
@@ -17,7 +18,7 @@ class WETHAIR_OT_bake(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return context.object is not None and context.object.type == "CURVES"
+        return active_hair(context) is not None
 
     def execute(self, context):
         obj = context.object
@@ -45,7 +46,8 @@ class WETHAIR_OT_free(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return context.object is not None and context.object.type == "CURVES" and context.object.wethair.baked
+        hair = active_hair(context)
+        return hair is not None and hair.wethair.baked
 
     def execute(self, context):
         cache.free(context.object, restore=True)

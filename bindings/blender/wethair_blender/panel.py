@@ -2,6 +2,8 @@
 
 import bpy
 
+from .curves import active_hair
+
 
 class WETHAIR_PT_panel(bpy.types.Panel):
     bl_label = "Wet Hair (wethair)"
@@ -11,7 +13,7 @@ class WETHAIR_PT_panel(bpy.types.Panel):
 
     @classmethod
     def poll(cls, context):
-        return context.object is not None and context.object.type == "CURVES"
+        return active_hair(context) is not None
 
     def draw(self, context):
         s = context.object.wethair

@@ -22,8 +22,9 @@ def test_vertices_equal_what_the_c_host_reads(root, tmp_path):
     grid[:, 1] = ((i // 8).astype(np.float32) - np.float32(2.0)) * np.float32(0.01)
     grid[:, 2] = np.float32(0.13)
     with wethair.Groom.paper_scene(500, 6) as g:
-        # The C host uses wethair_sim_desc_default: the 0.1.0 layout's paper parameters.
-        with wethair.Simulation(g, preset="paper", backend="cpu") as sim:
+        # The C host uses wethair_sim_desc_default (the 0.1.0 layout's paper parameters) and
+        # the head sphere.
+        with wethair.Simulation(g, preset="paper", backend="cpu", colliders=[wethair.sphere((0, 0, 0), 0.1)]) as sim:
             sim.add_water(grid)
             for _ in range(30):
                 sim.step(1.0 / 60.0)
