@@ -1,19 +1,22 @@
 //! Copy-to-host output with guides and followers: pass `guide_frames` gathers each simulated
-//! guide point's position, wetness and frame from the rows ([`guide_frame_at`]), then pass
-//! `write_followers` writes every host strand from them ([`output_point`]; a guide follows
-//! itself and is written exactly as simulated). Both split across the worker pool.
+//! guide point's position, wetness and frame from the rows into columns, a row of eight guides
+//! at a time ([`guide_frame_lanes`]), then pass `write_followers` writes every host strand from
+//! them (`follower_output.rs`). A guide follows itself and is written exactly as simulated.
+//! Both passes split across the worker pool.
 
+use super::guide_columns::GuideColumns;
 use super::layout::{Layout, StateRow};
 use crate::params::VertexAttributes;
-use crate::physics::follow::{guide_frame_at, head_quat, output_point, tangent, GuidePoint};
+use crate::physics::follow::head_quat;
+use crate::physics::follow_lanes::guide_frame_lanes;
 use crate::physics::followers::Followers;
-use crate::physics::lanes::{Lane, L3};
-use glam::{Quat, Vec3, Vec4};
+use crate::physics::lanes::{Lane, L3, W};
+use glam::Quat;
 use rayon::prelude::*;
 use std::sync::Mutex;
 
 /// Host strands (or guides) per task.
-const STRANDS_PER_TASK: usize = 512;
+pub(super) const STRANDS_PER_TASK: usize = 512;
 
 /// The followers' output state: the binding data, how the output is posed now, and the
 /// guide points gathered for the last output (kept: no allocation once grown).
@@ -25,18 +28,18 @@ pub struct CpuFollowers {
     pub head: Quat,
     /// How far the output has moved from `data.from` to `data.follow`, 0..=1.
     pub blend: f32,
-    /// Each guide point's position, wetness and frame (guide-groom order).
-    points: Mutex<Vec<GuidePoint>>,
+    /// Each guide point's position, wetness, frame and rest position (guide-groom order).
+    points: Mutex<GuideColumns>,
 }
 
 /// A buffer shared by tasks that each write their own disjoint range of it.
-struct Shared<T>(*mut T);
+pub(super) struct Shared<T>(pub(super) *mut T);
 // SAFETY: tasks write disjoint ranges (one per strand or guide); the buffer outlives them
 // (they are joined before the writer returns).
 unsafe impl<T> Sync for Shared<T> {}
 
 /// Runs `task(t)` for `t` in `0..tasks`, on the pool when there is one.
-fn for_tasks(pool: Option<&super::pool::Pool>, tasks: usize, task: impl Fn(usize) + Sync + Send) {
+pub(super) fn for_tasks(pool: Option<&super::pool::Pool>, tasks: usize, task: impl Fn(usize) + Sync + Send) {
     match pool {
         Some(p) => p.install(|| (0..tasks).into_par_iter().for_each(task)),
         None => (0..tasks).for_each(task),
@@ -50,7 +53,7 @@ impl CpuFollowers {
             data,
             head: Quat::IDENTITY,
             blend: 1.0,
-            points: Mutex::new(Vec::new()),
+            points: Mutex::new(GuideColumns::default()),
         }
     }
 
@@ -72,15 +75,13 @@ impl CpuFollowers {
         let fl = &self.data;
         assert_eq!(dst.len(), fl.rest.len() * attrs.stride(), "one vertex per host point");
         let mut points = self.points.lock().unwrap_or_else(|e| e.into_inner());
-        points.resize(
-            fl.spans.last().map_or(0, |s| (s.first + s.count) as usize),
-            (Vec3::ZERO, 0.0, Vec4::ZERO, Vec3::ZERO),
-        );
+        points.resize(&fl.spans);
         self.guide_frames(lay, state, wet, kept, guides, pool, &mut points);
-        self.write_followers(&points, attrs, pool, dst);
+        super::follower_output::write_followers(fl, &points, self.blend, attrs, pool, dst);
     }
 
-    /// Pass guide_frames: guides `0..guides`' points into `out` (guide-groom order).
+    /// Pass guide_frames: guides `0..guides`' points into `out`, block by block of the layout:
+    /// a row is point `j` of eight guides, read as lanes, each frame from the row before.
     #[allow(clippy::too_many_arguments)]
     fn guide_frames(
         &self,
@@ -90,90 +91,157 @@ impl CpuFollowers {
         kept: Option<(&[L3], f32)>,
         guides: usize,
         pool: Option<&super::pool::Pool>,
-        out: &mut [GuidePoint],
+        out: &mut GuideColumns,
     ) {
         let fl = &self.data;
         let head = head_quat(self.head);
         let guides = guides.min(fl.spans.len());
-        let len = out.len();
-        let out = Shared(out.as_mut_ptr());
+        let (base, width) = (&out.base, &out.width);
+        let data: &mut [f32] = bytemuck::cast_slice_mut(&mut out.lines);
+        let len = data.len();
+        let data = Shared(data.as_mut_ptr());
+        const BLOCKS_PER_TASK: usize = STRANDS_PER_TASK / W;
         let task = |t: usize| {
-            let out = &out;
-            for g in t * STRANDS_PER_TASK..((t + 1) * STRANDS_PER_TASK).min(guides) {
-                let span = fl.spans[g];
-                let (b, l) = lay.lane_of(g);
-                let mut prev = Vec3::ZERO;
-                for j in 0..span.count {
-                    let r = b * lay.rows + j as usize;
-                    let x = state[r].x.get(l);
+            let data = &data;
+            for b in t * BLOCKS_PER_TASK..((t + 1) * BLOCKS_PER_TASK).min(lay.blocks) {
+                // Each lane's guide (`None`: not a simulated guide now) and its span.
+                let lanes: [Option<(usize, crate::physics::followers::GuideSpan)>; W] = std::array::from_fn(|l| {
+                    let g = lay.strand_of_slot[b * W + l] as usize;
+                    (g < guides).then(|| (g, fl.spans[g]))
+                });
+                let rows = lanes.iter().flatten().map(|(_, s)| s.count as usize).max().unwrap_or(0);
+                let (mut x_prev, mut rest_prev) = (L3::ZERO, L3::ZERO);
+                for j in 0..rows {
+                    let r = b * lay.rows + j;
                     let x = match kept {
-                        Some((from, a)) => {
-                            let p = from[r].get(l);
-                            p + a * (x - p)
-                        }
-                        None => x,
+                        Some((from, a)) => from[r].toward(&state[r].x, a),
+                        None => state[r].x,
                     };
-                    let frame = guide_frame_at(span, j, &fl.rest, head, |p| if p == span.first + j { x } else { prev });
-                    let k = (span.first + j) as usize;
-                    assert!(k < len);
-                    let rest = fl.rest[(span.rest + j) as usize];
-                    // SAFETY: `k` is inside `out` (asserted), and guide `g`'s points are
-                    // written by this task only.
-                    unsafe { *out.0.add(k) = (x, wet.get(r).map_or(0.0, |w| w[l]), frame, rest) };
-                    prev = x;
+                    let mut rest = L3::ZERO;
+                    for (l, lane) in lanes.iter().enumerate() {
+                        if let Some((_, s)) = lane.filter(|(_, s)| j < s.count as usize) {
+                            rest.set(l, fl.rest[s.rest as usize + j]);
+                        }
+                    }
+                    let q = if j == 0 {
+                        [[head.x; W], [head.y; W], [head.z; W], [head.w; W]]
+                    } else {
+                        guide_frame_lanes(head, &rest_prev, &rest, &x_prev, &x)
+                    };
+                    let w = wet.get(r).copied().unwrap_or([0.0; W]);
+                    for (l, lane) in lanes.iter().enumerate() {
+                        let Some((g, _)) = lane.filter(|(_, s)| j < s.count as usize) else {
+                            continue;
+                        };
+                        let values = [
+                            x.x[l], x.y[l], x.z[l], w[l], q[0][l], q[1][l], q[2][l], q[3][l], rest.x[l], rest.y[l],
+                            rest.z[l],
+                        ];
+                        for (c, v) in values.into_iter().enumerate() {
+                            let k = base[g] + c * width[g] + j;
+                            assert!(k < len);
+                            // SAFETY: `k` is inside `data` (asserted), and guide `g`'s block
+                            // is written by this task only (its block of the layout is).
+                            unsafe { *data.0.add(k) = v };
+                        }
+                    }
+                    (x_prev, rest_prev) = (x, rest);
                 }
             }
         };
-        for_tasks(pool, guides.div_ceil(STRANDS_PER_TASK), task);
+        for_tasks(pool, lay.blocks.div_ceil(BLOCKS_PER_TASK), task);
     }
+}
 
-    /// Pass write_followers: every host strand from the guide points, in the host's order (its
-    /// rest pose, bindings and vertices are read and written in memory order; a groom's
-    /// neighbouring strands are near each other in it, so they read the same guides from
-    /// cache), each strand's vertices written once, in place.
-    fn write_followers(
-        &self,
-        points: &[GuidePoint],
-        attrs: VertexAttributes,
-        pool: Option<&super::pool::Pool>,
-        dst: &mut [f32],
-    ) {
-        let fl = &self.data;
-        let strands = fl.strand_first.len() - 1;
-        let at = |p: u32| points[p as usize];
-        let (stride, pos, tan, wetness) = (
-            attrs.stride(),
-            attrs.offset(VertexAttributes::POSITION),
-            attrs.offset(VertexAttributes::TANGENT),
-            attrs.offset(VertexAttributes::WETNESS),
-        );
-        let out = Shared(dst.as_mut_ptr());
-        let task = |t: usize| {
-            let out = &out;
-            let mut pts: Vec<(Vec3, f32)> = Vec::with_capacity(crate::groom::MAX_POINTS_PER_STRAND);
-            for h in t * STRANDS_PER_TASK..((t + 1) * STRANDS_PER_TASK).min(strands) {
-                let first = fl.strand_first[h] as usize;
-                let n = fl.strand_first[h + 1] as usize - first;
-                pts.clear();
-                pts.extend((0..n as u32).map(|i| output_point(fl, h, i, self.blend, &at)));
-                // SAFETY: strand `h`'s vertices lie inside `dst` (asserted by the caller: one
-                // vertex per host point), and only this task writes them.
-                let v = unsafe { std::slice::from_raw_parts_mut(out.0.add(first * stride), n * stride) };
-                for (i, (&(x, w), v)) in pts.iter().zip(v.chunks_exact_mut(stride)).enumerate() {
-                    if let Some(o) = pos {
-                        v[o..o + 3].copy_from_slice(&x.to_array());
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::groom::Groom;
+    use crate::physics::follow::guide_frame_at;
+    use crate::physics::followers::GuideSpan;
+    use crate::scenes::Lcg;
+    use glam::Vec3;
+
+    /// Pass guide_frames, a row of eight guides at a time, gathers what the one-point law
+    /// computes for each guide point, bit for bit: ragged guides (some shorter than others in
+    /// their block), a turned head, moved points, wetness, a blend from kept positions, and only
+    /// the first `guides` guides simulated.
+    #[test]
+    fn guide_frames_gather_the_one_point_frames() {
+        let counts: Vec<u32> = (0..21).map(|s| 2 + (s * 7) % 19).collect();
+        let total: u32 = counts.iter().sum();
+        let mut rng = Lcg(17);
+        let pos = (0..total)
+            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()))
+            .collect();
+        let groom = Groom::new(pos, &counts, None, None, 1e-3).expect("groom");
+        let lay = Layout::new(&groom, &crate::SimParams::paper());
+        let mut state = lay.rest_state(&glam::Affine3A::IDENTITY);
+        for r in &mut state {
+            for l in 0..W {
+                r.x.x[l] += rng.next_f32() - 0.5;
+                r.x.z[l] -= rng.next_f32() * 0.2;
+            }
+        }
+        let kept: Vec<L3> = state.iter().map(|r| r.x.toward(&L3::ZERO, 0.1)).collect();
+        let wet: Vec<Lane> = (0..state.len())
+            .map(|_| std::array::from_fn(|_| rng.next_f32()))
+            .collect();
+        let spans: Vec<GuideSpan> = (0..counts.len())
+            .map(|s| GuideSpan {
+                first: groom.strand_first[s],
+                rest: groom.strand_first[s],
+                count: counts[s],
+            })
+            .collect();
+        let mut fl = CpuFollowers::new(Followers {
+            strand_first: groom.strand_first.clone(),
+            rest: groom.positions().to_vec(),
+            spans: spans.clone(),
+            follow: Vec::new(),
+            from: Vec::new(),
+            clump: 0.8,
+        });
+        fl.head = Quat::from_rotation_y(0.4) * Quat::from_rotation_x(-0.3);
+        let head = head_quat(fl.head);
+        for (kept, guides) in [(None, 21), (Some((&kept[..], 0.6f32)), 13)] {
+            let mut cols = GuideColumns::default();
+            cols.resize(&spans);
+            fl.guide_frames(&lay, &state, &wet, kept, guides, None, &mut cols);
+            for (g, span) in spans.iter().enumerate().take(guides) {
+                let (b, l) = lay.lane_of(g);
+                let x = |j: u32| {
+                    let r = b * lay.rows + j as usize;
+                    match kept {
+                        Some((from, a)) => from[r].get(l) + a * (state[r].x.get(l) - from[r].get(l)),
+                        None => state[r].x.get(l),
                     }
-                    if let Some(o) = tan {
-                        let a = pts[i.saturating_sub(1)].0;
-                        let b = pts[(i + 1).min(n - 1)].0;
-                        v[o..o + 3].copy_from_slice(&tangent(a, b).to_array());
-                    }
-                    if let Some(o) = wetness {
-                        v[o] = w;
-                    }
+                };
+                for j in 0..span.count {
+                    let frame = guide_frame_at(*span, j, &fl.data.rest, head, |p| x(p - span.first));
+                    let want = (
+                        x(j),
+                        wet[b * lay.rows + j as usize][l],
+                        frame,
+                        fl.data.rest[(span.rest + j) as usize],
+                    );
+                    let got = cols.point((span.first + j) as usize);
+                    let bits = |p: (Vec3, f32, glam::Vec4, Vec3)| {
+                        [
+                            p.0.to_array(),
+                            [p.1; 3],
+                            [p.2.x, p.2.y, p.2.z],
+                            [p.2.w, 0.0, 0.0],
+                            p.3.to_array(),
+                        ]
+                        .concat()
+                        .iter()
+                        .map(|v| v.to_bits())
+                        .collect::<Vec<_>>()
+                    };
+                    assert_eq!(bits(got), bits(want), "guide {g} point {j}");
                 }
             }
-        };
-        for_tasks(pool, strands.div_ceil(STRANDS_PER_TASK), task);
+        }
     }
 }

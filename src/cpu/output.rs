@@ -226,7 +226,7 @@ fn prefetch_block(job: &Job, b: usize) {
 /// # Safety
 /// `dst .. dst + src.len()` must be writable and not overlap `src`.
 #[inline(always)]
-unsafe fn copy_run(src: &[f32], dst: *mut f32) {
+pub(super) unsafe fn copy_run(src: &[f32], dst: *mut f32) {
     let len = src.len();
     if len < 8 {
         std::ptr::copy_nonoverlapping(src.as_ptr(), dst, len);
@@ -281,15 +281,49 @@ fn tangents(rows: &[StateRow], i: usize, n: &[u32; W]) -> L3 {
         let cx = pick(next.x[l], here.x[l]);
         let cy = pick(next.y[l], here.y[l]);
         let cz = pick(next.z[l], here.z[l]);
-        let (dx, dy, dz) = (cx - a.x[l], cy - a.y[l], cz - a.z[l]);
+        t.x[l] = cx - a.x[l];
+        t.y[l] = cy - a.y[l];
+        t.z[l] = cz - a.z[l];
+    }
+    unit_lanes(&t)
+}
+
+/// Each lane of `d` over its length, or +z where that is zero or not finite (as
+/// `normalize_or(Vec3::Z)` and the follower law's `tangent` give), branch-free.
+#[inline(always)]
+pub(super) fn unit_lanes(d: &L3) -> L3 {
+    let mut t = L3::ZERO;
+    for l in 0..W {
+        let (dx, dy, dz) = (d.x[l], d.y[l], d.z[l]);
         let len2 = dx * dx + dy * dy + dz * dz;
-        let ok = (len2 > 0.0) & (len2 < f32::INFINITY);
-        let inv = 1.0 / (if ok { len2 } else { 1.0 }).sqrt();
-        t.x[l] = if ok { dx * inv } else { 0.0 };
-        t.y[l] = if ok { dy * inv } else { 0.0 };
-        t.z[l] = if ok { dz * inv } else { 1.0 };
+        // All ones where the length is usable; the selects are bit masks (no branch per lane).
+        let ok = 0u32.wrapping_sub(((len2 > 0.0) & (len2 < f32::INFINITY)) as u32);
+        let one = 1.0f32.to_bits() & !ok;
+        let inv = 1.0 / f32::from_bits((len2.to_bits() & ok) | one).sqrt();
+        t.x[l] = f32::from_bits((dx * inv).to_bits() & ok);
+        t.y[l] = f32::from_bits((dy * inv).to_bits() & ok);
+        t.z[l] = f32::from_bits((dz * inv).to_bits() & ok | one);
     }
     t
+}
+
+/// Lays the 8 vertices whose components are `cols` out one after the other at
+/// `run[at..at + 8 * stride]`: an 8 x 8 register transpose on AVX2 (which also writes up to
+/// 8 - `stride` floats past the eighth), a float at a time elsewhere.
+#[inline(always)]
+pub(super) fn stage_run(avx2: bool, cols: &[Lane; 8], run: &mut [f32], at: usize, stride: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: AVX2 is present (`avx2` comes from `cpu_has_avx2`).
+        unsafe { super::transpose::transpose_run(cols, run, at, stride) };
+        return;
+    }
+    let _ = avx2;
+    for l in 0..W {
+        for (k, col) in cols[..stride].iter().enumerate() {
+            run[at + l * stride + k] = col[l];
+        }
+    }
 }
 
 #[cfg(test)]

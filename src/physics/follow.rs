@@ -58,7 +58,10 @@ pub fn guide_frame(head: Vec4, segment: Option<(Vec3, Vec3, Vec3, Vec3)>) -> Vec
         return head;
     }
     let q = a.cross(b).extend(1.0 + c);
-    quat_mul(q * (1.0 / q.dot(q).sqrt()), head)
+    // The squared length summed left to right (not `dot`, whose order is the SIMD's), so that
+    // `follow_lanes::guide_frame_lanes` gives the same bits on every platform.
+    let len2 = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
+    quat_mul(q * (1.0 / len2.sqrt()), head)
 }
 
 /// Guide point `j` of `span`'s frame from the guide groom's positions `x` (flat, guide-groom
@@ -165,13 +168,6 @@ pub fn follow_velocity(f: &Follow, spans: &[GuideSpan], i: u32, n: u32, vel: &im
         v += mix(vel(span.first + j), vel(span.first + j + 1), u) * f.weights[k];
     }
     v
-}
-
-/// The unit tangent at a point from its neighbours before `a` and after `b` (the vertex
-/// output's: +z where they coincide).
-#[inline]
-pub fn tangent(a: Vec3, b: Vec3) -> Vec3 {
-    unit(b - a).unwrap_or(Vec3::Z)
 }
 
 /// A head rotation as the law's xyzw quaternion.

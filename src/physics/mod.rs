@@ -9,6 +9,7 @@ pub mod clumping;
 pub mod collide;
 pub mod counting_sort;
 pub mod follow;
+pub mod follow_lanes;
 pub mod followers;
 pub mod grid;
 pub mod hash_grid;
