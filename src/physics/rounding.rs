@@ -18,6 +18,17 @@ pub fn round_nonneg(x: f64) -> u64 {
     t.saturating_add((x - t as f64 >= 0.5) as u64)
 }
 
+/// `x.round() as i64` (half away from zero; NaN gives 0, beyond `i64` saturates): truncate
+/// toward zero, then one away from zero where the dropped part is a half or more (exact, as
+/// in [`round_nonneg`]).
+#[inline(always)]
+pub fn round_i64(x: f64) -> i64 {
+    let t = x as i64;
+    let frac = x - t as f64;
+    t.saturating_add((frac >= 0.5) as i64)
+        .saturating_sub((frac <= -0.5) as i64)
+}
+
 /// `v.floor() as i32` (NaN gives 0, beyond `i32` saturates): truncate toward zero, then one
 /// down where that rounded a negative number up.
 #[inline(always)]
@@ -57,6 +68,8 @@ mod tests {
         for &x in &xs {
             assert_eq!(floor_nonneg(x), x.floor() as u64, "{x}");
             assert_eq!(round_nonneg(x), x.round() as u64, "{x}");
+            assert_eq!(round_i64(x), x.round() as i64, "{x}");
+            assert_eq!(round_i64(-x), (-x).round() as i64, "{x}");
         }
         let mut vs: Vec<f32> = vec![
             0.0,

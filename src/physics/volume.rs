@@ -7,6 +7,7 @@
 
 use crate::error::{Error, Result};
 use crate::groom::Groom;
+use crate::physics::rounding::round_i64;
 use glam::{Mat3, Vec3};
 
 /// Mass per fixed-point unit, kg: a million points of 10 mg each sum far inside an i64.
@@ -41,7 +42,7 @@ pub struct CellSums {
 
 impl CellSums {
     /// Adds `o` (wrapping: the sums cannot reach i64's range, see [`MASS_QUANTUM`]).
-    #[inline]
+    #[inline(always)]
     pub fn add(&mut self, o: &CellSums) {
         self.mass = self.mass.wrapping_add(o.mass);
         for k in 0..3 {
@@ -145,31 +146,57 @@ pub fn weights(f: Vec3) -> [f32; 8] {
     ]
 }
 
-/// One point's share for a corner of weight `w`: its mass and momentum in quanta.
+/// Bits of a corner's fixed-point weight along one axis.
+pub const AXIS_WEIGHT_BITS: u32 = 16;
+
+/// A point's mass and momentum in quanta, rounded once (the speed clamped first).
 #[inline]
-pub fn share(mass: f32, v: Vec3, w: f32) -> CellSums {
-    let m = mass * w;
+pub fn point_quanta(mass: f32, v: Vec3) -> [i64; 4] {
     let v = v.clamp(Vec3::splat(-MAX_SPREAD_SPEED), Vec3::splat(MAX_SPREAD_SPEED));
-    let q = |x: f32, quantum: f64| (x as f64 / quantum).round() as i64;
-    CellSums {
-        mass: q(m, MASS_QUANTUM),
-        momentum: [
-            q(m * v.x, MOMENTUM_QUANTUM),
-            q(m * v.y, MOMENTUM_QUANTUM),
-            q(m * v.z, MOMENTUM_QUANTUM),
-        ],
-    }
+    let m = mass as f64;
+    let (to_mass, to_momentum) = (1.0 / MASS_QUANTUM, 1.0 / MOMENTUM_QUANTUM);
+    [
+        round_i64(m * to_mass),
+        round_i64(m * v.x as f64 * to_momentum),
+        round_i64(m * v.y as f64 * to_momentum),
+        round_i64(m * v.z as f64 * to_momentum),
+    ]
+}
+
+/// The eight corners' trilinear weights (x fastest) in fixed point: each axis's fraction in
+/// 1/2^16 and its complement, multiplied, so the eight sum to exactly 2^48.
+#[inline]
+pub fn fixed_weights(f: Vec3) -> [i64; 8] {
+    let one = 1i64 << AXIS_WEIGHT_BITS;
+    let axis = |t: f32| {
+        let hi = (round_i64(t as f64 * one as f64)).clamp(0, one);
+        [one - hi, hi]
+    };
+    let (x, y, z) = (axis(f.x), axis(f.y), axis(f.z));
+    std::array::from_fn(|c| x[c & 1] * y[(c >> 1) & 1] * z[c >> 2])
+}
+
+/// `q` times the fixed-point weight `w` (of 2^48), floored: a corner's share of a point's
+/// quanta, in integers (one 64 × 64 → 128-bit multiply).
+#[inline]
+fn share_of(q: i64, w: i64) -> i64 {
+    ((q as i128 * w as i128) >> (3 * AXIS_WEIGHT_BITS)) as i64
 }
 
 /// Spreads a point of `mass` at `p` (head space) moving at `v` onto `sums`; nothing outside.
+/// The point's quanta are rounded once and shared among its corners by integer weights (a
+/// share rounded per corner, 32 roundings a point, cost most of the pass).
 #[inline]
 pub fn spread(grid: &VolumeGrid, sums: &mut [CellSums], p: Vec3, v: Vec3, mass: f32) {
     let Some((base, f)) = grid.locate(p) else {
         return;
     };
-    let w = weights(f);
-    for (c, wc) in grid.corners(base).into_iter().zip(w) {
-        sums[c].add(&share(mass, v, wc));
+    let q = point_quanta(mass, v);
+    for (c, w) in grid.corners(base).into_iter().zip(fixed_weights(f)) {
+        sums[c].add(&CellSums {
+            mass: share_of(q[0], w),
+            momentum: [share_of(q[1], w), share_of(q[2], w), share_of(q[3], w)],
+        });
     }
 }
 
