@@ -234,11 +234,26 @@ pub fn collide_sdf_point(x: &mut Vec3, v: &mut Vec3, sdf: &Sdf, at: &PlacedSdf, 
     *v = respond(*v, n, friction);
 }
 
-/// Pushes the free lanes of one row (inverse mass > 0) out of a placed SDF.
+/// Pushes the free lanes of one row (inverse mass > 0) out of a placed SDF. The placed box is
+/// tested for all eight lanes at once first (branch-free), and only lanes inside it take the
+/// point's path: most hair is outside a head's box, and a call per point to learn that was
+/// half the step's time at 1.6 million points.
 #[inline]
 pub fn collide_sdf_row(x: &mut L3, v: &mut L3, inv_mass: &Lane, sdf: &Sdf, at: &PlacedSdf, friction: f32) {
+    let inside: [bool; W] = std::array::from_fn(|l| {
+        (inv_mass[l] > 0.0)
+            & (x.x[l] >= at.lo.x)
+            & (x.y[l] >= at.lo.y)
+            & (x.z[l] >= at.lo.z)
+            & (x.x[l] <= at.hi.x)
+            & (x.y[l] <= at.hi.y)
+            & (x.z[l] <= at.hi.z)
+    });
+    if !inside.iter().fold(false, |a, &b| a | b) {
+        return;
+    }
     for l in 0..W {
-        if inv_mass[l] <= 0.0 {
+        if !inside[l] {
             continue;
         }
         let (mut p, mut u) = (x.get(l), v.get(l));
