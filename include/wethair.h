@@ -140,6 +140,9 @@ enum WetHairGuideChoice
   WETHAIR_GUIDES_SPREAD = 2,
   // The `count` host strands listed in `strands` (each once).
   WETHAIR_GUIDES_GIVEN = 3,
+  // `count` strands chosen by wethair by clustering the roots (k-means; since 0.5.1):
+  // followers sit nearer their guides where the scalp is uneven.
+  WETHAIR_GUIDES_CLUSTER = 4,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -521,7 +524,8 @@ typedef struct WetHairVolume {
 typedef struct WetHairGuides {
   // A `WetHairGuideChoice`. Default `WETHAIR_GUIDES_ALL`.
   uint32_t choice;
-  // `n` of every n-th, the spread choice's guide count, or the length of `strands`.
+  // `n` of every n-th, the spread or cluster choice's guide count, or the length of
+  // `strands`.
   uint32_t count;
   // The given guides' host strand indices (`WETHAIR_GUIDES_GIVEN` only; may be NULL
   // otherwise); copied at create.

@@ -257,11 +257,11 @@ fn gpu_followers_equal_cpu_followers() {
     assert!(guides < 2e-3, "GPU guides {guides} m from the CPU's");
 }
 
-/// The ponytail (517 strands, metres) with 64 guides spread over its scalp: the real groom's
-/// followers stay finite and hang with their guides, and the result repeats bit for bit on 1
-/// and 4 threads.
+/// The ponytail (517 strands, metres) with 64 guides spread over its scalp, and with 64 chosen
+/// by clustering its roots: the real groom's followers stay finite and hang with their guides,
+/// and the result repeats bit for bit on 1 and 4 threads.
 #[test]
-fn a_real_groom_with_spread_guides_is_deterministic_across_threads() {
+fn a_real_groom_with_spread_or_clustered_guides_is_deterministic_across_threads() {
     let _serial = serial();
     let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/ponytail_back.tfx"));
     let opt = LoadOptions {
@@ -270,24 +270,26 @@ fn a_real_groom_with_spread_guides_is_deterministic_across_threads() {
         ..Default::default()
     };
     let groom: Groom = load_file_with(path, &opt).unwrap();
-    let out = |threads: u32| {
-        let p = SimParams {
-            threads,
-            backend: Backend::CPU,
-            guides: Guides {
-                choice: GuideChoice::Spread(64),
-                ..Guides::ALL
-            },
-            ..SimParams::default()
+    for choice in [GuideChoice::Spread(64), GuideChoice::Cluster(64)] {
+        let out = |threads: u32| {
+            let p = SimParams {
+                threads,
+                backend: Backend::CPU,
+                guides: Guides {
+                    choice: choice.clone(),
+                    ..Guides::ALL
+                },
+                ..SimParams::default()
+            };
+            let mut sim = Simulation::new(&groom, p).unwrap();
+            assert_eq!(sim.guide_counts(), Some((64, 64)), "{choice:?}");
+            run(&mut sim, 30)
         };
-        let mut sim = Simulation::new(&groom, p).unwrap();
-        assert_eq!(sim.guide_counts(), Some((64, 64)));
-        run(&mut sim, 30)
-    };
-    let (one, four) = (out(1), out(4));
-    assert!(one.iter().all(|f| f.is_finite()));
-    let same = one.iter().zip(&four).all(|(x, y)| x.to_bits() == y.to_bits());
-    assert!(same, "1 and 4 threads differ");
+        let (one, four) = (out(1), out(4));
+        assert!(one.iter().all(|f| f.is_finite()), "{choice:?}");
+        let same = one.iter().zip(&four).all(|(x, y)| x.to_bits() == y.to_bits());
+        assert!(same, "{choice:?}: 1 and 4 threads differ");
+    }
 }
 
 /// Bad guide parameters are refused by name; a fraction needs guides and a value in (0, 1].
@@ -309,6 +311,13 @@ fn bad_guides_are_refused() {
     bad(
         Guides {
             choice: GuideChoice::Spread(0),
+            ..Guides::ALL
+        },
+        "at least one",
+    );
+    bad(
+        Guides {
+            choice: GuideChoice::Cluster(0),
             ..Guides::ALL
         },
         "at least one",
@@ -473,6 +482,14 @@ fn guides_through_c() {
     );
     assert_eq!(unsafe { wethair_sim_step(s, DT) }, WETHAIR_OK);
     unsafe { wethair_sim_destroy(s) };
+    // Clustered guides: 40 of the 400 strands.
+    let mut c = desc(full);
+    c.guides.choice = WetHairGuideChoice::WETHAIR_GUIDES_CLUSTER as u32;
+    c.guides.count = 40;
+    let (r, cs) = create(&c);
+    assert_eq!(r, WETHAIR_OK, "{}", crate::common::last_error());
+    assert_eq!(unsafe { wethair_sim_step(cs, DT) }, WETHAIR_OK);
+    unsafe { wethair_sim_destroy(cs) };
     // A NULL list, a bad choice, a repeated strand: refused by name, no simulation made.
     let mut bad = d;
     bad.guides.strands = std::ptr::null();

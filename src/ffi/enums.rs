@@ -80,7 +80,8 @@ c_enum!(
         WETHAIR_GUIDES_ALL,
         WETHAIR_GUIDES_EVERY_NTH,
         WETHAIR_GUIDES_SPREAD,
-        WETHAIR_GUIDES_GIVEN
+        WETHAIR_GUIDES_GIVEN,
+        WETHAIR_GUIDES_CLUSTER
     ]
 );
 c_enum!(

@@ -259,6 +259,9 @@ pub enum WetHairGuideChoice {
     WETHAIR_GUIDES_SPREAD = 2,
     /// The `count` host strands listed in `strands` (each once).
     WETHAIR_GUIDES_GIVEN = 3,
+    /// `count` strands chosen by wethair by clustering the roots (k-means; since 0.5.1):
+    /// followers sit nearer their guides where the scalp is uneven.
+    WETHAIR_GUIDES_CLUSTER = 4,
 }
 
 /// Guides and followers (since 0.5.0; docs/GUIDES.md): the backend simulates the guides only,
@@ -270,7 +273,8 @@ pub enum WetHairGuideChoice {
 pub struct WetHairGuides {
     /// A `WetHairGuideChoice`. Default `WETHAIR_GUIDES_ALL`.
     pub choice: u32,
-    /// `n` of every n-th, the spread choice's guide count, or the length of `strands`.
+    /// `n` of every n-th, the spread or cluster choice's guide count, or the length of
+    /// `strands`.
     pub count: u32,
     /// The given guides' host strand indices (`WETHAIR_GUIDES_GIVEN` only; may be NULL
     /// otherwise); copied at create.
@@ -293,6 +297,7 @@ impl From<&crate::Guides> for WetHairGuides {
             C::All => (WetHairGuideChoice::WETHAIR_GUIDES_ALL, 0),
             C::EveryNth(n) => (WetHairGuideChoice::WETHAIR_GUIDES_EVERY_NTH, *n),
             C::Spread(c) => (WetHairGuideChoice::WETHAIR_GUIDES_SPREAD, *c),
+            C::Cluster(c) => (WetHairGuideChoice::WETHAIR_GUIDES_CLUSTER, *c),
             // A given list has no pointer to hand back; the defaults never hold one.
             C::Given(l) => (WetHairGuideChoice::WETHAIR_GUIDES_GIVEN, l.len() as u32),
         };
@@ -320,6 +325,7 @@ impl WetHairGuides {
             WetHairGuideChoice::WETHAIR_GUIDES_ALL => C::All,
             WetHairGuideChoice::WETHAIR_GUIDES_EVERY_NTH => C::EveryNth(self.count),
             WetHairGuideChoice::WETHAIR_GUIDES_SPREAD => C::Spread(self.count),
+            WetHairGuideChoice::WETHAIR_GUIDES_CLUSTER => C::Cluster(self.count),
             WetHairGuideChoice::WETHAIR_GUIDES_GIVEN => {
                 if self.count as usize > crate::groom::MAX_STRANDS {
                     return Err(Fail(

@@ -16,6 +16,10 @@ pub enum GuideChoice {
     /// the groom's spread order: roots in Morton order, taken in bit-reversed order, so any
     /// prefix is an even subsample).
     Spread(u32),
+    /// `count` strands chosen by wethair by clustering the roots (k-means; each cluster's
+    /// strand nearest its centre): guides follow the roots' density, so followers sit nearer
+    /// their guides where a scalp is uneven (fewer only where a cluster ends empty).
+    Cluster(u32),
     /// The host's own guide strands (host strand indices, each at most once).
     Given(Vec<u32>),
 }
@@ -86,6 +90,8 @@ impl Guides {
             GuideChoice::EveryNth(_) => {}
             GuideChoice::Spread(0) => return Err(invalid!("guides: a spread choice needs at least one guide")),
             GuideChoice::Spread(_) => {}
+            GuideChoice::Cluster(0) => return Err(invalid!("guides: a cluster choice needs at least one guide")),
+            GuideChoice::Cluster(_) => {}
             GuideChoice::Given(list) if list.is_empty() => return Err(invalid!("guides: the given list is empty")),
             GuideChoice::Given(_) => {}
         }

@@ -86,6 +86,57 @@ pub fn choose(roots: &[Vec3], is_guide: impl Fn(u32) -> bool, count: Option<usiz
     g
 }
 
+/// Lloyd iterations of [`cluster`]: the seeds are already even, and the cost after this many
+/// barely moves (each is a nearest-centre query per root).
+pub const CLUSTER_ITERATIONS: usize = 8;
+
+/// `k` guides chosen by clustering the roots (k-means, [`CLUSTER_ITERATIONS`] Lloyd
+/// iterations seeded by the first `k` of the spread order; sums in f64 in strand order, so
+/// deterministic), each cluster's guide the strand nearest its centre (ties by index).
+/// Returns host strand indices, ascending; fewer than `k` only where a cluster ends empty.
+/// Clusters follow the roots' density, so followers sit nearer their guides where the scalp is
+/// uneven than with the spread choice.
+pub fn cluster(roots: &[Vec3], k: usize) -> Vec<u32> {
+    let k = k.clamp(1, roots.len().max(1));
+    let mut centres: Vec<Vec3> = choose(roots, |_| true, Some(k))
+        .iter()
+        .map(|&s| roots[s as usize])
+        .collect();
+    let mut near = Vec::with_capacity(1);
+    let mut member = vec![0u32; roots.len()];
+    for it in 0..=CLUSTER_ITERATIONS {
+        let grid = RootGrid::new(&centres);
+        for (s, &r) in roots.iter().enumerate() {
+            grid.nearest(r, 1, &mut near);
+            member[s] = near[0].1;
+        }
+        if it == CLUSTER_ITERATIONS {
+            break;
+        }
+        let mut sum = vec![(glam::DVec3::ZERO, 0u32); centres.len()];
+        for (s, &c) in member.iter().enumerate() {
+            sum[c as usize].0 += roots[s].as_dvec3();
+            sum[c as usize].1 += 1;
+        }
+        for (c, (total, n)) in centres.iter_mut().zip(sum) {
+            if n > 0 {
+                *c = (total / n as f64).as_vec3();
+            }
+        }
+    }
+    let mut best: Vec<Option<(f32, u32)>> = vec![None; centres.len()];
+    for (s, &c) in member.iter().enumerate() {
+        let d2 = roots[s].distance_squared(centres[c as usize]);
+        let b = &mut best[c as usize];
+        if b.is_none_or(|(d, _)| d2 < d) {
+            *b = Some((d2, s as u32));
+        }
+    }
+    let mut picked: Vec<u32> = best.into_iter().flatten().map(|(_, s)| s).collect();
+    picked.sort_unstable();
+    picked
+}
+
 /// Which guides each host strand follows when the guides `active` (host strand indices, the
 /// guide groom's first strands) are simulated: an active guide follows itself; any other
 /// strand the `per` (1 or 3) active guides with the nearest roots, weighted by inverse root
@@ -229,6 +280,42 @@ mod tests {
 
     /// Every prefix of the spread order is spread: the first quarter of a 64 × 64 sheet of
     /// roots leaves no root farther than 3 spacings from one of its own.
+    /// Clustering picks `k` distinct strands, the same ones every run, and on an uneven scalp
+    /// (a dense patch beside a sparse one) its followers sit nearer their guides than with the
+    /// spread choice: the mean distance from a root to its nearest guide root is lower.
+    #[test]
+    fn clusters_fit_an_uneven_scalp_better_than_spread() {
+        let mut roots = Vec::new();
+        let mut rng = crate::scenes::Lcg(21);
+        for _ in 0..3000 {
+            roots.push(Vec3::new(rng.next_f32() * 0.05, rng.next_f32() * 0.05, 0.0));
+        }
+        for _ in 0..1000 {
+            roots.push(Vec3::new(0.05 + rng.next_f32() * 0.15, rng.next_f32() * 0.05, 0.0));
+        }
+        let k = 100;
+        let picked = cluster(&roots, k);
+        assert_eq!(picked, cluster(&roots, k), "deterministic");
+        assert!(picked.len() <= k && picked.len() >= k - 2, "{} guides", picked.len());
+        assert!(picked.windows(2).all(|w| w[0] < w[1]), "distinct, ascending");
+        let mean_to_nearest = |guides: &[u32]| {
+            let g: Vec<Vec3> = guides.iter().map(|&s| roots[s as usize]).collect();
+            let grid = RootGrid::new(&g);
+            let mut near = Vec::new();
+            roots
+                .iter()
+                .map(|&r| {
+                    grid.nearest(r, 1, &mut near);
+                    near[0].0.sqrt() as f64
+                })
+                .sum::<f64>()
+                / roots.len() as f64
+        };
+        let spread = choose(&roots, |_| true, Some(k));
+        let (c, s) = (mean_to_nearest(&picked), mean_to_nearest(&spread));
+        assert!(c < 0.95 * s, "cluster {c:.5} m against spread {s:.5} m");
+    }
+
     #[test]
     fn spread_prefixes_cover_the_scalp() {
         let roots: Vec<Vec3> = (0..64 * 64)

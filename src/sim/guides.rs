@@ -10,7 +10,7 @@ use crate::error::Result;
 use crate::groom::Groom;
 use crate::params::{GuideChoice, Guides};
 use crate::physics::follow::{follow_point, follow_velocity, guide_frame_at, head_quat, GuidePoint};
-use crate::physics::followers::{bind, choose, Followers, GuideSpan};
+use crate::physics::followers::{bind, choose, cluster, Followers, GuideSpan};
 use glam::{Affine3A, Quat, Vec3};
 
 /// The guides' bookkeeping.
@@ -43,6 +43,13 @@ impl GuideState {
             GuideChoice::All => choose(&roots, |_| true, None),
             GuideChoice::EveryNth(n) => choose(&roots, |s| s % n == 0, None),
             GuideChoice::Spread(c) => choose(&roots, |_| true, Some(*c as usize)),
+            GuideChoice::Cluster(c) => {
+                let mut is = vec![false; roots.len()];
+                cluster(&roots, *c as usize)
+                    .into_iter()
+                    .for_each(|s| is[s as usize] = true);
+                choose(&roots, |s| is[s as usize], None)
+            }
             GuideChoice::Given(list) => {
                 let mut is = vec![false; roots.len()];
                 list.iter().for_each(|&s| is[s as usize] = true);

@@ -175,7 +175,7 @@ namespace WetHair
     }
 
     /// <summary>Which strands are guides (WetHairGuideChoice).</summary>
-    public enum GuideChoice : uint { All = 0, EveryNth = 1, Spread = 2, Given = 3 }
+    public enum GuideChoice : uint { All = 0, EveryNth = 1, Spread = 2, Given = 3, Cluster = 4 }
 
     /// <summary>Since 0.5.0: guides and followers (docs/GUIDES.md): only the guides are
     /// simulated; every strand is written, followers from their nearest guides.</summary>

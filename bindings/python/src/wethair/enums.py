@@ -43,6 +43,7 @@ class GuideChoice(enum.IntEnum):
     EVERY_NTH = 1
     SPREAD = 2
     GIVEN = 3
+    CLUSTER = 4
 
 
 class VertexAttribute(enum.IntFlag):
