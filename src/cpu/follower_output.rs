@@ -29,20 +29,34 @@ pub(super) fn write_followers(
     pool: Option<&super::pool::Pool>,
     dst: &mut [f32],
 ) {
-    let job = Job {
-        fl,
-        points,
-        blend,
-        one_point: false,
-        stride: attrs.stride(),
-        pos: attrs.offset(VertexAttributes::POSITION),
-        tan: attrs.offset(VertexAttributes::TANGENT),
-        wetness: attrs.offset(VertexAttributes::WETNESS),
-        dst: Shared(dst.as_mut_ptr()),
-        dst_len: dst.len(),
-        avx2: super::kernel::cpu_has_avx2(),
-    };
+    let job = Job::new(fl, points, blend, attrs, dst, super::kernel::cpu_has_avx2());
     run_job(&job, fl.strand_first.len() - 1, pool);
+}
+
+impl<'a> Job<'a> {
+    /// Writing `fl`'s strands' `attrs` into `dst` from `points`, blended by `blend`.
+    fn new(
+        fl: &'a Followers,
+        points: &'a GuideColumns,
+        blend: f32,
+        attrs: VertexAttributes,
+        dst: &mut [f32],
+        avx2: bool,
+    ) -> Self {
+        Job {
+            fl,
+            points,
+            blend,
+            one_point: false,
+            stride: attrs.stride(),
+            pos: attrs.offset(VertexAttributes::POSITION),
+            tan: attrs.offset(VertexAttributes::TANGENT),
+            wetness: attrs.offset(VertexAttributes::WETNESS),
+            dst: Shared(dst.as_mut_ptr()),
+            dst_len: dst.len(),
+            avx2,
+        }
+    }
 }
 
 /// Writes host strands `0..strands` as `job` says, split across the pool.
@@ -315,17 +329,8 @@ mod tests {
                 let write = |one_point: bool, avx2: bool| {
                     let mut dst = vec![f32::NAN; fl.rest.len() * attrs.stride()];
                     let job = Job {
-                        fl: &fl,
-                        points: &points,
-                        blend,
                         one_point,
-                        stride: attrs.stride(),
-                        pos: attrs.offset(VertexAttributes::POSITION),
-                        tan: attrs.offset(VertexAttributes::TANGENT),
-                        wetness: attrs.offset(VertexAttributes::WETNESS),
-                        dst: Shared(dst.as_mut_ptr()),
-                        dst_len: dst.len(),
-                        avx2,
+                        ..Job::new(&fl, &points, blend, attrs, &mut dst, avx2)
                     };
                     run_job(&job, fl.follow.len(), None);
                     dst

@@ -92,7 +92,15 @@ impl Sdf {
     /// Trilinear distance and its gradient at `p` (grid frame), or `None` outside the grid.
     #[inline]
     pub fn sample(&self, p: Vec3) -> Option<(f32, Vec3)> {
-        let g = (p - self.origin) / self.cell;
+        let (c, f) = self.cell_at((p - self.origin) / self.cell)?;
+        let (d, g) = super::trilinear::trilinear(&c, f);
+        Some((d, g / self.cell))
+    }
+
+    /// The eight corner values (x fastest) and the fractions within of the cell holding `g`
+    /// (grid frame, in cells from the first sample), or `None` outside the grid.
+    #[inline(always)]
+    fn cell_at(&self, g: Vec3) -> Option<([f32; 8], Vec3)> {
         let [nx, ny, nz] = self.dims;
         let top = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);
         if !(g.cmpge(Vec3::ZERO).all() && g.cmple(top).all()) {
@@ -116,8 +124,7 @@ impl Sdf {
             at(0, 1, 1),
             at(1, 1, 1),
         ];
-        let (d, g) = super::trilinear::trilinear(&c, f);
-        Some((d, g / self.cell))
+        Some((c, f))
     }
 
     /// The grid's box in its own frame: lower and upper corners.
@@ -280,43 +287,21 @@ fn penetrating_lanes(x: &L3, inside: &[bool; W], sdf: &Sdf, at: &PlacedSdf) -> [
 #[inline(always)]
 fn distances_lanes(x: &L3, inside: &[bool; W], sdf: &Sdf, at: &PlacedSdf) -> [Option<f32>; W] {
     let (m, t) = (at.to_grid.matrix3, at.to_grid.translation);
-    let [nx, ny, nz] = sdf.dims;
-    let top = [(nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32];
-    let (sx, sy) = (nx as usize, nx as usize * ny as usize);
     let mut out = [None; W];
     for l in 0..W {
+        if !inside[l] {
+            continue;
+        }
         // glam's `Affine3A::transform_point3`: ((X p.x + Y p.y) + Z p.z) + t, per component.
         let (px, py, pz) = (x.x[l], x.y[l], x.z[l]);
-        let q = [
+        let q = Vec3::new(
             ((m.x_axis.x * px + m.y_axis.x * py) + m.z_axis.x * pz) + t.x,
             ((m.x_axis.y * px + m.y_axis.y * py) + m.z_axis.y * pz) + t.y,
             ((m.x_axis.z * px + m.y_axis.z * py) + m.z_axis.z * pz) + t.z,
-        ];
-        let g = [
-            (q[0] - sdf.origin.x) / sdf.cell,
-            (q[1] - sdf.origin.y) / sdf.cell,
-            (q[2] - sdf.origin.z) / sdf.cell,
-        ];
-        let in_grid = (0..3).fold(inside[l], |a, k| a & (g[k] >= 0.0) & (g[k] <= top[k]));
-        if !in_grid {
-            continue;
-        }
-        let i = (g[0] as u32).min(nx - 2) as usize;
-        let j = (g[1] as u32).min(ny - 2) as usize;
-        let k = (g[2] as u32).min(nz - 2) as usize;
-        let f = Vec3::new(g[0] - i as f32, g[1] - j as f32, g[2] - k as f32);
-        let v = |di: usize, dj: usize, dk: usize| sdf.values[(i + di) + sx * (j + dj) + sy * (k + dk)];
-        let c = [
-            v(0, 0, 0),
-            v(1, 0, 0),
-            v(0, 1, 0),
-            v(1, 1, 0),
-            v(0, 0, 1),
-            v(1, 0, 1),
-            v(0, 1, 1),
-            v(1, 1, 1),
-        ];
-        out[l] = Some(super::trilinear::trilinear(&c, f).0);
+        );
+        out[l] = sdf
+            .cell_at((q - sdf.origin) / sdf.cell)
+            .map(|(c, f)| super::trilinear::trilinear(&c, f).0);
     }
     out
 }
