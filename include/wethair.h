@@ -641,7 +641,8 @@ typedef struct WetHairSimDesc {
   uint32_t reserved6;
   // 1: roots on a skinned mesh (since 0.4.0): each strand's pinned points follow the frame
   // `wethair_sim_set_root_frames` sets instead of the head transform (which still moves
-  // the colliders). 0 (the default): roots follow the head.
+  // the colliders); with guides, followers' pinned points too. 0 (the default): roots
+  // follow the head.
   uint32_t skinned_roots;
   // A root that moves farther than this in one step (or one `wethair_sim_advance` frame)
   // carries its strand there rigidly, at rest, instead of sweeping it through the world, m;
@@ -1126,10 +1127,10 @@ WetHairResult wethair_sim_set_sdf_transform(struct WetHairSim *sim, uint32_t ind
 WetHairResult wethair_sim_set_guide_fraction(struct WetHairSim *sim, float fraction);
 
 // Sets where every strand's root is at the end of the next step (or `wethair_sim_advance`
-// frame), for a simulation made with `skinned_roots`: `count` (the groom's strand count)
-// positions (x y z each, m, world: the strand's first point) and rotations (x y z w each, a
-// unit quaternion: the turn from the groom's rest frame to the world). Pinned points after
-// the first keep their rest offset from it, turned. The roots move there over the step's
+// frame), for a simulation made with `skinned_roots`: `count` (the groom's strand count,
+// followers included where guides are on) positions (x y z each, m, world: the strand's
+// first point) and rotations (x y z w each, a unit quaternion: the turn from the groom's rest
+// frame to the world). Pinned points after the first keep their rest offset from it, turned. The roots move there over the step's
 // substeps as the head does. All or nothing: on error no frame changes.
 //
 // # Safety

@@ -151,8 +151,11 @@ pub trait Engine: std::fmt::Debug + Send {
     /// storage; later calls (a change of the simulated fraction) replace the bindings.
     fn set_followers(&mut self, f: &Followers) -> Result<()>;
     /// The followers' pose for the next output: the head's rotation their offsets turn with,
-    /// and how far the output has moved from `Followers::from` to `Followers::follow` (0..=1).
-    fn pose_followers(&mut self, head: Quat, blend: f32);
+    /// how far the output has moved from `Followers::from` to `Followers::follow` (0..=1),
+    /// and with skinned roots every host strand's root frame (else empty): each guide's frames
+    /// start from its own, and each strand's root points land on its own
+    /// (`physics/follow_roots.rs`).
+    fn pose_followers(&mut self, head: Quat, blend: f32, roots: &[RootFrame]);
     /// Steps only the first `n` strands from the next step on (the guides a lower simulated
     /// fraction keeps; the others keep their state). The CPU steps whole blocks of 8.
     fn set_active_strands(&mut self, n: usize);

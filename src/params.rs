@@ -511,12 +511,6 @@ impl SimParams {
         }
         self.volume.validate()?;
         self.guides.validate()?;
-        if self.guides.enabled() && self.skinned_roots {
-            return Err(Error::Unsupported(
-                "guides and followers with skinned roots are not built yet: followers take their roots from the head"
-                    .into(),
-            ));
-        }
         if !(self.root_teleport_distance.is_finite() && self.root_teleport_distance >= 0.0) {
             return Err(invalid!(
                 "root_teleport_distance must be finite and >= 0 m, got {}",

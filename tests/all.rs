@@ -14,6 +14,7 @@ mod ffi_wet;
 mod fixed_step;
 mod gpu;
 mod grid;
+mod guide_roots;
 mod guides;
 mod hardening;
 mod header;

@@ -371,15 +371,6 @@ fn bad_guides_are_refused() {
         },
         "guides.blend_time",
     );
-    let e = Simulation::new(
-        &g,
-        SimParams {
-            skinned_roots: true,
-            ..params(Backend::CPU, Guides::every_nth(2))
-        },
-    )
-    .unwrap_err();
-    assert!(matches!(e, Error::Unsupported(_)), "{e}");
     let mut plain = Simulation::new(&g, params(Backend::CPU, Guides::ALL)).unwrap();
     assert!(matches!(plain.set_guide_fraction(0.5), Err(Error::Unsupported(_))));
     let mut sim = Simulation::new(&g, params(Backend::CPU, Guides::every_nth(2))).unwrap();
@@ -490,6 +481,43 @@ fn guides_through_c() {
     assert_eq!(r, WETHAIR_OK, "{}", crate::common::last_error());
     assert_eq!(unsafe { wethair_sim_step(cs, DT) }, WETHAIR_OK);
     unsafe { wethair_sim_destroy(cs) };
+    // The same guides on skinned roots: one frame per strand of the groom (followers
+    // included; the guides' count is refused), every strand's root on its own frame.
+    let mut k = c;
+    k.skinned_roots = 1;
+    let (r, ks) = create(&k);
+    assert_eq!(r, WETHAIR_OK, "{}", crate::common::last_error());
+    let shift = Vec3::new(0.01, -0.02, 0.03);
+    let paper = paper_scene(400, 8).unwrap();
+    let (pos, rot): (Vec<f32>, Vec<f32>) = (
+        (0..400)
+            .flat_map(|s| (paper.positions()[s * 8] + shift).to_array())
+            .collect(),
+        (0..400).flat_map(|_| [0.0, 0.0, 0.0, 1.0]).collect(),
+    );
+    let set = |n: u32| unsafe { wethair_sim_set_root_frames(ks, pos.as_ptr(), rot.as_ptr(), n) };
+    assert_eq!(set(40), WETHAIR_ERROR_INVALID_ARGUMENT);
+    assert!(
+        crate::common::last_error().contains("400 strands"),
+        "{}",
+        crate::common::last_error()
+    );
+    assert_eq!(set(400), WETHAIR_OK, "{}", crate::common::last_error());
+    assert_eq!(
+        unsafe { wethair_sim_step(ks, DT) },
+        WETHAIR_OK,
+        "{}",
+        crate::common::last_error()
+    );
+    let mut v = vec![0.0f32; 400 * 8 * 7];
+    let mut written = 0;
+    let r = unsafe { wethair_sim_get_vertex_buffer(ks, v.as_mut_ptr(), v.len(), &mut written) };
+    assert_eq!((r, written), (WETHAIR_OK, v.len()));
+    let off = (0..400)
+        .map(|s| Vec3::from_slice(&v[s * 8 * 7..]).distance(paper.positions()[s * 8] + shift))
+        .fold(0.0, f32::max);
+    assert!(off < 1e-6, "a root is {off} m from its frame");
+    unsafe { wethair_sim_destroy(ks) };
     // A NULL list, a bad choice, a repeated strand: refused by name, no simulation made.
     let mut bad = d;
     bad.guides.strands = std::ptr::null();

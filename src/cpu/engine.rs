@@ -99,10 +99,12 @@ impl Engine for CpuBackend {
         Ok(())
     }
 
-    fn pose_followers(&mut self, head: Quat, blend: f32) {
+    fn pose_followers(&mut self, head: Quat, blend: f32, roots: &[RootFrame]) {
         if let Some(c) = &mut self.followers {
             c.head = head;
             c.blend = blend;
+            c.roots.clear();
+            c.roots.extend_from_slice(roots);
         }
     }
 

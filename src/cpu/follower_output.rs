@@ -1,7 +1,8 @@
 //! Pass write_followers: every host strand from the guide points gathered by pass
 //! `guide_frames` (`followers.rs`), eight points at a time ([`follow_lanes`]) where the
 //! strand's guides have its point count, else point by point ([`output_point`]); the same bits
-//! either way (the tests hold them equal). Then the vertices, eight at a time: tangents as
+//! either way (the tests hold them equal). With skinned roots each strand is then moved onto
+//! its own root ([`root_strand`]). Then the vertices, eight at a time: tangents as
 //! lanes, laid out by a register transpose in a stage in L1, copied to the host's buffer in
 //! one piece.
 
@@ -12,12 +13,15 @@ use crate::groom::MAX_POINTS_PER_STRAND;
 use crate::params::VertexAttributes;
 use crate::physics::follow::output_point;
 use crate::physics::follow_lanes::{blend_lanes, follow_lanes};
+use crate::physics::follow_roots::{root_strand, OwnRoot, StrandPositions};
 use crate::physics::followers::{Follow, Followers};
 use crate::physics::lanes::{Lane, L3, W};
+use crate::physics::roots::RootFrame;
 use glam::Vec3;
 
 /// Pass write_followers: every host strand of `fl` from the guide points `points`, the output
-/// blended from the old bindings by `blend`, in the host's order (its rest pose, bindings and
+/// blended from the old bindings by `blend`, on its own root frame `roots[h]` with skinned
+/// roots (`roots` empty without), in the host's order (its rest pose, bindings and
 /// vertices are read and written in memory order; a groom's neighbouring strands are near each
 /// other in it, so they read the same guides from cache), each strand's vertices written once,
 /// in place.
@@ -25,20 +29,23 @@ pub(super) fn write_followers(
     fl: &Followers,
     points: &GuideColumns,
     blend: f32,
+    roots: &[RootFrame],
     attrs: VertexAttributes,
     pool: Option<&super::pool::Pool>,
     dst: &mut [f32],
 ) {
-    let job = Job::new(fl, points, blend, attrs, dst, super::kernel::cpu_has_avx2());
+    let job = Job::new(fl, points, blend, roots, attrs, dst, super::kernel::cpu_has_avx2());
     run_job(&job, fl.strand_first.len() - 1, pool);
 }
 
 impl<'a> Job<'a> {
-    /// Writing `fl`'s strands' `attrs` into `dst` from `points`, blended by `blend`.
+    /// Writing `fl`'s strands' `attrs` into `dst` from `points`, blended by `blend`, on
+    /// `roots`.
     fn new(
         fl: &'a Followers,
         points: &'a GuideColumns,
         blend: f32,
+        roots: &'a [RootFrame],
         attrs: VertexAttributes,
         dst: &mut [f32],
         avx2: bool,
@@ -47,6 +54,7 @@ impl<'a> Job<'a> {
             fl,
             points,
             blend,
+            roots,
             one_point: false,
             stride: attrs.stride(),
             pos: attrs.offset(VertexAttributes::POSITION),
@@ -70,6 +78,8 @@ struct Job<'a> {
     fl: &'a Followers,
     points: &'a GuideColumns,
     blend: f32,
+    /// Each host strand's root frame (skinned roots; else empty).
+    roots: &'a [RootFrame],
     /// The one-point law for every strand (the tests' reference for the lanes).
     one_point: bool,
     stride: usize,
@@ -122,6 +132,14 @@ fn write_strands(job: &Job, strands: std::ops::Range<usize>) {
                 let (x, w) = output_point(fl, h, i as u32, job.blend, &at);
                 pts.set(i, x, w);
             }
+        }
+        if !job.roots.is_empty() {
+            let own = OwnRoot {
+                frame: job.roots[h],
+                rest_root: fl.rest[first],
+                points: fl.root_points[h],
+            };
+            root_strand(&own, n as u32, |i| fl.rest[first + i as usize], &mut pts);
         }
         pts.close(n);
         for i0 in (0..n).step_by(W) {
@@ -215,6 +233,20 @@ impl StrandPoints {
     }
 }
 
+impl StrandPositions for StrandPoints {
+    #[inline(always)]
+    fn get(&self, i: u32) -> Vec3 {
+        let i = i as usize + 1;
+        Vec3::new(self.x[i], self.y[i], self.z[i])
+    }
+
+    #[inline(always)]
+    fn set(&mut self, i: u32, x: Vec3) {
+        let i = i as usize + 1;
+        (self.x[i], self.y[i], self.z[i]) = (x.x, x.y, x.z);
+    }
+}
+
 /// Whether every guide `f` reads has `n` points (then a follower's point `i` is each guide's
 /// point `i`, and [`follow_lanes`] applies).
 #[inline(always)]
@@ -271,6 +303,7 @@ mod tests {
                 first: (0..g).map(|k| lengths[k as usize % 5]).sum(),
                 rest: 0,
                 count: lengths[g as usize % 5],
+                host: g,
             })
             .collect();
         let total = spans.last().map_or(0, |s| s.first + s.count) as usize;
@@ -319,18 +352,34 @@ mod tests {
             follow,
             from,
             clump: 0.7,
+            root_points: Vec::new(),
         };
-        for blend in [1.0f32, 0.3] {
+        // Skinned roots: each strand on a frame of its own, 0, 1 or 2 root points.
+        let frames: Vec<RootFrame> = (0..40)
+            .map(|_| RootFrame {
+                position: Vec3::new(r(), r(), r()),
+                rotation: glam::Quat::from_rotation_y(r() * 3.0),
+            })
+            .collect();
+        let root_points: Vec<u32> = (0..40).map(|h| h % 3).collect();
+        // Blends first: the settled case clears the old bindings.
+        for (blend, roots) in [(0.3f32, false), (0.3, true), (1.0, false)] {
             if blend == 1.0 {
                 fl.from.clear();
             }
+            let roots: &[RootFrame] = if roots { &frames } else { &[] };
+            fl.root_points = if roots.is_empty() {
+                Vec::new()
+            } else {
+                root_points.clone()
+            };
             for bits in 1..=7 {
                 let attrs = VertexAttributes(bits);
                 let write = |one_point: bool, avx2: bool| {
                     let mut dst = vec![f32::NAN; fl.rest.len() * attrs.stride()];
                     let job = Job {
                         one_point,
-                        ..Job::new(&fl, &points, blend, attrs, &mut dst, avx2)
+                        ..Job::new(&fl, &points, blend, roots, attrs, &mut dst, avx2)
                     };
                     run_job(&job, fl.follow.len(), None);
                     dst
@@ -343,7 +392,8 @@ mod tests {
                     let same = got.iter().zip(&want).all(|(a, b)| a.to_bits() == b.to_bits());
                     assert!(
                         same,
-                        "blend {blend}, attributes {bits}, one point {one_point}, avx2 {avx2}"
+                        "blend {blend}, roots {}, attributes {bits}, one point {one_point}, avx2 {avx2}",
+                        roots.len()
                     );
                 }
             }

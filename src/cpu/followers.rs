@@ -8,9 +8,10 @@ use super::guide_columns::GuideColumns;
 use super::layout::{Layout, StateRow};
 use crate::params::VertexAttributes;
 use crate::physics::follow::head_quat;
-use crate::physics::follow_lanes::guide_frame_lanes;
+use crate::physics::follow_lanes::{guide_frame_lanes, splat_quat};
 use crate::physics::followers::Followers;
 use crate::physics::lanes::{Lane, L3, W};
+use crate::physics::roots::RootFrame;
 use glam::Quat;
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -28,6 +29,8 @@ pub struct CpuFollowers {
     pub head: Quat,
     /// How far the output has moved from `data.from` to `data.follow`, 0..=1.
     pub blend: f32,
+    /// Skinned roots only (else empty): every host strand's root frame as the output shows it.
+    pub roots: Vec<RootFrame>,
     /// Each guide point's position, wetness, frame and rest position (guide-groom order).
     points: Mutex<GuideColumns>,
 }
@@ -53,6 +56,7 @@ impl CpuFollowers {
             data,
             head: Quat::IDENTITY,
             blend: 1.0,
+            roots: Vec::new(),
             points: Mutex::new(GuideColumns::default()),
         }
     }
@@ -77,11 +81,12 @@ impl CpuFollowers {
         let mut points = self.points.lock().unwrap_or_else(|e| e.into_inner());
         points.resize(&fl.spans);
         self.guide_frames(lay, state, wet, kept, guides, pool, &mut points);
-        super::follower_output::write_followers(fl, &points, self.blend, attrs, pool, dst);
+        super::follower_output::write_followers(fl, &points, self.blend, &self.roots, attrs, pool, dst);
     }
 
     /// Pass guide_frames: guides `0..guides`' points into `out`, block by block of the layout:
-    /// a row is point `j` of eight guides, read as lanes, each frame from the row before.
+    /// a row is point `j` of eight guides, read as lanes, each frame from the row before and
+    /// the guide's starting rotation (the head's, or with skinned roots its own root's).
     #[allow(clippy::too_many_arguments)]
     fn guide_frames(
         &self,
@@ -110,6 +115,15 @@ impl CpuFollowers {
                     (g < guides).then(|| (g, fl.spans[g]))
                 });
                 let rows = lanes.iter().flatten().map(|(_, s)| s.count as usize).max().unwrap_or(0);
+                let mut hq = splat_quat(head);
+                if !self.roots.is_empty() {
+                    for (l, (_, s)) in lanes.iter().enumerate().filter_map(|(l, g)| g.map(|g| (l, g))) {
+                        let q = self.roots[s.host as usize].rotation.to_array();
+                        for (c, v) in hq.iter_mut().zip(q) {
+                            c[l] = v;
+                        }
+                    }
+                }
                 let (mut x_prev, mut rest_prev) = (L3::ZERO, L3::ZERO);
                 for j in 0..rows {
                     let r = b * lay.rows + j;
@@ -124,9 +138,9 @@ impl CpuFollowers {
                         }
                     }
                     let q = if j == 0 {
-                        [[head.x; W], [head.y; W], [head.z; W], [head.w; W]]
+                        hq
                     } else {
-                        guide_frame_lanes(head, &rest_prev, &rest, &x_prev, &x)
+                        guide_frame_lanes(&hq, &rest_prev, &rest, &x_prev, &x)
                     };
                     let w = wet.get(r).copied().unwrap_or([0.0; W]);
                     for (l, lane) in lanes.iter().enumerate() {
@@ -192,6 +206,7 @@ mod tests {
                 first: groom.strand_first[s],
                 rest: groom.strand_first[s],
                 count: counts[s],
+                host: (s as u32 * 5) % 21,
             })
             .collect();
         let mut fl = CpuFollowers::new(Followers {
@@ -201,10 +216,27 @@ mod tests {
             follow: Vec::new(),
             from: Vec::new(),
             clump: 0.8,
+            root_points: Vec::new(),
         });
         fl.head = Quat::from_rotation_y(0.4) * Quat::from_rotation_x(-0.3);
-        let head = head_quat(fl.head);
-        for (kept, guides) in [(None, 21), (Some((&kept[..], 0.6f32)), 13)] {
+        // Skinned roots: each guide starts from its host strand's root rotation.
+        let frames: Vec<RootFrame> = (0..21)
+            .map(|s| RootFrame {
+                position: Vec3::ZERO,
+                rotation: Quat::from_rotation_z(0.1 * s as f32) * Quat::from_rotation_x(0.05 * s as f32),
+            })
+            .collect();
+        let cases = [
+            (None, 21, false),
+            (Some((&kept[..], 0.6f32)), 13, false),
+            (None, 21, true),
+        ];
+        for (kept, guides, roots) in cases {
+            fl.roots = if roots { frames.clone() } else { Vec::new() };
+            let head = |s: &GuideSpan| match roots {
+                false => head_quat(fl.head),
+                true => head_quat(frames[s.host as usize].rotation),
+            };
             let mut cols = GuideColumns::default();
             cols.resize(&spans);
             fl.guide_frames(&lay, &state, &wet, kept, guides, None, &mut cols);
@@ -218,7 +250,7 @@ mod tests {
                     }
                 };
                 for j in 0..span.count {
-                    let frame = guide_frame_at(*span, j, &fl.data.rest, head, |p| x(p - span.first));
+                    let frame = guide_frame_at(*span, j, &fl.data.rest, head(span), |p| x(p - span.first));
                     let want = (
                         x(j),
                         wet[b * lay.rows + j as usize][l],

@@ -100,10 +100,10 @@ pub unsafe extern "C" fn wethair_sim_set_guide_fraction(sim: *mut WetHairSim, fr
 }
 
 /// Sets where every strand's root is at the end of the next step (or `wethair_sim_advance`
-/// frame), for a simulation made with `skinned_roots`: `count` (the groom's strand count)
-/// positions (x y z each, m, world: the strand's first point) and rotations (x y z w each, a
-/// unit quaternion: the turn from the groom's rest frame to the world). Pinned points after
-/// the first keep their rest offset from it, turned. The roots move there over the step's
+/// frame), for a simulation made with `skinned_roots`: `count` (the groom's strand count,
+/// followers included where guides are on) positions (x y z each, m, world: the strand's
+/// first point) and rotations (x y z w each, a unit quaternion: the turn from the groom's rest
+/// frame to the world). Pinned points after the first keep their rest offset from it, turned. The roots move there over the step's
 /// substeps as the head does. All or nothing: on error no frame changes.
 ///
 /// # Safety
@@ -123,8 +123,9 @@ pub unsafe extern "C" fn wethair_sim_set_root_frames(
         if rotations.is_null() {
             return Err(super::boundary::null("rotations"));
         }
-        // The strand count is checked before the arrays are read.
-        let strands = s.0.strand_count();
+        // The strand count (the host's groom's, followers included) is checked before the
+        // arrays are read.
+        let strands = s.0.stats_counts().0 as usize;
         if count as usize != strands {
             return Err(Fail(
                 WetHairResult::WETHAIR_ERROR_INVALID_ARGUMENT,

@@ -233,7 +233,8 @@ pub struct WetHairSimDesc {
     pub reserved6: u32,
     /// 1: roots on a skinned mesh (since 0.4.0): each strand's pinned points follow the frame
     /// `wethair_sim_set_root_frames` sets instead of the head transform (which still moves
-    /// the colliders). 0 (the default): roots follow the head.
+    /// the colliders); with guides, followers' pinned points too. 0 (the default): roots
+    /// follow the head.
     pub skinned_roots: u32,
     /// A root that moves farther than this in one step (or one `wethair_sim_advance` frame)
     /// carries its strand there rigidly, at rest, instead of sweeping it through the world, m;

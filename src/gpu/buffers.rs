@@ -232,8 +232,9 @@ gpu_record! {
         pub kept_a: f32,
         /// Guides pass `guide_frames` gathers (those the backend steps).
         pub guides: u32,
-        /// Unused: rounds the record to WGSL's 16-byte uniform size.
-        pub pad1: u32,
+        /// 1 with skinned roots: each guide's frames start from its own root's rotation, and
+        /// each strand's root points land on its own frame (`follow_roots`).
+        pub roots: u32,
     }
 }
 
@@ -245,8 +246,8 @@ gpu_record! {
         pub first: u32,
         /// Its points.
         pub count: u32,
-        /// Unused (alignment).
-        pub pad0: u32,
+        /// Skinned roots: its root points (`Followers::root_points`); else 0.
+        pub root_points: u32,
         /// Unused.
         pub pad1: u32,
         /// Guides (xyz; w unused).

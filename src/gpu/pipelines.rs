@@ -18,6 +18,7 @@ const WRITE_FOLLOWERS: &str = include_str!("shaders/write_followers.wgsl");
 const WATER_OUTPUT: &str = include_str!("shaders/water_output.wgsl");
 const SDF: &str = include_str!("shaders/sdf.wgsl");
 const ROOTS: &str = include_str!("shaders/roots.wgsl");
+const ROOT_FRAME: &str = include_str!("shaders/root_frame.wgsl");
 const VOLUME: &str = include_str!("shaders/volume.wgsl");
 const VOLUME_SPREAD: &str = include_str!("shaders/volume_spread.wgsl");
 const VOLUME_RESPOND: &str = include_str!("shaders/volume_respond.wgsl");
@@ -214,7 +215,7 @@ pub fn guide_frames_source(c: SceneConsts) -> String {
 
 /// The followers' output pass (`write_followers`; scenes with guides only).
 pub fn write_followers_source(c: SceneConsts) -> String {
-    format!("{}{FOLLOW}{VERTEX}{WRITE_FOLLOWERS}", prelude(c))
+    format!("{}{FOLLOW}{ROOT_FRAME}{VERTEX}{WRITE_FOLLOWERS}", prelude(c))
 }
 
 /// The SDF colliders' hair pass, for a scene with `nsdf` SDFs.
@@ -239,7 +240,7 @@ pub fn volume_respond_source(c: SceneConsts) -> String {
 
 /// Skinned roots' passes `pin_roots` and `carry_roots`.
 pub fn roots_source(c: SceneConsts) -> String {
-    format!("{}{ROOTS}", prelude(c))
+    format!("{}{ROOT_FRAME}{ROOTS}", prelude(c))
 }
 
 /// The shared water output module (host-shared devices that draw the particles).

@@ -201,6 +201,7 @@ mod tests {
             first: 0,
             rest: 0,
             count: 5,
+            host: 0,
         };
         // The guide swung 90 degrees about z: it now points along +x.
         let x: Vec<Vec3> = (0..5).map(|i| Vec3::new(0.1 * i as f32, 0.0, 0.0)).collect();
@@ -238,6 +239,7 @@ mod tests {
             first: 0,
             rest: 0,
             count: 2,
+            host: 0,
         };
         let head = head_quat(Quat::IDENTITY);
         for wet in [0.0f32, 0.5, 1.0] {

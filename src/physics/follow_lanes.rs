@@ -45,20 +45,26 @@ pub fn rotate_lanes(q: &[Lane; 4], v: &L3) -> L3 {
     out
 }
 
-/// [`guide_frame`](super::follow::guide_frame) for eight guides' points at once, each with an
-/// arriving segment from rest `rest_a` → `rest_b` and now `x_a` → `x_b`: the head's rotation
-/// `head`, then the segment's smallest turn; lanes whose segment is degenerate (or turned by
-/// about 180 degrees) keep the head's rotation, selected by bit masks (no branch per lane).
+/// A rotation in every lane.
 #[inline(always)]
-pub fn guide_frame_lanes(head: Vec4, rest_a: &L3, rest_b: &L3, x_a: &L3, x_b: &L3) -> [Lane; 4] {
-    let hq = [[head.x; W], [head.y; W], [head.z; W], [head.w; W]];
+pub fn splat_quat(q: Vec4) -> [Lane; 4] {
+    [[q.x; W], [q.y; W], [q.z; W], [q.w; W]]
+}
+
+/// [`guide_frame`](super::follow::guide_frame) for eight guides' points at once, each with an
+/// arriving segment from rest `rest_a` → `rest_b` and now `x_a` → `x_b`: each lane's starting
+/// rotation `hq` (the head's, or with skinned roots its guide's root frame), then the
+/// segment's smallest turn; lanes whose segment is degenerate (or turned by about 180 degrees)
+/// keep the starting rotation, selected by bit masks (no branch per lane).
+#[inline(always)]
+pub fn guide_frame_lanes(hq: &[Lane; 4], rest_a: &L3, rest_b: &L3, x_a: &L3, x_b: &L3) -> [Lane; 4] {
     let d = L3 {
         x: std::array::from_fn(|l| rest_b.x[l] - rest_a.x[l]),
         y: std::array::from_fn(|l| rest_b.y[l] - rest_a.y[l]),
         z: std::array::from_fn(|l| rest_b.z[l] - rest_a.z[l]),
     };
-    let a = rotate_lanes(&hq, &d);
-    let mut out = hq;
+    let a = rotate_lanes(hq, &d);
+    let mut out = *hq;
     for l in 0..W {
         // `unit` of both directions, as masks: all ones where the length is usable.
         let unit = |x: f32, y: f32, z: f32| {
@@ -76,7 +82,7 @@ pub fn guide_frame_lanes(head: Vec4, rest_a: &L3, rest_b: &L3, x_a: &L3, x_b: &L
         let inv = 1.0 / if turn { len2 } else { 1.0 }.sqrt();
         let (qx, qy, qz, qw) = (qx * inv, qy * inv, qz * inv, qw * inv);
         // quat_mul(q, head): (h⃗ q_w + q⃗ h_w + q⃗ × h⃗, q_w h_w - q⃗ · h⃗).
-        let (hx, hy, hz, hw) = (head.x, head.y, head.z, head.w);
+        let (hx, hy, hz, hw) = (hq[0][l], hq[1][l], hq[2][l], hq[3][l]);
         let m = [
             hx * qw + qx * hw + (qy * hz - hy * qz),
             hy * qw + qy * hw + (qz * hx - hz * qx),
@@ -173,12 +179,27 @@ mod tests {
         let mut rng = Lcg(9);
         let mut r = || rng.next_f32() * 2.0 - 1.0;
         for case in 0..200 {
-            let head = head_quat(glam::Quat::from_axis_angle(
-                Vec3::new(r(), r(), r()).normalize(),
-                3.0 * r(),
-            ));
+            // One rotation for every lane (the head's), or one per lane (skinned roots).
+            let mut heads = [Vec4::ZERO; W];
+            for l in 0..W {
+                heads[l] = if case % 2 == 1 && l > 0 {
+                    heads[0]
+                } else {
+                    head_quat(glam::Quat::from_axis_angle(
+                        Vec3::new(r(), r(), r()).normalize(),
+                        3.0 * r(),
+                    ))
+                };
+            }
+            let mut hq = splat_quat(heads[0]);
+            for (l, h) in heads.iter().enumerate() {
+                for (c, v) in hq.iter_mut().zip(h.to_array()) {
+                    c[l] = v;
+                }
+            }
             let mut seg = [(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO); W];
             for (l, s) in seg.iter_mut().enumerate() {
+                let head = heads[l];
                 let (ra, rb, xa) = (
                     Vec3::new(r(), r(), r()),
                     Vec3::new(r(), r(), r()),
@@ -201,9 +222,9 @@ mod tests {
                 }
                 v
             };
-            let got = guide_frame_lanes(head, &lanes(0), &lanes(1), &lanes(2), &lanes(3));
+            let got = guide_frame_lanes(&hq, &lanes(0), &lanes(1), &lanes(2), &lanes(3));
             for (l, s) in seg.iter().enumerate() {
-                let want = guide_frame(head, Some(*s)).to_array().map(f32::to_bits);
+                let want = guide_frame(heads[l], Some(*s)).to_array().map(f32::to_bits);
                 let have = [got[0][l], got[1][l], got[2][l], got[3][l]].map(f32::to_bits);
                 assert_eq!(have, want, "case {case} lane {l}");
             }
@@ -230,6 +251,7 @@ mod tests {
                     first: g * n,
                     rest: 0,
                     count: n,
+                    host: g,
                 })
                 .collect();
             let (a, b) = (r().abs(), r().abs());

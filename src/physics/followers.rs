@@ -36,6 +36,9 @@ pub struct GuideSpan {
     pub rest: u32,
     /// Points.
     pub count: u32,
+    /// Its host strand (with skinned roots, the guide's frames start from that strand's root
+    /// frame instead of the head's rotation).
+    pub host: u32,
 }
 
 /// What a backend needs to write every host strand from the guides: the host's rest pose, the
@@ -56,6 +59,10 @@ pub struct Followers {
     pub from: Vec<Follow>,
     /// [`crate::params::Guides::clump`].
     pub clump: f32,
+    /// Skinned roots only (else empty): per host strand, its root points (the root and the
+    /// points pinned after it, 0 when the root is free), which the output places on the
+    /// strand's own root frame (`follow::OwnRoot`).
+    pub root_points: Vec<u32>,
 }
 
 /// The strands of `roots` in spread order: Morton order of the roots taken in bit-reversed

@@ -10,6 +10,7 @@ pub mod collide;
 pub mod counting_sort;
 pub mod follow;
 pub mod follow_lanes;
+pub mod follow_roots;
 pub mod followers;
 pub mod grid;
 pub mod hash_grid;

@@ -103,6 +103,8 @@ impl Shadow {
             attributes: VertexAttributes(VertexAttributes::POSITION),
             error_estimate_stride: 0,
             tolerance: 0.0,
+            // The sample is of the strands the backend simulates (the guides, with guides).
+            guides: crate::params::Guides::ALL,
             ..p.clone()
         };
         let sim = Simulation::new(&sample, params)?;

@@ -106,15 +106,15 @@ impl Simulation {
         for k in 1..=plan.steps {
             if k == plan.steps && f.interpolate {
                 self.engine.keep_previous()?;
-                self.engine.blend_output(Some(plan.blend));
-                self.blending = true;
+                self.show_blend(Some(plan.blend));
             }
             let a = (k as f64 * f.step as f64 / plan.span).min(1.0) as f32;
             self.step_to(f.step, head_between(&from, &to, a), Some(a))?;
         }
-        if plan.steps == 0 && self.blending {
+        if plan.steps == 0 && self.blend.is_some() {
             // No step: the same two states, blended further along (written at the next read).
-            self.engine.blend_output(Some(plan.blend));
+            self.show_blend(Some(plan.blend));
+            self.pose_follower_roots();
         }
         Ok(Advance {
             steps: plan.steps,
@@ -133,9 +133,23 @@ impl Simulation {
     /// Forgets the owed time and the blend (a reset).
     pub(super) fn reset_fixed(&mut self) {
         self.fixed = Accumulator::default();
-        if self.blending {
-            self.engine.blend_output(None);
-            self.blending = false;
+        if self.blend.is_some() {
+            self.show_blend(None);
+            self.pose_follower_roots();
+        }
+    }
+
+    /// Shows the output `a` of the way from the state before the last step to after it
+    /// (`None`: the last step's state).
+    pub(super) fn show_blend(&mut self, a: Option<f32>) {
+        self.engine.blend_output(a);
+        self.blend = a;
+    }
+
+    /// Poses the followers' roots as the output shows them now (guides with skinned roots).
+    fn pose_follower_roots(&mut self) {
+        if let (Some(g), Some(r)) = (&mut self.guides, &mut self.roots) {
+            g.pose_roots(r.shown(self.blend), self.engine.as_mut());
         }
     }
 }

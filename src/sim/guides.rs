@@ -10,7 +10,9 @@ use crate::error::Result;
 use crate::groom::Groom;
 use crate::params::{GuideChoice, Guides};
 use crate::physics::follow::{follow_point, follow_velocity, guide_frame_at, head_quat, GuidePoint};
+use crate::physics::follow_roots::{root_points, root_strand, OwnRoot};
 use crate::physics::followers::{bind, choose, cluster, Followers, GuideSpan};
+use crate::physics::roots::RootFrame;
 use glam::{Affine3A, Quat, Vec3};
 
 /// The guides' bookkeeping.
@@ -35,8 +37,9 @@ pub(super) struct GuideState {
 }
 
 impl GuideState {
-    /// The guides of `groom` under `g` (on) and the guide groom the backend simulates.
-    pub(super) fn new(groom: &Groom, g: &Guides) -> Result<(GuideState, Groom)> {
+    /// The guides of `groom` under `g` (on) and the guide groom the backend simulates;
+    /// `skinned_roots` puts every strand's root points on its own root frame.
+    pub(super) fn new(groom: &Groom, g: &Guides, skinned_roots: bool) -> Result<(GuideState, Groom)> {
         g.check_strands(groom.strand_count())?;
         let roots = groom.roots();
         let host_of = match &g.choice {
@@ -62,6 +65,7 @@ impl GuideState {
                 first: guide_groom.strand_first[e],
                 rest: groom.strand_first[host_of[e] as usize],
                 count: guide_groom.strand_first[e + 1] - guide_groom.strand_first[e],
+                host: host_of[e],
             })
             .collect();
         let mut st = GuideState {
@@ -78,6 +82,12 @@ impl GuideState {
                 follow: Vec::new(),
                 from: Vec::new(),
                 clump: g.clump,
+                root_points: match skinned_roots {
+                    true => (0..groom.strand_count())
+                        .map(|s| root_points(&groom.pinned()[groom.strand_range(s)]))
+                        .collect(),
+                    false => Vec::new(),
+                },
             },
             host_of,
             roots,
@@ -115,15 +125,16 @@ impl GuideState {
     }
 
     /// Simulates the first `count_for(f)` guides from the next step on. New guides start where
-    /// the output shows them now (a blocking read of the guides on the GPU); the bindings move
-    /// to the new guides over `blend_time`.
-    pub(super) fn set_fraction(&mut self, f: f32, engine: &mut dyn Engine) -> Result<()> {
+    /// the output shows them now (a blocking read of the guides on the GPU; on their root
+    /// frames `roots` with skinned roots); the bindings move to the new guides over
+    /// `blend_time`.
+    pub(super) fn set_fraction(&mut self, f: f32, roots: &[RootFrame], engine: &mut dyn Engine) -> Result<()> {
         let k = self.count_for(f);
         if k == self.active {
             return Ok(());
         }
         if k > self.active {
-            self.seed(self.active..k, engine)?;
+            self.seed(self.active..k, roots, engine)?;
         }
         let before = std::mem::replace(&mut self.data.follow, bind(&self.roots, &self.host_of[..k], self.per));
         self.data.from = before;
@@ -138,19 +149,23 @@ impl GuideState {
         Ok(())
     }
 
-    /// Starts guides `new` where their current bindings put them: positions, velocities and
-    /// wetness from the simulated guides.
-    fn seed(&self, new: std::ops::Range<usize>, engine: &mut dyn Engine) -> Result<()> {
+    /// Starts guides `new` where their current bindings put them (on their own root frames
+    /// `roots` with skinned roots): positions, velocities and wetness from the simulated
+    /// guides.
+    fn seed(&self, new: std::ops::Range<usize>, roots: &[RootFrame], engine: &mut dyn Engine) -> Result<()> {
         let states = engine.point_states()?;
         let d = &self.data;
-        let head = head_quat(self.head);
+        let start = |span: &GuideSpan| match roots.is_empty() {
+            true => head_quat(self.head),
+            false => head_quat(roots[span.host as usize].rotation),
+        };
         // Every guide point's position, wetness and frame, as the output's pass guide_frames
         // makes them.
         let mut points: Vec<GuidePoint> = Vec::with_capacity(states.len());
         for span in &d.spans {
             for j in 0..span.count {
                 let s = &states[(span.first + j) as usize];
-                let frame = guide_frame_at(*span, j, &d.rest, head, |p| states[p as usize].0);
+                let frame = guide_frame_at(*span, j, &d.rest, start(span), |p| states[p as usize].0);
                 points.push((s.0, s.2, frame, d.rest[(span.rest + j) as usize]));
             }
         }
@@ -162,12 +177,21 @@ impl GuideState {
             let first = d.strand_first[h];
             let n = d.strand_first[h + 1] - first;
             let f = &d.follow[h];
+            let at_strand = x.len();
             for i in 0..n {
                 let rest_i = d.rest[(first + i) as usize];
                 let (p, wet) = follow_point(f, &d.spans, i, n, rest_i, d.clump, &at);
                 x.push(p);
                 w.push(wet);
                 v.push(follow_velocity(f, &d.spans, i, n, &vel));
+            }
+            if !roots.is_empty() {
+                let own = OwnRoot {
+                    frame: roots[h],
+                    rest_root: d.rest[first as usize],
+                    points: d.root_points[h],
+                };
+                root_strand(&own, n, |i| d.rest[(first + i) as usize], &mut x[at_strand..]);
             }
         }
         engine.seed_strands(new.start as u32, &x, &v, &w)
@@ -180,9 +204,16 @@ impl GuideState {
         self.stepping = self.active;
     }
 
-    /// Before a step of `dt` that ends with the head at `to`: moves the blend on (settling
-    /// when it is done) and poses the followers.
-    pub(super) fn before_step(&mut self, dt: f32, to: &Affine3A, engine: &mut dyn Engine) -> Result<()> {
+    /// Before a step of `dt` that ends with the head at `to` and the roots shown at `roots`
+    /// (skinned roots; else empty): moves the blend on (settling when it is done) and poses
+    /// the followers.
+    pub(super) fn before_step(
+        &mut self,
+        dt: f32,
+        to: &Affine3A,
+        roots: &[RootFrame],
+        engine: &mut dyn Engine,
+    ) -> Result<()> {
         if self.blend < 1.0 {
             self.blend = (self.blend + dt / self.blend_time).min(1.0);
             if self.blend >= 1.0 {
@@ -191,24 +222,30 @@ impl GuideState {
                 engine.set_active_strands(self.stepping);
             }
         }
-        self.pose(to, engine);
+        self.pose(to, roots, engine);
         Ok(())
     }
 
-    /// Poses the followers for the head at `head` (and the blend as it stands).
-    pub(super) fn pose(&mut self, head: &Affine3A, engine: &mut dyn Engine) {
+    /// Poses the followers for the head at `head` and the roots at `roots` (skinned roots;
+    /// else empty), and the blend as it stands.
+    pub(super) fn pose(&mut self, head: &Affine3A, roots: &[RootFrame], engine: &mut dyn Engine) {
         self.head = head.to_scale_rotation_translation().1;
-        engine.pose_followers(self.head, self.blend);
+        engine.pose_followers(self.head, self.blend, roots);
+    }
+
+    /// Poses the followers' roots at `roots` (the head and blend as they stand).
+    pub(super) fn pose_roots(&mut self, roots: &[RootFrame], engine: &mut dyn Engine) {
+        engine.pose_followers(self.head, self.blend, roots);
     }
 
     /// After a reset: settled, the bindings the fraction keeps.
-    pub(super) fn reset(&mut self, head: &Affine3A, engine: &mut dyn Engine) -> Result<()> {
+    pub(super) fn reset(&mut self, head: &Affine3A, roots: &[RootFrame], engine: &mut dyn Engine) -> Result<()> {
         if self.blend < 1.0 {
             self.settle();
             engine.set_followers(&self.data)?;
             engine.set_active_strands(self.stepping);
         }
-        self.pose(head, engine);
+        self.pose(head, roots, engine);
         Ok(())
     }
 }

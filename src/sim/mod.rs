@@ -150,9 +150,9 @@ pub struct Simulation {
     last_integrator: crate::Integrator,
     /// Fixed-step updates' owed time ([`Simulation::advance`]).
     fixed: fixed::Accumulator,
-    /// Whether the engine blends its output between the last two steps (fixed steps with
-    /// interpolation, after an `advance` that stepped).
-    blending: bool,
+    /// Where the engine's output lies between the last two steps (fixed steps with
+    /// interpolation, after an `advance` that stepped); `None`: the last step itself.
+    blend: Option<f32>,
     /// Guides and followers (scenes with guides only): the backend simulates the guides.
     guides: Option<guides::GuideState>,
     /// Vertices written per output: every host point (followers included), and their strands.
@@ -168,7 +168,7 @@ impl Simulation {
         let g = simulated.as_ref().unwrap_or(groom);
         let followers = guides.as_ref().map(|s| s.followers());
         let (engine, info) = crate::engine::create(g, &params, &Affine3A::IDENTITY, followers)?;
-        Self::with_engine(g, params, engine, info, guides, groom.point_count())
+        Self::with_engine(g, groom, params, engine, info, guides)
     }
 
     /// The guides' state and the guide groom, where `params` asks for guides.
@@ -176,24 +176,30 @@ impl Simulation {
         if !params.guides.enabled() {
             return Ok((None, None));
         }
-        let (st, g) = guides::GuideState::new(groom, &params.guides)?;
+        let (st, g) = guides::GuideState::new(groom, &params.guides, params.skinned_roots)?;
         Ok((Some(st), Some(g)))
     }
 
     /// A simulation at rest under the identity head transform, on `engine`, which simulates
-    /// `groom` (the guide groom when `guides` is on) and writes `vertex_points` vertices.
+    /// `groom` (the guide groom when `guides` is on) and writes the vertices of
+    /// `host_groom`'s strands (the groom the host gave).
     fn with_engine(
         groom: &Groom,
+        host_groom: &Groom,
         params: SimParams,
         mut engine: Box<dyn Engine>,
         info: BackendInfo,
         mut guides: Option<guides::GuideState>,
-        vertex_points: usize,
     ) -> Result<Self> {
         let head = Affine3A::IDENTITY;
+        let vertex_points = host_groom.point_count();
+        let keep_prev = guides.is_some() && params.fixed_step.on() && params.fixed_step.interpolate;
+        let mut roots = params
+            .skinned_roots
+            .then(|| roots::RootTargets::new(host_groom, guides.as_ref().map(|g| g.host_strands()), keep_prev));
         if let Some(g) = &mut guides {
             engine.set_active_strands(g.stepping());
-            g.pose(&head, engine.as_mut());
+            g.pose(&head, roots.as_mut().map_or(&[], |r| r.shown(None)), engine.as_mut());
         }
         let host = HostPoints::new(groom, &params);
         let mut shadow = estimate::Shadow::new(groom, &params, engine.integrator())?;
@@ -211,7 +217,6 @@ impl Simulation {
         let substeps = params.substeps;
         let sdf_start: Vec<Affine3A> = params.sdfs.iter().map(|s| s.transform).collect();
         let engine_integrator = engine.integrator();
-        let roots = params.skinned_roots.then(|| roots::RootTargets::new(groom));
         Ok(Simulation {
             params,
             engine,
@@ -240,7 +245,7 @@ impl Simulation {
             last_substeps: substeps,
             last_integrator: engine_integrator,
             fixed: fixed::Accumulator::default(),
-            blending: false,
+            blend: None,
             vertex_strands: guides
                 .as_ref()
                 .map_or(groom.strand_count(), |g| g.followers().follow.len()),
@@ -265,13 +270,13 @@ impl Simulation {
         let g = simulated.as_ref().unwrap_or(groom);
         let integrator = crate::plan::resolve_integrator(&params, g);
         let dev = crate::gpu::vulkan::open(host)?;
-        let vertex_points = guides.as_ref().map(|_| groom.point_count());
+        let follower_points = guides.as_ref().map(|_| groom.point_count());
         let (mut engine, info) =
-            crate::engine::create_gpu(dev, g, &params, integrator, &Affine3A::IDENTITY, vertex_points)?;
+            crate::engine::create_gpu(dev, g, &params, integrator, &Affine3A::IDENTITY, follower_points)?;
         if let Some(st) = &guides {
             engine.set_followers(st.followers())?;
         }
-        Self::with_engine(g, params, engine, info, guides, groom.point_count())
+        Self::with_engine(g, groom, params, engine, info, guides)
     }
 
     /// The vertex buffer as the host's Vulkan sees it, holding the last step's vertices, and
@@ -301,7 +306,7 @@ impl Simulation {
         self.settle(r)
     }
 
-    /// Number of strands in the simulated groom.
+    /// Number of strands in the simulated groom (with guides, the guides).
     pub fn strand_count(&self) -> usize {
         self.host.strand_first.len() - 1
     }
@@ -391,10 +396,9 @@ impl Simulation {
         if !(dt.is_finite() && dt > 0.0 && dt <= MAX_DT) {
             return Err(invalid!("dt must be finite, > 0 and <= {MAX_DT} s, got {dt}"));
         }
-        if self.blending {
+        if self.blend.is_some() {
             // A step of the host's own shows the state it reached.
-            self.engine.blend_output(None);
-            self.blending = false;
+            self.show_blend(None);
         }
         self.teleport_roots()?;
         self.step_to(dt, self.head, None)
@@ -436,7 +440,8 @@ impl Simulation {
             self.engine.set_wind(self.params.wind.at(self.time));
         }
         if let Some(g) = &mut self.guides {
-            g.before_step(dt, &to, self.engine.as_mut())?;
+            let roots = self.roots.as_mut().map_or(&[][..], |r| r.shown(self.blend));
+            g.before_step(dt, &to, roots, self.engine.as_mut())?;
         }
         let r = self.engine.step(dt, &self.head_prev, &to);
         if let (Some(sh), true) = (&mut self.shadow, r.is_ok()) {
@@ -518,10 +523,11 @@ impl Simulation {
     pub fn reset(&mut self) -> Result<()> {
         self.check_device()?;
         self.engine.reset(&self.head);
-        if let Some(g) = &mut self.guides {
-            g.reset(&self.head, self.engine.as_mut())?;
-        }
         self.reset_roots(&self.head.clone())?;
+        if let Some(g) = &mut self.guides {
+            let roots = self.roots.as_mut().map_or(&[][..], |r| r.shown(None));
+            g.reset(&self.head, roots, self.engine.as_mut())?;
+        }
         if let Some(sh) = &mut self.shadow {
             if let Some(r) = &self.roots {
                 sh.set_root_targets(r);
@@ -636,7 +642,8 @@ impl Simulation {
                 "this simulation has no guides (SimParams::guides)".into(),
             ));
         };
-        let r = g.set_fraction(fraction, self.engine.as_mut());
+        let roots = self.roots.as_mut().map_or(&[][..], |r| r.shown(None));
+        let r = g.set_fraction(fraction, roots, self.engine.as_mut());
         self.settle(r)
     }
 

@@ -1,6 +1,8 @@
 //! Roots on a skinned mesh at the simulation's level ([`SimParams::skinned_roots`],
 //! `physics/roots.rs`): the frames the host sets, where the last step left them, the teleport
-//! test, and what a reset does with them. Both backends get the same calls.
+//! test, and what a reset does with them. Both backends get the same calls. The frames are the
+//! host's strands'; with guides the backend (and the estimate's shadow) gets its guides'
+//! frames, and the followers' output every strand's as it shows them.
 
 use super::Simulation;
 use crate::error::{invalid, Error, Result};
@@ -11,6 +13,17 @@ use glam::{Affine3A, Vec3};
 /// The root frames of every strand (host order).
 #[derive(Debug)]
 pub(super) struct RootTargets {
+    /// With guides: each simulated strand's host strand, and each host strand's simulated
+    /// strand (`NOT_SIMULATED` for a follower).
+    guides: Option<(Vec<u32>, Vec<u32>)>,
+    /// With guides: the simulated strands' frames before and after a step (reused).
+    sim_from: Vec<RootFrame>,
+    sim_to: Vec<RootFrame>,
+    /// Where the step before the last left them: kept only where the followers show the fixed
+    /// steps' blend between the last two steps.
+    prev: Option<Vec<RootFrame>>,
+    /// The frames the followers' output shows while that blend is on (reused).
+    shown: Vec<RootFrame>,
     /// Each strand's first point at rest (head space).
     rest: Vec<Vec3>,
     /// As last set by the host (reached at the end of the next step or frame).
@@ -28,13 +41,27 @@ pub(super) struct RootTargets {
 }
 
 impl RootTargets {
-    /// Every root at rest, for a simulation of `groom`.
-    pub(super) fn new(groom: &Groom) -> RootTargets {
+    /// Every root at rest, for a simulation of `groom`, whose strands `host_of` (guide-groom
+    /// order) are simulated as guides where it is given; `keep_prev` keeps the frames before
+    /// the last step (followers that show the fixed steps' blend).
+    pub(super) fn new(groom: &Groom, host_of: Option<&[u32]>, keep_prev: bool) -> RootTargets {
         let rest: Vec<Vec3> = (0..groom.strand_count())
             .map(|s| groom.positions()[groom.strand_range(s).start])
             .collect();
         let at_rest: Vec<RootFrame> = rest.iter().map(|r| RootFrame::at_rest(*r)).collect();
+        let guides = host_of.map(|h| {
+            let mut sim_of = vec![NOT_SIMULATED; rest.len()];
+            for (g, &s) in h.iter().enumerate() {
+                sim_of[s as usize] = g as u32;
+            }
+            (h.to_vec(), sim_of)
+        });
         RootTargets {
+            guides,
+            sim_from: Vec::new(),
+            sim_to: Vec::new(),
+            prev: keep_prev.then(|| at_rest.clone()),
+            shown: Vec::new(),
             rest,
             target: at_rest.clone(),
             last: at_rest,
@@ -46,11 +73,50 @@ impl RootTargets {
         }
     }
 
-    /// Every `stride`-th strand's targets (the error estimate's shadow runs those strands).
-    pub(super) fn targets_every(&self, stride: usize) -> impl Iterator<Item = RootFrame> + '_ {
-        self.target.iter().step_by(stride.max(1)).copied()
+    /// Every `stride`-th simulated strand's targets (the error estimate's shadow runs those
+    /// strands).
+    pub(super) fn targets_every(&self, stride: usize) -> Vec<RootFrame> {
+        let all: Vec<RootFrame> = match &self.guides {
+            Some((host_of, _)) => host_of.iter().map(|&h| self.target[h as usize]).collect(),
+            None => self.target.clone(),
+        };
+        all.into_iter().step_by(stride.max(1)).collect()
+    }
+
+    /// The frames the followers' output shows: where the last step left them, or `a` of the
+    /// way there from the step before while the fixed steps' output blends.
+    pub(super) fn shown(&mut self, blend: Option<f32>) -> &[RootFrame] {
+        match (blend, &self.prev) {
+            (Some(a), Some(prev)) if a < 1.0 => {
+                self.shown.clear();
+                let between = prev.iter().zip(&self.last).map(|(p, l)| root_between(p, l, a));
+                self.shown.extend(between);
+                &self.shown
+            }
+            _ => &self.last,
+        }
+    }
+
+    /// `frames` (host order) as the backend's strands take them: the guides' with guides,
+    /// gathered into `out`.
+    fn simulated<'a>(
+        guides: &Option<(Vec<u32>, Vec<u32>)>,
+        frames: &'a [RootFrame],
+        out: &'a mut Vec<RootFrame>,
+    ) -> &'a [RootFrame] {
+        match guides {
+            Some((host_of, _)) => {
+                out.clear();
+                out.extend(host_of.iter().map(|&h| frames[h as usize]));
+                out
+            }
+            None => frames,
+        }
     }
 }
+
+/// A host strand no guide simulates.
+const NOT_SIMULATED: u32 = u32::MAX;
 
 impl Simulation {
     /// Sets where every strand's root is at the end of the next step (or, for
@@ -101,7 +167,8 @@ impl Simulation {
 
     /// Carries the strands whose roots jump farther than the teleport distance between where
     /// the last step left them and their targets (before a step, or a frame of fixed steps):
-    /// they start the step on their targets, at rest.
+    /// they start the step on their targets, at rest. With guides the backend carries the
+    /// guides among them; a follower's output follows its frame wherever it goes.
     pub(super) fn teleport_roots(&mut self) -> Result<()> {
         let Some(r) = &mut self.roots else {
             return Ok(());
@@ -112,10 +179,19 @@ impl Simulation {
         r.carry_to.clear();
         for (s, (last, target)) in r.last.iter_mut().zip(&r.target).enumerate() {
             if teleports(last, target, d) {
-                r.carried.push(s as u32);
-                r.carry_from.push(*last);
-                r.carry_to.push(*target);
+                let sim = match &r.guides {
+                    Some((_, sim_of)) => sim_of[s],
+                    None => s as u32,
+                };
+                if sim != NOT_SIMULATED {
+                    r.carried.push(sim);
+                    r.carry_from.push(*last);
+                    r.carry_to.push(*target);
+                }
                 *last = *target;
+                if let Some(prev) = &mut r.prev {
+                    prev[s] = *target;
+                }
             }
         }
         if r.carried.is_empty() {
@@ -136,9 +212,14 @@ impl Simulation {
             None => next.extend_from_slice(&r.target),
             Some(a) => next.extend(r.start.iter().zip(&r.target).map(|(f, t)| root_between(f, t, a))),
         }
-        let res = self.engine.place_roots(&r.last, &next);
+        let from = RootTargets::simulated(&r.guides, &r.last, &mut r.sim_from);
+        let to = RootTargets::simulated(&r.guides, &next, &mut r.sim_to);
+        let res = self.engine.place_roots(from, to);
         if let Some(sh) = &mut self.shadow {
-            sh.place_roots(&next);
+            sh.place_roots(to);
+        }
+        if let Some(prev) = &mut r.prev {
+            std::mem::swap(prev, &mut r.last);
         }
         r.last.clone_from(&next);
         r.next = next;
@@ -152,21 +233,37 @@ impl Simulation {
         }
     }
 
-    /// After the engine's reset to the rest pose under `head`: carries every strand onto its
-    /// target frame (from where the head put its root), so the reset pose hangs from the roots.
+    /// After the engine's reset to the rest pose under `head`: carries every simulated strand
+    /// onto its target frame (from where the head put its root), so the reset pose hangs from
+    /// the roots.
     pub(super) fn reset_roots(&mut self, head: &Affine3A) -> Result<()> {
         let Some(r) = &mut self.roots else {
             return Ok(());
         };
         let (_, rot, _) = head.to_scale_rotation_translation();
-        r.carried.clear();
-        r.carried.extend(0..r.target.len() as u32);
-        r.carry_from.clear();
-        r.carry_from.extend(r.rest.iter().map(|p| RootFrame {
-            position: head.transform_point3(*p),
+        let from_head = |s: usize| RootFrame {
+            position: head.transform_point3(r.rest[s]),
             rotation: rot,
-        }));
+        };
+        r.carried.clear();
+        r.carry_from.clear();
+        r.carry_to.clear();
+        match &r.guides {
+            Some((host_of, _)) => {
+                r.carried.extend(0..host_of.len() as u32);
+                r.carry_from.extend(host_of.iter().map(|&h| from_head(h as usize)));
+                r.carry_to.extend(host_of.iter().map(|&h| r.target[h as usize]));
+            }
+            None => {
+                r.carried.extend(0..r.target.len() as u32);
+                r.carry_from.extend((0..r.target.len()).map(from_head));
+                r.carry_to.extend_from_slice(&r.target);
+            }
+        }
         r.last.clone_from(&r.target);
-        self.engine.carry_strands(&r.carried, &r.carry_from, &r.target)
+        if let Some(prev) = &mut r.prev {
+            prev.clone_from(&r.target);
+        }
+        self.engine.carry_strands(&r.carried, &r.carry_from, &r.carry_to)
     }
 }

@@ -103,8 +103,8 @@ impl Engine for GpuBackend {
         GpuBackend::set_followers(self, f)
     }
 
-    fn pose_followers(&mut self, head: Quat, blend: f32) {
-        GpuBackend::pose_followers(self, head, blend)
+    fn pose_followers(&mut self, head: Quat, blend: f32, roots: &[RootFrame]) {
+        GpuBackend::pose_followers(self, head, blend, roots)
     }
 
     fn set_active_strands(&mut self, n: usize) {

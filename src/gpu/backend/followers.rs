@@ -4,13 +4,16 @@
 //! `write_followers` (`write_followers.wgsl`: every host vertex), which replace
 //! `write_vertices`. Also the
 //! simulated fraction (the hair passes dispatch over the first guides only) and the seeding
-//! of guides that start to be simulated. Nothing here exists in a scene without guides.
+//! of guides that start to be simulated. With skinned roots, every host strand's root frame
+//! as the output shows it (`follow_roots`, uploaded with each pose). Nothing here exists in a
+//! scene without guides.
 
 use super::super::buffers::{self as b, FollowStrandGpu, FollowUniformGpu, StateGpu, STORAGE};
 use super::super::pipelines::{self as pl, Slot};
 use super::GpuBackend;
 use crate::error::{Error, Result};
 use crate::physics::followers::{Follow, Followers};
+use crate::physics::roots::RootFrame;
 use glam::{Quat, Vec3};
 
 /// The followers' buffers, uniform, pipelines and bind groups (the frames' one per current
@@ -23,6 +26,10 @@ pub(super) struct FollowersGpu {
     spans: wgpu::Buffer,
     /// Per guide point: position and wetness, frame, rest position (three vec4).
     points: wgpu::Buffer,
+    /// Skinned roots only: per host strand, its root frame's position and rotation (two vec4).
+    roots: Option<wgpu::Buffer>,
+    /// `follow_roots`' words as last written (reused: no allocation once grown).
+    root_words: Vec<[f32; 4]>,
     frames_layout: wgpu::BindGroupLayout,
     pub(super) frames_pipe: wgpu::ComputePipeline,
     pub(super) frames_bg: [wgpu::BindGroup; 2],
@@ -35,7 +42,9 @@ pub(super) struct FollowersGpu {
 impl FollowersGpu {
     /// Bytes held.
     pub(super) fn bytes(&self) -> usize {
-        (self.uniform.size() + self.strands.size() + self.rest.size() + self.spans.size() + self.points.size()) as usize
+        let roots = self.roots.as_ref().map_or(0, |r| r.size());
+        (self.uniform.size() + self.strands.size() + self.rest.size() + self.spans.size() + self.points.size() + roots)
+            as usize
     }
 
     /// Host vertices written.
@@ -61,7 +70,7 @@ fn strand_records(f: &Followers) -> Vec<FollowStrandGpu> {
             FollowStrandGpu {
                 first: f.strand_first[h],
                 count: f.strand_first[h + 1] - f.strand_first[h],
-                pad0: 0,
+                root_points: f.root_points.get(h).copied().unwrap_or(0),
                 pad1: 0,
                 guides: pad(now.guides),
                 weights: padf(now.weights),
@@ -113,7 +122,7 @@ impl GpuBackend {
         }
         let rest = b::buffer(d, "follow_rest", rest_bytes, STORAGE);
         self.dev.queue.write_buffer(&rest, 0, bytemuck::cast_slice(&rest_words));
-        let span_words: Vec<[u32; 4]> = f.spans.iter().map(|s| [s.first, s.rest, s.count, 0]).collect();
+        let span_words: Vec<[u32; 4]> = f.spans.iter().map(|s| [s.first, s.rest, s.count, s.host]).collect();
         let spans = b::buffer(d, "guide_spans", (span_words.len().max(1) * 16) as u64, STORAGE);
         self.dev
             .queue
@@ -135,14 +144,19 @@ impl GpuBackend {
         };
         self.dev.queue.write_buffer(&uniform, 0, bytemuck::bytes_of(&pose));
         let points = b::buffer(d, "guide_points", self.points.max(1) as u64 * 48, STORAGE);
+        let roots =
+            (!f.root_points.is_empty()).then(|| b::buffer(d, "follow_roots", f.follow.len() as u64 * 32, STORAGE));
+        // Without skinned roots the passes never read `follow_roots`: the rest pose stands in
+        // for it in the bind groups, so no buffer is made for it.
+        let roots_bound = roots.as_ref().unwrap_or(&rest);
         use Slot::{Read, ReadWrite, Uniform};
-        let frames_layout = pl::layout(d, "guide_frames", &[Uniform, Read, Read, Read, Read, ReadWrite]);
+        let frames_layout = pl::layout(d, "guide_frames", &[Uniform, Read, Read, Read, Read, ReadWrite, Read]);
         let module = pl::module(d, "guide_frames", &pl::guide_frames_source(self.consts));
         let frames_pipe = pl::pipelines(d, &module, &[&frames_layout], &["guide_frames"]).remove(0);
         let layout = pl::layout(
             d,
             "write_followers",
-            &[Uniform, Uniform, Read, ReadWrite, Read, Read, Read, Read],
+            &[Uniform, Uniform, Read, ReadWrite, Read, Read, Read, Read, Read],
         );
         let module = pl::module(d, "write_followers", &pl::write_followers_source(self.consts));
         let pipe = pl::pipelines(d, &module, &[&layout], &["write_followers"]).remove(0);
@@ -159,6 +173,7 @@ impl GpuBackend {
                 &rest,
                 &spans,
                 &points,
+                roots_bound,
             ],
             None,
         );
@@ -168,6 +183,8 @@ impl GpuBackend {
             rest,
             spans,
             points,
+            roots,
+            root_words: Vec::new(),
             frames_layout,
             frames_pipe,
             frames_bg: [bg.clone(), bg.clone()],
@@ -189,7 +206,15 @@ impl GpuBackend {
             &self.dev.device,
             "guide_frames",
             &fg.frames_layout,
-            &[&fg.uniform, &self.state[i], from, &fg.spans, &fg.rest, &fg.points],
+            &[
+                &fg.uniform,
+                &self.state[i],
+                from,
+                &fg.spans,
+                &fg.rest,
+                &fg.points,
+                fg.roots.as_ref().unwrap_or(&fg.rest),
+            ],
             None,
         )
     }
@@ -202,11 +227,23 @@ impl GpuBackend {
         }
     }
 
-    /// The followers' pose: the head's rotation and the blend between bindings.
-    pub fn pose_followers(&mut self, head: Quat, blend: f32) {
+    /// The followers' pose: the head's rotation, the blend between bindings, and with skinned
+    /// roots every host strand's root frame (else empty).
+    pub fn pose_followers(&mut self, head: Quat, blend: f32, roots: &[RootFrame]) {
         if let Some(fg) = &mut self.followers {
             fg.pose.head = head.to_array();
             fg.pose.blend = blend;
+            if let (Some(buf), false) = (&fg.roots, roots.is_empty()) {
+                fg.root_words.clear();
+                let words = roots
+                    .iter()
+                    .flat_map(|r| [r.position.extend(0.0).to_array(), r.rotation.to_array()]);
+                fg.root_words.extend(words);
+                self.dev
+                    .queue
+                    .write_buffer(buf, 0, bytemuck::cast_slice(&fg.root_words));
+                fg.pose.roots = 1;
+            }
             self.dev
                 .queue
                 .write_buffer(&fg.uniform, 0, bytemuck::bytes_of(&fg.pose));

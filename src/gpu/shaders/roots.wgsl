@@ -11,13 +11,6 @@
 @group(0) @binding(4) var<storage, read> carries: array<Carry>;
 @group(0) @binding(5) var<storage, read_write> state: array<State>;
 
-// q v q* (glam's `Quat * Vec3`).
-fn quat_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
-    let b = q.xyz;
-    let b2 = dot(b, b);
-    return v * (q.w * q.w - b2) + b * (dot(v, b) * 2.0) + cross(b, v) * (q.w * 2.0);
-}
-
 // p q (Hamilton product, x y z w).
 fn quat_mul(p: vec4<f32>, q: vec4<f32>) -> vec4<f32> {
     return vec4<f32>(

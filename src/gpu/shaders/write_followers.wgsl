@@ -1,7 +1,8 @@
 // Pass write_followers (cpu/followers.rs write_followers; the law is physics/follow.rs,
 // function by function): every host vertex from the guide points pass guide_frames made, one
 // invocation per vertex. A guide follows itself with weight 1 and a zero offset, which gives
-// its own points exactly. Nothing is written once a step has failed, so no NaN reaches the
+// its own points exactly. With skinned roots each strand is then moved onto its own root
+// (physics/follow_roots.rs). Nothing is written once a step has failed, so no NaN reaches the
 // vertex buffer.
 
 @group(0) @binding(0) var<uniform> P: Params;
@@ -12,6 +13,8 @@
 @group(0) @binding(5) var<storage, read> follow_rest: array<vec4<f32>>;
 @group(0) @binding(6) var<storage, read> guide_spans: array<vec4<u32>>;
 @group(0) @binding(7) var<storage, read> guide_points: array<vec4<f32>>;
+// Skinned roots only (F.roots): per host strand [2h] its root's position, [2h + 1] rotation.
+@group(0) @binding(8) var<storage, read> follow_roots: array<vec4<f32>>;
 
 struct FromGuide {
     point: vec3<f32>,
@@ -76,6 +79,32 @@ fn output_point(h: u32, i: u32) -> vec4<f32> {
     return vec4<f32>(mix3(old.xyz, now.xyz, F.blend), old.w * (1.0 - F.blend) + now.w * F.blend);
 }
 
+// physics/follow_roots.rs OwnRoot::place: rest point rest_i of host strand h on its frame.
+fn own_root_place(h: u32, rest_i: vec3<f32>) -> vec3<f32> {
+    let fs = follow_strands[h];
+    let r0 = follow_rest[fs.first].xyz;
+    return follow_roots[2u * h].xyz + quat_rotate(follow_roots[2u * h + 1u], rest_i - r0);
+}
+
+// physics/follow_roots.rs OwnRoot::shift: the law's last root point onto the frame.
+fn own_root_shift(h: u32) -> vec3<f32> {
+    let fs = follow_strands[h];
+    let last = fs.root_points - 1u;
+    return own_root_place(h, follow_rest[fs.first + last].xyz) - output_point(h, last).xyz;
+}
+
+// physics/follow_roots.rs OwnRoot::point: point i of host strand h (where the law put it,
+// law_i) on its own root.
+fn own_root_point(h: u32, i: u32, law_i: vec3<f32>, shift: vec3<f32>) -> vec3<f32> {
+    let fs = follow_strands[h];
+    let k = fs.root_points;
+    if (i < k) {
+        return own_root_place(h, follow_rest[fs.first + i].xyz);
+    }
+    let u = f32(fs.count - 1u - i) / f32(fs.count - k);
+    return law_i + shift * (u * u);
+}
+
 @compute @workgroup_size(WG)
 fn write_followers(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                    @builtin(local_invocation_index) lid: u32) {
@@ -86,7 +115,7 @@ fn write_followers(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
     let h = bitcast<u32>(follow_rest[v].w);
     let fs = follow_strands[h];
     let i = v - fs.first;
-    let here = output_point(h, i);
+    var here = output_point(h, i);
     // physics/follow.rs tangent: from the neighbours (this point at the ends).
     var a = here.xyz;
     var b = here.xyz;
@@ -96,6 +125,23 @@ fn write_followers(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
         }
         if (i + 1u < fs.count) {
             b = output_point(h, i + 1u).xyz;
+        }
+    }
+    if (F.roots != 0u && fs.root_points > 0u) {
+        // physics/follow_roots.rs root_strand: every point of the strand moved alike.
+        let shift = own_root_shift(h);
+        let moved = own_root_point(h, i, here.xyz, shift);
+        here = vec4<f32>(moved, here.w);
+        // The neighbours (the law's, read above) as moved; this point at the ends, as before.
+        if (P.tan_off != NO_ATTRIBUTE && i > 0u) {
+            a = own_root_point(h, i - 1u, a, shift);
+        } else {
+            a = moved;
+        }
+        if (P.tan_off != NO_ATTRIBUTE && i + 1u < fs.count) {
+            b = own_root_point(h, i + 1u, b, shift);
+        } else {
+            b = moved;
         }
     }
     write_vertex(v, here.xyz, a, b, here.w);
