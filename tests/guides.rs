@@ -547,3 +547,32 @@ fn guides_through_c() {
         wethair_groom_destroy(g);
     }
 }
+
+/// The live error estimate with guides samples the simulated guides as a plain simulation of
+/// the same strands does: the same estimate, bit for bit (the shadow has no guides of its own).
+#[test]
+fn the_error_estimate_samples_the_guides() {
+    let _serial = serial();
+    let g = paper_scene(400, 8).unwrap();
+    let p = |guides: Guides| SimParams {
+        threads: 1,
+        error_estimate_stride: 3,
+        ..params(Backend::CPU, guides)
+    };
+    let mut guided = Simulation::new(&g, p(Guides::every_nth(4))).unwrap();
+    let order = guided.guide_strands().unwrap().to_vec();
+    let mut plain = Simulation::new(&g.subset(&order), p(Guides::ALL)).unwrap();
+    for f in 0..10 {
+        for s in [&mut guided, &mut plain] {
+            s.set_head_transform(head_at(f + 1)).unwrap();
+            s.step(DT).unwrap();
+        }
+    }
+    let (a, b) = (guided.stats().error_estimate, plain.stats().error_estimate);
+    assert!(a.is_some(), "no estimate with guides");
+    assert_eq!(
+        format!("{a:?}"),
+        format!("{b:?}"),
+        "the guides' estimate differs from the plain one"
+    );
+}
