@@ -92,42 +92,54 @@ fn a_groom_with_volume_settles() {
     assert!(on_max < 5.0, "a point moves at {on_max} m/s with volume on");
 }
 
+/// The paper's wet scene with volume on clumps as much as issue 14 asks of wet hair (at most
+/// 0.7 of the dry spacing), on both backends: wet hair leaves the volume as it soaks (its dry
+/// share of mass is spread), so the dry hair's pressure does not spread the bundles again.
 #[test]
 fn wet_hair_still_clumps_with_volume_on() {
     let _serial = serial();
     // The paper's wet scene (10,000 strands of 6 points, 1,000 drops in the hair).
     let g = paper_scene(10_000, 6).unwrap();
-    let sim = |volume: Volume| {
+    let sim = |backend: Backend, volume: Volume| {
         let p = SimParams {
-            backend: Backend::CPU,
+            backend,
             volume,
             ..SimParams::paper_scene_with_head()
         };
         Simulation::new(&g, p).unwrap()
     };
-    let mut runs = [sim(Volume::ON), sim(Volume::ON), sim(Volume::OFF), sim(Volume::OFF)];
-    let water = on_hair(&runs[0].positions(), 1000, &mut Lcg(3));
-    runs[1].add_water(&water, &[]).unwrap();
-    runs[3].add_water(&water, &[]).unwrap();
-    for _ in 0..100 {
-        for s in runs.iter_mut() {
-            s.step(1.0 / 60.0).unwrap();
+    let water = on_hair(&sim(Backend::CPU, Volume::OFF).positions(), 1000, &mut Lcg(3));
+    let clumping = |mut runs: [Simulation; 2]| {
+        runs[1].add_water(&water, &[]).unwrap();
+        for _ in 0..100 {
+            for s in runs.iter_mut() {
+                s.step(1.0 / 60.0).unwrap();
+            }
         }
+        runs.each_ref().map(|s| s.stats().clumping)
+    };
+    let off = clumping([sim(Backend::CPU, Volume::OFF), sim(Backend::CPU, Volume::OFF)]);
+    for backend in backends() {
+        let on = clumping([sim(backend, Volume::ON), sim(backend, Volume::ON)]);
+        eprintln!(
+            "{backend:?}: clumping with volume on: dry {:.5} m, wet {:.5} m ({:.2}); off (CPU): dry {:.5} m, wet {:.5} m ({:.2})",
+            on[0],
+            on[1],
+            on[1] / on[0],
+            off[0],
+            off[1],
+            off[1] / off[0]
+        );
+        // Measured (2026-11-26): with volume 1.52 mm wet against 3.51 mm dry (0.43); without,
+        // 2.02 against 3.24 mm (0.62). When the pressure was only scaled by 1 - wetness and
+        // wet hair still filled the grid: 3.26 against 3.51 mm (0.93).
+        assert!(
+            on[1] < 0.7 * on[0],
+            "{backend:?}: wet clumping {} against dry {}: the volume undid the bundles",
+            on[1],
+            on[0]
+        );
     }
-    let c = runs.each_ref().map(|s| s.stats().clumping);
-    eprintln!(
-        "clumping with volume on: dry {:.5} m, wet {:.5} m; off: dry {:.5} m, wet {:.5} m",
-        c[0], c[1], c[2], c[3]
-    );
-    // Measured (2026-11-25): with volume 3.26 mm wet against 3.51 mm dry (7% closer); without,
-    // 2.02 against 3.24 mm (38%). The pressure, scaled by 1 - wetness, still spreads partly wet
-    // bundles.
-    assert!(
-        c[1] < 0.95 * c[0],
-        "wet clumping {} against dry {}: the volume undid the bundles",
-        c[1],
-        c[0]
-    );
 }
 
 #[test]

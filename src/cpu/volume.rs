@@ -8,7 +8,7 @@ use super::pool::Pool;
 use crate::error::Result;
 use crate::groom::Groom;
 use crate::physics::lanes::{Lane, ParamRow, W};
-use crate::physics::volume::{respond, rest_density_of, sample, spread, CellSums, VolumeGrid, VolumeLaw};
+use crate::physics::volume::{respond, rest_density_of, sample, spread, spread_mass, CellSums, VolumeGrid, VolumeLaw};
 use glam::Affine3A;
 use rayon::prelude::*;
 
@@ -61,11 +61,12 @@ impl Volume {
             sums.par_iter_mut().enumerate().for_each(|(k, g)| {
                 g.fill(CellSums::default());
                 let (lo, hi) = ((k * chunk_rows).min(all.len()), ((k + 1) * chunk_rows).min(all.len()));
-                for (r, p) in all[lo..hi].iter().zip(&params[lo..hi]) {
+                for (i, (r, p)) in all[lo..hi].iter().zip(&params[lo..hi]).enumerate() {
+                    let w = wet.get(lo + i).copied().unwrap_or([0.0; W]);
                     for l in 0..W {
                         if p.inv_mass[l] > 0.0 {
                             let x = to_head.transform_point3(r.x.get(l));
-                            spread(&grid, g, x, r.v.get(l), 1.0 / p.inv_mass[l]);
+                            spread(&grid, g, x, r.v.get(l), spread_mass(1.0 / p.inv_mass[l], w[l]));
                         }
                     }
                 }

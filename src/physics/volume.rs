@@ -183,6 +183,15 @@ fn share_of(q: i64, w: i64) -> i64 {
     ((q as i128 * w as i128) >> (3 * AXIS_WEIGHT_BITS)) as i64
 }
 
+/// The mass a point of `mass` and `wetness` spreads: its dry share. Wet hair leaves the
+/// volume as it soaks: the bundles water pulls together do not count toward the density that
+/// pushes hair apart (nor toward the velocity its neighbours are smoothed to), so the pressure
+/// of the dry hair around them does not spread them again.
+#[inline]
+pub fn spread_mass(mass: f32, wetness: f32) -> f32 {
+    mass * (1.0 - wetness.clamp(0.0, 1.0))
+}
+
 /// Spreads a point of `mass` at `p` (head space) moving at `v` onto `sums`; nothing outside.
 /// The point's quanta are rounded once and shared among its corners by integer weights (a
 /// share rounded per corner, 32 roundings a point, cost most of the pass).

@@ -35,6 +35,11 @@ fn volume_point(i: u32, f: ptr<function, vec3<f32>>) -> vec2<u32> {
     return volume_locate(to_head(state[i].x.xyz), f);
 }
 
+// physics/volume.rs spread_mass: the dry share of a point's mass, which it spreads.
+fn spread_mass(mass: f32, wetness: f32) -> f32 {
+    return mass * (1.0 - clamp(wetness, 0.0, 1.0));
+}
+
 // `weights`: corner k's trilinear weight, x fastest.
 fn volume_weight(f: vec3<f32>, k: u32) -> f32 {
     let wx = select(1.0 - f.x, f.x, (k & 1u) != 0u);

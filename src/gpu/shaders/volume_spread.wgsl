@@ -1,5 +1,5 @@
-// Pass volume, spreading (cpu/volume.rs): every free point adds its mass and momentum to the
-// eight samples around it by integer atomics (`spread`, `share`).
+// Pass volume, spreading (cpu/volume.rs): every free point adds its dry mass and its momentum
+// to the eight samples around it by integer atomics (`spread_mass`, `spread`, `share`).
 
 @group(0) @binding(3) var<storage, read_write> volume_grid: array<atomic<u32>>;
 
@@ -18,7 +18,7 @@ fn volume_spread(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups)
         return;
     }
     let st = state[i];
-    let mass = 1.0 / points[i].inv_mass;
+    let mass = spread_mass(1.0 / points[i].inv_mass, st.x.w);
     let v = clamp(st.v.xyz, vec3<f32>(-MAX_SPREAD_SPEED), vec3<f32>(MAX_SPREAD_SPEED));
     for (var k = 0u; k < 8u; k++) {
         let m = mass * volume_weight(f, k);
