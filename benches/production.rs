@@ -3,7 +3,9 @@
 //! guides at 25% and 10% (followers written from them), 10% with hair-hair volume, every
 //! strand with hair-hair volume, an SDF head, or skinned roots, and 10% with skinned roots. A frame is one step of 1/60 s
 //! (4 substeps, symplectic Euler) plus the copy of every strand's vertices to the host (which
-//! also waits for the GPU); median over the timed frames after a warm-up. A second table
+//! also waits for the GPU); median over the timed frames after a warm-up. On a GPU with
+//! timestamp queries a last column gives the GPU time of the step itself (median of 5 more
+//! steps), which the frame's vertex copy hides. A second table
 //! times a change of the simulated fraction (binding every strand again; on the GPU it also
 //! reads the guides back to start the new ones).
 //!
@@ -100,8 +102,16 @@ fn params(backend: Backend, cores: u32) -> SimParams {
     }
 }
 
-/// Median ms per frame (step and vertex copy), of the step alone, and the strands simulated.
-fn time_row(groom: &Groom, row: &Row, backend: Backend, cores: u32, frames: usize) -> Option<(f64, f64, usize)> {
+/// Median ms per frame (step and vertex copy), of the step alone, the strands simulated, and
+/// on a GPU with timestamps the median GPU time of the step itself (5 more steps, each read
+/// back before the next).
+fn time_row(
+    groom: &Groom,
+    row: &Row,
+    backend: Backend,
+    cores: u32,
+    frames: usize,
+) -> Option<(f64, f64, usize, Option<f64>)> {
     let mut p = params(backend, cores);
     (row.edit)(&mut p);
     let mut sim = match Simulation::new(groom, p) {
@@ -133,7 +143,20 @@ fn time_row(groom: &Groom, row: &Row, backend: Backend, cores: u32, frames: usiz
             steps.push((t1 - t0).as_secs_f64() * 1e3);
         }
     }
-    Some((median(times), median(steps), simulated))
+    let mut gpu = Vec::new();
+    if backend == Backend::GPU && sim.enable_gpu_timing() {
+        for _ in 0..5 {
+            if row.roots {
+                sim.set_root_frames(&roots).expect("roots");
+            }
+            sim.step(1.0 / 60.0).expect("step");
+            if let Some(Ok(ms)) = sim.last_step_gpu_ms() {
+                gpu.push(ms);
+            }
+        }
+    }
+    let gpu = (!gpu.is_empty()).then(|| median(gpu));
+    Some((median(times), median(steps), simulated, gpu))
 }
 
 fn main() {
@@ -143,8 +166,8 @@ fn main() {
     let frames = if quick { 5 } else { 20 };
     println!("Production features on a 100,000 x 16 groom (median ms/frame: a 1/60 s step in 4 substeps plus every strand's vertices copied to the host; CPU on {cores} threads):");
     println!();
-    println!("| configuration | backend | strands simulated | ms/frame | over every strand | step ms (the GPU's: encoding) |");
-    println!("|---|---|---|---|---|---|");
+    println!("| configuration | backend | strands simulated | ms/frame | over every strand | step ms (the GPU's: encoding) | GPU step ms (timestamps) |");
+    println!("|---|---|---|---|---|---|---|");
     let mut backends = vec![Backend::CPU];
     if Simulation::new(&paper_scene(8, 3).unwrap(), params(Backend::GPU, 1)).is_ok() {
         backends.push(Backend::GPU);
@@ -152,12 +175,13 @@ fn main() {
     for &backend in &backends {
         let mut base = None;
         for row in rows() {
-            let Some((ms, step, n)) = time_row(&groom, &row, backend, cores, frames) else {
+            let Some((ms, step, n, gpu)) = time_row(&groom, &row, backend, cores, frames) else {
                 continue;
             };
             let b = *base.get_or_insert(ms);
+            let gpu = gpu.map_or("-".to_string(), |g| format!("{g:.2}"));
             println!(
-                "| {} | {backend:?} | {n} | {ms:.1} | {:.2} | {step:.1} |",
+                "| {} | {backend:?} | {n} | {ms:.1} | {:.2} | {step:.1} | {gpu} |",
                 row.name,
                 ms / b
             );
