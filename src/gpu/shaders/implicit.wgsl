@@ -251,6 +251,11 @@ fn tgt_of(pt: Point, st: State, f: vec3<f32>) -> vec3<f32> {
     let h = S.blend.z;
     let inertial = st.x.xyz + h * st.v.xyz + h * h * (f * pt.inv_mass + P.g.xyz);
     let m = select(0.0, 1.0 / pt.inv_mass, pt.inv_mass > 0.0);
-    let mw = m / max(m + h * P.drag, 1e-38);
+    // A pinned point (m = 0) takes no share; the guard is a select, not a floor under the
+    // divisor: 1e-38 is below f32's smallest normal, a GPU that flushes denormals (the H100
+    // does) read it as 0, and 0 / 0 made every pinned target NaN, the strand's energy NaN,
+    // and the line search refuse every Newton step: hair froze under implicit Euler and BDF2
+    // wherever the drag was 0.
+    let mw = select(0.0, m / (m + h * P.drag), m > 0.0);
     return mw * inertial + (1.0 - mw) * (st.x.xyz + h * P.wind.xyz);
 }
