@@ -41,6 +41,24 @@ pub fn force_scale(d2: f32, r_min: f32, r_max: f32, s: f32) -> f32 {
     }
 }
 
+/// [`force_scale`] on every lane at once, branch-free, with the same operations per lane (so
+/// the same bits). Lanes out of reach compute a value that is then discarded: written with
+/// `&&` and a branch, as the one-point form is, the compiler kept a scalar square root and two
+/// divides behind a branch per lane, and the eq. 2 pass ran at a quarter of its vector speed.
+#[inline(always)]
+pub fn force_scale_lanes(d2: &Lane, r_min: f32, r_max: f32, s: f32) -> Lane {
+    let (r2, min2) = (r_max * r_max, MIN_DISTANCE * MIN_DISTANCE);
+    let mut m = [0.0f32; W];
+    for l in 0..W {
+        let inside = (d2[l] <= r2) & (d2[l] >= min2);
+        let d = d2[l].sqrt();
+        let g = shell(d, r_min, r_max);
+        let v = s * g / d;
+        m[l] = if inside { v } else { 0.0 };
+    }
+    m
+}
+
 /// The force on a hair point at `hair` from a particle at `water`.
 #[inline(always)]
 pub fn force_on_hair(hair: Vec3, water: Vec3, r_min: f32, r_max: f32, s: f32) -> Vec3 {
@@ -120,8 +138,9 @@ pub fn gather_run_lanes(
             None => s,
         };
         let (mut rx, mut ry, mut rz) = ([0.0f32; W], [0.0f32; W], [0.0f32; W]);
+        let scale = force_scale_lanes(&d2s, r_min, r_max, s_j);
         for l in 0..W {
-            let m = force_scale(d2s[l], r_min, r_max, s_j) * mask[l];
+            let m = scale[l] * mask[l];
             rx[l] = m * (qx - x.x[l]);
             ry[l] = m * (qy - x.y[l]);
             rz[l] = m * (qz - x.z[l]);
@@ -133,5 +152,37 @@ pub fn gather_run_lanes(
             slot,
             f: [-hsum(&rx), -hsum(&ry), -hsum(&rz)],
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lane form gives the one-point form's bits on every lane: inside the shell, at its
+    /// edges, beyond `r_max`, below the minimum distance and at 0.
+    #[test]
+    fn lanes_give_the_one_point_bits() {
+        let (r_min, r_max, s) = (0.003f32, 0.009f32, 7.5f32);
+        let mut rng = crate::scenes::Lcg(11);
+        let mut d2s: Vec<f32> = (0..4000).map(|_| (rng.next_f32() * 0.012).powi(2)).collect();
+        d2s.extend([
+            0.0,
+            1e-20,
+            1e-18,
+            r_min * r_min,
+            r_max * r_max,
+            r_max * r_max * 1.0001,
+            1.0,
+        ]);
+        d2s.resize(d2s.len().next_multiple_of(W), 0.5 * r_max * r_max);
+        for chunk in d2s.chunks(W) {
+            let lanes: Lane = chunk.try_into().unwrap();
+            let got = force_scale_lanes(&lanes, r_min, r_max, s);
+            for l in 0..W {
+                let want = force_scale(lanes[l], r_min, r_max, s);
+                assert_eq!(got[l].to_bits(), want.to_bits(), "d2 {}", lanes[l]);
+            }
+        }
     }
 }
