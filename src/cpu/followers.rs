@@ -80,13 +80,15 @@ impl CpuFollowers {
         assert_eq!(dst.len(), fl.rest.len() * attrs.stride(), "one vertex per host point");
         let mut points = self.points.lock().unwrap_or_else(|e| e.into_inner());
         points.resize(&fl.spans);
-        self.guide_frames(lay, state, wet, kept, guides, pool, &mut points);
+        let avx2 = super::kernel::cpu_has_avx2();
+        self.guide_frames(lay, state, wet, kept, guides, pool, avx2, &mut points);
         super::follower_output::write_followers(fl, &points, self.blend, &self.roots, attrs, pool, dst);
     }
 
     /// Pass guide_frames: guides `0..guides`' points into `out`, block by block of the layout:
     /// a row is point `j` of eight guides, read as lanes, each frame from the row before and
-    /// the guide's starting rotation (the head's, or with skinned roots its own root's).
+    /// the guide's starting rotation (the head's, or with skinned roots its own root's). `avx2`:
+    /// compiled for AVX2 (only where the CPU has it), else the baseline; the same bits.
     #[allow(clippy::too_many_arguments)]
     fn guide_frames(
         &self,
@@ -96,74 +98,129 @@ impl CpuFollowers {
         kept: Option<(&[L3], f32)>,
         guides: usize,
         pool: Option<&super::pool::Pool>,
+        avx2: bool,
         out: &mut GuideColumns,
     ) {
-        let fl = &self.data;
-        let head = head_quat(self.head);
-        let guides = guides.min(fl.spans.len());
-        let (base, width) = (&out.base, &out.width);
         let data: &mut [f32] = bytemuck::cast_slice_mut(&mut out.lines);
-        let len = data.len();
-        let data = Shared(data.as_mut_ptr());
+        let job = FramesJob {
+            fl: self,
+            lay,
+            state,
+            wet,
+            kept,
+            guides: guides.min(self.data.spans.len()),
+            base: &out.base,
+            width: &out.width,
+            len: data.len(),
+            data: Shared(data.as_mut_ptr()),
+            avx2,
+        };
         const BLOCKS_PER_TASK: usize = STRANDS_PER_TASK / W;
-        let task = |t: usize| {
-            let data = &data;
-            for b in t * BLOCKS_PER_TASK..((t + 1) * BLOCKS_PER_TASK).min(lay.blocks) {
-                // Each lane's guide (`None`: not a simulated guide now) and its span.
-                let lanes: [Option<(usize, crate::physics::followers::GuideSpan)>; W] = std::array::from_fn(|l| {
-                    let g = lay.strand_of_slot[b * W + l] as usize;
-                    (g < guides).then(|| (g, fl.spans[g]))
-                });
-                let rows = lanes.iter().flatten().map(|(_, s)| s.count as usize).max().unwrap_or(0);
-                let mut hq = splat_quat(head);
-                if !self.roots.is_empty() {
-                    for (l, (_, s)) in lanes.iter().enumerate().filter_map(|(l, g)| g.map(|g| (l, g))) {
-                        let q = self.roots[s.host as usize].rotation.to_array();
-                        for (c, v) in hq.iter_mut().zip(q) {
-                            c[l] = v;
-                        }
-                    }
-                }
-                let (mut x_prev, mut rest_prev) = (L3::ZERO, L3::ZERO);
-                for j in 0..rows {
-                    let r = b * lay.rows + j;
-                    let x = match kept {
-                        Some((from, a)) => from[r].toward(&state[r].x, a),
-                        None => state[r].x,
-                    };
-                    let mut rest = L3::ZERO;
-                    for (l, lane) in lanes.iter().enumerate() {
-                        if let Some((_, s)) = lane.filter(|(_, s)| j < s.count as usize) {
-                            rest.set(l, fl.rest[s.rest as usize + j]);
-                        }
-                    }
-                    let q = if j == 0 {
-                        hq
-                    } else {
-                        guide_frame_lanes(&hq, &rest_prev, &rest, &x_prev, &x)
-                    };
-                    let w = wet.get(r).copied().unwrap_or([0.0; W]);
-                    for (l, lane) in lanes.iter().enumerate() {
-                        let Some((g, _)) = lane.filter(|(_, s)| j < s.count as usize) else {
-                            continue;
-                        };
-                        let values = [
-                            x.x[l], x.y[l], x.z[l], w[l], q[0][l], q[1][l], q[2][l], q[3][l], rest.x[l], rest.y[l],
-                            rest.z[l],
-                        ];
-                        for (c, v) in values.into_iter().enumerate() {
-                            let k = base[g] + c * width[g] + j;
-                            assert!(k < len);
-                            // SAFETY: `k` is inside `data` (asserted), and guide `g`'s block
-                            // is written by this task only (its block of the layout is).
-                            unsafe { *data.0.add(k) = v };
-                        }
-                    }
-                    (x_prev, rest_prev) = (x, rest);
+        let task =
+            |t: usize| frames_blocks_best(&job, t * BLOCKS_PER_TASK..((t + 1) * BLOCKS_PER_TASK).min(lay.blocks));
+        for_tasks(pool, lay.blocks.div_ceil(BLOCKS_PER_TASK), task);
+    }
+}
+
+/// What pass guide_frames reads and where it writes.
+struct FramesJob<'a> {
+    fl: &'a CpuFollowers,
+    lay: &'a Layout,
+    state: &'a [StateRow],
+    wet: &'a [Lane],
+    kept: Option<(&'a [L3], f32)>,
+    guides: usize,
+    base: &'a [usize],
+    width: &'a [usize],
+    /// The columns' floats: `len` of them from `data`.
+    data: Shared<f32>,
+    len: usize,
+    avx2: bool,
+}
+
+/// Blocks `blocks` of pass guide_frames, compiled for AVX2 where the CPU has it (a closure on
+/// the pool is compiled for the baseline: the frames' square roots and divides then ran one
+/// lane at a time, a quarter of the output's time at 25% guides).
+fn frames_blocks_best(job: &FramesJob, blocks: std::ops::Range<usize>) {
+    #[cfg(target_arch = "x86_64")]
+    if job.avx2 {
+        // SAFETY: `avx2` comes from `is_x86_feature_detected!("avx2")` (`cpu_has_avx2`).
+        unsafe { frames_blocks_avx2(job, blocks) };
+        return;
+    }
+    frames_blocks(job, blocks)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn frames_blocks_avx2(job: &FramesJob, blocks: std::ops::Range<usize>) {
+    frames_blocks(job, blocks)
+}
+
+#[inline(always)]
+fn frames_blocks(job: &FramesJob, blocks: std::ops::Range<usize>) {
+    let (lay, fl, state) = (job.lay, &job.fl.data, job.state);
+    let head = head_quat(job.fl.head);
+    for b in blocks {
+        // Each lane's guide (`None`: not a simulated guide now) and its span.
+        let lanes: [Option<(usize, crate::physics::followers::GuideSpan)>; W] = std::array::from_fn(|l| {
+            let g = lay.strand_of_slot[b * W + l] as usize;
+            (g < job.guides).then(|| (g, fl.spans[g]))
+        });
+        let rows = lanes.iter().flatten().map(|(_, s)| s.count as usize).max().unwrap_or(0);
+        let mut hq = splat_quat(head);
+        if !job.fl.roots.is_empty() {
+            for (l, (_, s)) in lanes.iter().enumerate().filter_map(|(l, g)| g.map(|g| (l, g))) {
+                let q = job.fl.roots[s.host as usize].rotation.to_array();
+                for (c, v) in hq.iter_mut().zip(q) {
+                    c[l] = v;
                 }
             }
-        };
-        for_tasks(pool, lay.blocks.div_ceil(BLOCKS_PER_TASK), task);
+        }
+        // Each lane's guide block: where its columns start and their distance, checked once
+        // for the guide's last point (then every store below is in bounds).
+        let cols: [Option<(usize, usize, usize)>; W] = std::array::from_fn(|l| {
+            lanes[l].map(|(g, s)| {
+                let (base, width) = (job.base[g], job.width[g]);
+                assert!(base + (GuideColumns::PLANES - 1) * width + (s.count as usize) <= job.len);
+                (base, width, s.count as usize)
+            })
+        });
+        let (mut x_prev, mut rest_prev) = (L3::ZERO, L3::ZERO);
+        for j in 0..rows {
+            let r = b * lay.rows + j;
+            let x = match job.kept {
+                Some((from, a)) => from[r].toward(&state[r].x, a),
+                None => state[r].x,
+            };
+            let mut rest = L3::ZERO;
+            for (l, lane) in lanes.iter().enumerate() {
+                if let Some((_, s)) = lane.filter(|(_, s)| j < s.count as usize) {
+                    rest.set(l, fl.rest[s.rest as usize + j]);
+                }
+            }
+            let q = if j == 0 {
+                hq
+            } else {
+                guide_frame_lanes(&hq, &rest_prev, &rest, &x_prev, &x)
+            };
+            let w = job.wet.get(r).copied().unwrap_or([0.0; W]);
+            for (l, col) in cols.iter().enumerate() {
+                let Some((base, width, _)) = col.filter(|&(_, _, n)| j < n) else {
+                    continue;
+                };
+                let values = [
+                    x.x[l], x.y[l], x.z[l], w[l], q[0][l], q[1][l], q[2][l], q[3][l], rest.x[l], rest.y[l], rest.z[l],
+                ];
+                for (c, v) in values.into_iter().enumerate() {
+                    // SAFETY: `base + c * width + j` is below `len` (checked for the guide's
+                    // last point above), and guide `g`'s block is written by this task only
+                    // (its block of the layout is).
+                    unsafe { *job.data.0.add(base + c * width + j) = v };
+                }
+            }
+            (x_prev, rest_prev) = (x, rest);
+        }
     }
 }
 
@@ -179,7 +236,7 @@ mod tests {
     /// Pass guide_frames, a row of eight guides at a time, gathers what the one-point law
     /// computes for each guide point, bit for bit: ragged guides (some shorter than others in
     /// their block), a turned head, moved points, wetness, a blend from kept positions, and only
-    /// the first `guides` guides simulated.
+    /// the first `guides` guides simulated; compiled for AVX2 and for the baseline.
     #[test]
     fn guide_frames_gather_the_one_point_frames() {
         let counts: Vec<u32> = (0..21).map(|s| 2 + (s * 7) % 19).collect();
@@ -231,7 +288,8 @@ mod tests {
             (Some((&kept[..], 0.6f32)), 13, false),
             (None, 21, true),
         ];
-        for (kept, guides, roots) in cases {
+        let avx2 = crate::cpu::kernel::cpu_has_avx2();
+        for ((kept, guides, roots), avx2) in cases.into_iter().flat_map(|c| [(c, false), (c, avx2)]) {
             fl.roots = if roots { frames.clone() } else { Vec::new() };
             let head = |s: &GuideSpan| match roots {
                 false => head_quat(fl.head),
@@ -239,7 +297,7 @@ mod tests {
             };
             let mut cols = GuideColumns::default();
             cols.resize(&spans);
-            fl.guide_frames(&lay, &state, &wet, kept, guides, None, &mut cols);
+            fl.guide_frames(&lay, &state, &wet, kept, guides, None, avx2, &mut cols);
             for (g, span) in spans.iter().enumerate().take(guides) {
                 let (b, l) = lay.lane_of(g);
                 let x = |j: u32| {
@@ -271,7 +329,7 @@ mod tests {
                         .map(|v| v.to_bits())
                         .collect::<Vec<_>>()
                     };
-                    assert_eq!(bits(got), bits(want), "guide {g} point {j}");
+                    assert_eq!(bits(got), bits(want), "guide {g} point {j}, avx2 {avx2}");
                 }
             }
         }
