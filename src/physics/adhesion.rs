@@ -113,6 +113,9 @@ pub fn gather_run_lanes(
     mut wet: Option<&mut super::absorb::WetRow>,
 ) {
     let r2 = r_max * r_max;
+    // The marks accumulate in a local (a register) and are written back once: through the
+    // caller's `near` every candidate waited on the last one's store.
+    let mut marks = *near;
     let parts = run.x.iter().zip(run.y).zip(run.z);
     for (j, ((&qx, &qy), &qz)) in parts.enumerate() {
         let mut d2s = [0.0f32; W];
@@ -122,7 +125,8 @@ pub fn gather_run_lanes(
             let (dx, dy, dz) = (qx - x.x[l], qy - x.y[l], qz - x.z[l]);
             d2s[l] = dx * dx + dy * dy + dz * dz;
             inside[l] = if d2s[l] <= r2 { mask[l] } else { 0.0 };
-            near[l] = near[l].max(inside[l]);
+            // Marks and mask are 0 or 1 (never NaN): a compare and select is the max.
+            marks[l] = if inside[l] > marks[l] { inside[l] } else { marks[l] };
             // An integer OR, not a float sum: it reduces in a tree instead of a serial chain.
             hit |= (inside[l] > 0.0) as u32;
         }
@@ -153,6 +157,7 @@ pub fn gather_run_lanes(
             f: [-hsum(&rx), -hsum(&ry), -hsum(&rz)],
         });
     }
+    *near = marks;
 }
 
 #[cfg(test)]
