@@ -7,7 +7,7 @@
 //! steps' blend shows the roots between the last two steps; results repeat on any thread
 //! count, and the GPU writes what the CPU writes.
 
-use crate::common::{backends, serial};
+use crate::common::{backends, frames_moved, frames_on_head, serial};
 use glam::{Mat4, Quat, Vec3};
 use wethair::groom::Groom;
 use wethair::physics::roots::RootFrame;
@@ -159,14 +159,7 @@ fn roots_that_follow_the_head_give_the_heads_followers() {
         for f in 1..=60 {
             let m = head_at(f as f32 * DT);
             by_head.set_head_transform(m).unwrap();
-            let (_, rot, _) = m.to_scale_rotation_translation();
-            let frames: Vec<RootFrame> = (0..g.strand_count())
-                .map(|s| RootFrame {
-                    position: m.transform_point3(g.positions()[g.strand_range(s).start]),
-                    rotation: rot,
-                })
-                .collect();
-            by_roots.set_root_frames(&frames).unwrap();
+            by_roots.set_root_frames(&frames_on_head(&g, m)).unwrap();
             by_head.step(DT).unwrap();
             by_roots.step(DT).unwrap();
         }
@@ -195,13 +188,7 @@ fn a_teleport_carries_guides_and_followers() {
             sim.set_root_frames(&skin(&g, f as f32 * DT)).unwrap();
             sim.step(DT).unwrap();
         }
-        let jumped: Vec<RootFrame> = skin(&g, 31.0 * DT)
-            .into_iter()
-            .map(|f| RootFrame {
-                position: turn * f.position + away,
-                rotation: turn * f.rotation,
-            })
-            .collect();
+        let jumped = frames_moved(&skin(&g, 31.0 * DT), turn, away);
         sim.set_root_frames(&jumped).unwrap();
         sim.step(DT).unwrap();
         let speed = sim.velocities().iter().map(|v| v.length()).fold(0.0, f32::max);

@@ -5,7 +5,7 @@
 //! from their frames; the GPU moves as the CPU; results are the same on any thread count; bad
 //! frames are refused by name, through Rust and C.
 
-use crate::common::{backends, serial};
+use crate::common::{backends, frames_moved, frames_on_head, serial};
 use glam::{Mat4, Quat, Vec3};
 use wethair::groom::Groom;
 use wethair::physics::roots::RootFrame;
@@ -132,14 +132,7 @@ fn frames_that_follow_the_head_move_the_hair_as_the_head_does() {
     for f in 1..=60 {
         let m = head_at(f as f32 / 60.0);
         by_head.set_head_transform(m).unwrap();
-        let (_, rot, _) = m.to_scale_rotation_translation();
-        let frames: Vec<RootFrame> = (0..g.strand_count())
-            .map(|s| RootFrame {
-                position: m.transform_point3(g.positions()[g.strand_range(s).start]),
-                rotation: rot,
-            })
-            .collect();
-        by_roots.set_root_frames(&frames).unwrap();
+        by_roots.set_root_frames(&frames_on_head(&g, m)).unwrap();
         by_head.step(1.0 / 60.0).unwrap();
         by_roots.step(1.0 / 60.0).unwrap();
     }
@@ -159,15 +152,7 @@ fn a_jump_past_the_teleport_distance_carries_the_strands_at_rest() {
     let g = sheet();
     let away = Vec3::new(2.0, -1.0, 0.5);
     let turn = Quat::from_rotation_z(1.0);
-    let jumped: Vec<RootFrame> = (0..g.strand_count())
-        .map(|s| {
-            let r = g.positions()[g.strand_range(s).start];
-            RootFrame {
-                position: turn * r + away,
-                rotation: turn,
-            }
-        })
-        .collect();
+    let jumped = frames_moved(&frames_on_head(&g, Mat4::IDENTITY), turn, away);
     for backend in backends() {
         let mut s = sim(backend, 2, 0.5);
         for f in 1..=30 {

@@ -40,3 +40,31 @@ pub fn last_error() -> String {
         .to_string_lossy()
         .into_owned()
 }
+
+/// Every strand's root frame as a head at `head` (rotation and translation) would hold it:
+/// its rest root moved by the head, turned by the head's rotation. Skinned roots given these
+/// frames move hair as the head transform does.
+pub fn frames_on_head(g: &wethair::groom::Groom, head: glam::Mat4) -> Vec<wethair::physics::roots::RootFrame> {
+    let (_, rotation, _) = head.to_scale_rotation_translation();
+    (0..g.strand_count())
+        .map(|s| wethair::physics::roots::RootFrame {
+            position: head.transform_point3(g.positions()[g.strand_range(s).start]),
+            rotation,
+        })
+        .collect()
+}
+
+/// `frames` carried rigidly: turned by `turn` about the origin, then moved by `away`.
+pub fn frames_moved(
+    frames: &[wethair::physics::roots::RootFrame],
+    turn: glam::Quat,
+    away: glam::Vec3,
+) -> Vec<wethair::physics::roots::RootFrame> {
+    frames
+        .iter()
+        .map(|f| wethair::physics::roots::RootFrame {
+            position: turn * f.position + away,
+            rotation: turn * f.rotation,
+        })
+        .collect()
+}
