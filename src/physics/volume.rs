@@ -98,7 +98,7 @@ impl VolumeGrid {
 
     /// The cell holding `p` (head space): its lower sample's index and the fractions within;
     /// `None` outside the grid.
-    #[inline]
+    #[inline(always)]
     pub fn locate(&self, p: Vec3) -> Option<(usize, Vec3)> {
         let g = (p - self.origin) / self.cell;
         let [nx, ny, nz] = self.dims;
@@ -114,7 +114,7 @@ impl VolumeGrid {
     }
 
     /// The eight samples of a cell from its lower one, x fastest.
-    #[inline]
+    #[inline(always)]
     pub fn corners(&self, base: usize) -> [usize; 8] {
         let (sx, sy) = (self.dims[0] as usize, self.dims[0] as usize * self.dims[1] as usize);
         [
@@ -131,7 +131,7 @@ impl VolumeGrid {
 }
 
 /// The trilinear weights of the eight corners (x fastest).
-#[inline]
+#[inline(always)]
 pub fn weights(f: Vec3) -> [f32; 8] {
     let (gx, gy, gz) = (1.0 - f.x, 1.0 - f.y, 1.0 - f.z);
     [
@@ -150,7 +150,7 @@ pub fn weights(f: Vec3) -> [f32; 8] {
 pub const AXIS_WEIGHT_BITS: u32 = 16;
 
 /// A point's mass and momentum in quanta, rounded once (the speed clamped first).
-#[inline]
+#[inline(always)]
 pub fn point_quanta(mass: f32, v: Vec3) -> [i64; 4] {
     let v = v.clamp(Vec3::splat(-MAX_SPREAD_SPEED), Vec3::splat(MAX_SPREAD_SPEED));
     let m = mass as f64;
@@ -165,7 +165,7 @@ pub fn point_quanta(mass: f32, v: Vec3) -> [i64; 4] {
 
 /// The eight corners' trilinear weights (x fastest) in fixed point: each axis's fraction in
 /// 1/2^16 and its complement, multiplied, so the eight sum to exactly 2^48.
-#[inline]
+#[inline(always)]
 pub fn fixed_weights(f: Vec3) -> [i64; 8] {
     let one = 1i64 << AXIS_WEIGHT_BITS;
     let axis = |t: f32| {
@@ -178,7 +178,7 @@ pub fn fixed_weights(f: Vec3) -> [i64; 8] {
 
 /// `q` times the fixed-point weight `w` (of 2^48), floored: a corner's share of a point's
 /// quanta, in integers (one 64 × 64 → 128-bit multiply).
-#[inline]
+#[inline(always)]
 fn share_of(q: i64, w: i64) -> i64 {
     ((q as i128 * w as i128) >> (3 * AXIS_WEIGHT_BITS)) as i64
 }
@@ -187,7 +187,7 @@ fn share_of(q: i64, w: i64) -> i64 {
 /// volume as it soaks: the bundles water pulls together do not count toward the density that
 /// pushes hair apart (nor toward the velocity its neighbours are smoothed to), so the pressure
 /// of the dry hair around them does not spread them again.
-#[inline]
+#[inline(always)]
 pub fn spread_mass(mass: f32, wetness: f32) -> f32 {
     mass * (1.0 - wetness.clamp(0.0, 1.0))
 }
@@ -195,7 +195,7 @@ pub fn spread_mass(mass: f32, wetness: f32) -> f32 {
 /// Spreads a point of `mass` at `p` (head space) moving at `v` onto `sums`; nothing outside.
 /// The point's quanta are rounded once and shared among its corners by integer weights (a
 /// share rounded per corner, 32 roundings a point, cost most of the pass).
-#[inline]
+#[inline(always)]
 pub fn spread(grid: &VolumeGrid, sums: &mut [CellSums], p: Vec3, v: Vec3, mass: f32) {
     let Some((base, f)) = grid.locate(p) else {
         return;
@@ -212,7 +212,7 @@ pub fn spread(grid: &VolumeGrid, sums: &mut [CellSums], p: Vec3, v: Vec3, mass: 
 /// What a point at `p` (head space) sees: the density's excess over `rest` (kg/m³) and its
 /// gradient, and the hair's velocity. The excess is taken at the samples, so the pressure
 /// starts smoothly where the hair first packs past its rest density.
-#[inline]
+#[inline(always)]
 pub fn sample(grid: &VolumeGrid, sums: &[CellSums], p: Vec3, rest: f32) -> Option<VolumeSample> {
     let (base, f) = grid.locate(p)?;
     let corners = grid.corners(base);
@@ -264,7 +264,7 @@ impl VolumeLaw {
 /// A free point's velocity after the volume's response to what it sees. Wet hair loses its
 /// volume: the pressure falls with the point's wetness (0 dry, 1 soaked), so the bundles water
 /// pulls together are not pushed apart again.
-#[inline]
+#[inline(always)]
 pub fn respond(v: Vec3, s: &VolumeSample, law: &VolumeLaw, wetness: f32) -> Vec3 {
     let v = v + (s.velocity - v) * law.blend;
     if s.density > 0.0 {
