@@ -29,34 +29,26 @@ fn shell(d: f32, r_min: f32, r_max: f32) -> f32 {
 
 /// The factor `m` such that the force on the hair point is `m (p_j - p_i)`, given
 /// `d2 = |p_j - p_i|²`: `s g(d) / d`, and 0 beyond `r_max` or below [`MIN_DISTANCE`].
+/// Branch-free: the value is computed whatever the distance and a select keeps the reach, so
+/// that a loop over lanes ([`force_scale_lanes`]) vectorises.
 #[inline(always)]
 pub fn force_scale(d2: f32, r_min: f32, r_max: f32, s: f32) -> f32 {
-    let inside = d2 <= r_max * r_max && d2 >= MIN_DISTANCE * MIN_DISTANCE;
+    let inside = (d2 <= r_max * r_max) & (d2 >= MIN_DISTANCE * MIN_DISTANCE);
     let d = d2.sqrt();
-    let g = shell(d, r_min, r_max);
+    let v = s * shell(d, r_min, r_max) / d;
     if inside {
-        s * g / d
+        v
     } else {
         0.0
     }
 }
 
-/// [`force_scale`] on every lane at once, branch-free, with the same operations per lane (so
-/// the same bits). Lanes out of reach compute a value that is then discarded: written with
-/// `&&` and a branch, as the one-point form is, the compiler kept a scalar square root and two
-/// divides behind a branch per lane, and the eq. 2 pass ran at a quarter of its vector speed.
+/// [`force_scale`] on every lane at once. Written with `&&` and the divide behind the branch,
+/// as it once was, the compiler kept a scalar square root and two divides behind a branch per
+/// lane, and the eq. 2 pass ran at a quarter of its vector speed.
 #[inline(always)]
 pub fn force_scale_lanes(d2: &Lane, r_min: f32, r_max: f32, s: f32) -> Lane {
-    let (r2, min2) = (r_max * r_max, MIN_DISTANCE * MIN_DISTANCE);
-    let mut m = [0.0f32; W];
-    for l in 0..W {
-        let inside = (d2[l] <= r2) & (d2[l] >= min2);
-        let d = d2[l].sqrt();
-        let g = shell(d, r_min, r_max);
-        let v = s * g / d;
-        m[l] = if inside { v } else { 0.0 };
-    }
-    m
+    std::array::from_fn(|l| force_scale(d2[l], r_min, r_max, s))
 }
 
 /// The force on a hair point at `hair` from a particle at `water`.
