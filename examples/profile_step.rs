@@ -1,7 +1,9 @@
 //! Steps the paper scene (head collider, `particles` placed in the hair) for `frames` frames:
 //! a target for `perf record` when tuning the CPU backend (`FULL=1`: with the full wet model; `BIG=1`: on 100,000 x 16;
 //! `RAIN=1`: under the bench's rain; `PASSES=1`: print the step's per-pass timers; `CAP=n`:
-//! room for n particles; `PREFILTER=1`: the water grid's prefilter and candidate counts at the end).
+//! room for n particles; `PREFILTER=1`: the water grid's prefilter and candidate counts at the end;
+//! `GUIDES=n`: every n-th strand a guide; `VOLUME=1`: hair-hair volume; `WRITE=1`: also copy
+//! the vertices to the host each frame, timed apart).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -42,6 +44,14 @@ fn main() {
     if std::env::var_os("FULL").is_some() {
         params.held_water = wethair::HeldWater::ON; // the full wet model
     }
+    // GUIDES=n: every n-th strand simulated, the rest followers.
+    if let Some(n) = std::env::var_os("GUIDES") {
+        let n = n.to_str().and_then(|s| s.parse().ok()).expect("GUIDES=number");
+        params.guides = wethair::Guides::every_nth(n);
+    }
+    if std::env::var_os("VOLUME").is_some() {
+        params.volume = wethair::Volume::ON;
+    }
     let mut sim = Simulation::new(&groom, params).expect("sim");
     // RAIN=1: the bench's rain over the head (100 drops a frame).
     if std::env::var_os("RAIN").is_some() {
@@ -53,11 +63,25 @@ fn main() {
     }
     // PASSES=1: print the step's own per-pass timers after the run.
     let passes = std::env::var_os("PASSES").is_some() && sim.time_passes(true);
+    // WRITE=1: every host vertex copied out after each step (followers included), timed apart.
+    let mut out = std::env::var_os("WRITE").map(|_| vec![0.0f32; sim.vertex_count() * sim.attributes().stride()]);
+    let mut write = std::time::Duration::ZERO;
     let t0 = std::time::Instant::now();
     for _ in 0..frames {
         sim.step(1.0 / 60.0).expect("step");
+        if let Some(out) = out.as_mut() {
+            let t = std::time::Instant::now();
+            sim.write_vertices(out).expect("vertices");
+            write += t.elapsed();
+        }
     }
-    let ms = t0.elapsed().as_secs_f64() * 1e3 / frames as f64;
+    let ms = (t0.elapsed() - write).as_secs_f64() * 1e3 / frames as f64;
+    if out.is_some() {
+        println!(
+            "write_vertices {:.3} ms/frame",
+            write.as_secs_f64() * 1e3 / frames as f64
+        );
+    }
     // PREFILTER=1: how the water grid's prefilter and candidates fare on the last frame's
     // particles (hair points passed, candidates scanned, and those truly within r_max).
     if std::env::var_os("PREFILTER").is_some() {
