@@ -3,7 +3,8 @@
 //! `RAIN=1`: under the bench's rain; `PASSES=1`: print the step's per-pass timers; `CAP=n`:
 //! room for n particles; `PREFILTER=1`: the water grid's prefilter and candidate counts at the end;
 //! `GUIDES=n`: every n-th strand a guide; `VOLUME=1`: hair-hair volume; `WRITE=1`: also copy
-//! the vertices to the host each frame, timed apart).
+//! the vertices to the host each frame, timed apart; `INTEGRATOR=n`: the integrator by number,
+//! with `ITERATIONS=n` Newton iterations; `HASH=1`: a hash of the positions at the end).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -40,6 +41,20 @@ fn main() {
     // CAP=n: room for n particles (the default holds 65,536).
     if let Some(c) = std::env::var_os("CAP") {
         params.water.capacity = c.to_str().and_then(|s| s.parse().ok()).expect("CAP=number");
+    }
+    // INTEGRATOR=n: the integrator by its number (1 implicit Euler, 2 XPBD, 4 BDF2);
+    // ITERATIONS=n: Newton iterations of the implicit ones.
+    if let Some(n) = std::env::var_os("INTEGRATOR") {
+        use wethair::Integrator as I;
+        params.integrator = match n.to_str() {
+            Some("1") => I::IMPLICIT_EULER,
+            Some("2") => I::XPBD,
+            Some("4") => I::BDF2,
+            _ => panic!("INTEGRATOR=1, 2 or 4"),
+        };
+    }
+    if let Some(n) = std::env::var_os("ITERATIONS") {
+        params.solver_iterations = n.to_str().and_then(|s| s.parse().ok()).expect("ITERATIONS=number");
     }
     if std::env::var_os("FULL").is_some() {
         params.held_water = wethair::HeldWater::ON; // the full wet model
@@ -110,6 +125,18 @@ fn main() {
         for p in sim.pass_times() {
             println!("{:>16} {:8.3} ms/frame", p.name, p.ms / frames as f64);
         }
+    }
+    // HASH=1: a hash of every point's position bits at the end, to hold a speed-up to the
+    // same results.
+    if std::env::var_os("HASH").is_some() {
+        let h = sim
+            .positions()
+            .iter()
+            .flat_map(|p| p.to_array())
+            .fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
+                (h ^ v.to_bits() as u64).wrapping_mul(0x0100_0000_01b3)
+            });
+        println!("positions hash {h:016x}");
     }
     println!("{:.3} ms/frame, {} particles held", ms, sim.stats().particles);
 }

@@ -68,8 +68,8 @@ impl BandScratch {
     }
 }
 
-/// One spring's share of the energy (times h²), of its gradient (times h², into `grad`) and,
-/// when `hess` is set, of the Hessian (times h², into the band).
+/// One spring's share of the energy (times h²) and, when asked, of its gradient (times h², into
+/// `grad`) and of the Hessian (times h², into the band).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn spring_terms<const AXIAL: bool>(
@@ -80,77 +80,87 @@ fn spring_terms<const AXIAL: bool>(
     s: &SpringLanes,
     h: f64,
     energy: &mut LaneD,
-    grad: &mut [LaneD],
+    grad: Option<&mut [LaneD]>,
     band: Option<&mut [[LaneD; BAND + 1]]>,
 ) {
     let off = 3 * (b - a);
-    let mut blocks = [[[0.0f64; 3]; 3]; W];
+    // Lanes innermost in every loop, so each line is one vector operation over the strands
+    // (written lane by lane, with per-lane branches, the compiler kept it scalar: half of an
+    // implicit step). Each lane's operations are those of a one-strand spring, in its order.
+    let (hh, min_len) = (h * h, MIN_LENGTH as f64);
+    let lanes = |f: &dyn Fn(usize) -> f64| -> LaneD { std::array::from_fn(f) };
+    let d: [LaneD; 3] = std::array::from_fn(|r| lanes(&|l| x[3 * b + r][l] - x[3 * a + r][l]));
+    let len = lanes(&|l| (d[0][l] * d[0][l] + d[1][l] * d[1][l] + d[2][l] * d[2][l]).sqrt());
+    let inv = lanes(&|l| if len[l] > min_len { 1.0 / len[l] } else { 0.0 });
+    let n: [LaneD; 3] = std::array::from_fn(|r| lanes(&|l| d[r][l] * inv[l]));
+    let k = lanes(&|l| s.k[l] as f64);
+    let rest = lanes(&|l| s.rest[l] as f64);
+    let ch = lanes(&|l| h * s.c[l] as f64); // (c/h) * h²
+                                            // Damping potential about the spring's vector at the start of the step.
+    let (pa, pb) = (&x0[a].x, &x0[b].x);
+    let d0 = [
+        lanes(&|l| (pb.x[l] - pa.x[l]) as f64),
+        lanes(&|l| (pb.y[l] - pa.y[l]) as f64),
+        lanes(&|l| (pb.z[l] - pa.z[l]) as f64),
+    ];
+    let len0 = lanes(&|l| (d0[0][l] * d0[0][l] + d0[1][l] * d0[1][l] + d0[2][l] * d0[2][l]).sqrt());
+    let n0: [LaneD; 3] = std::array::from_fn(|r| lanes(&|l| if len0[l] > min_len { d0[r][l] / len0[l] } else { 0.0 }));
+    let dd: [LaneD; 3] = std::array::from_fn(|r| lanes(&|l| d[r][l] - d0[r][l]));
+    let stretch = lanes(&|l| if len[l] > min_len { len[l] - rest[l] } else { 0.0 });
+    let (pdd, damp_e) = if AXIAL {
+        let t = lanes(&|l| n0[0][l] * dd[0][l] + n0[1][l] * dd[1][l] + n0[2][l] * dd[2][l]);
+        (
+            std::array::from_fn(|r| lanes(&|l| n0[r][l] * t[l])),
+            lanes(&|l| t[l] * t[l]),
+        )
+    } else {
+        (
+            dd,
+            lanes(&|l| dd[0][l] * dd[0][l] + dd[1][l] * dd[1][l] + dd[2][l] * dd[2][l]),
+        )
+    };
     for l in 0..W {
-        let d = [
-            x[3 * b][l] - x[3 * a][l],
-            x[3 * b + 1][l] - x[3 * a + 1][l],
-            x[3 * b + 2][l] - x[3 * a + 2][l],
-        ];
-        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        let ok = len > MIN_LENGTH as f64;
-        let inv = if ok { 1.0 / len } else { 0.0 };
-        let n = [d[0] * inv, d[1] * inv, d[2] * inv];
-        let (k, c, rest) = (s.k[l] as f64, s.c[l] as f64, s.rest[l] as f64);
-        // Damping potential about the spring's vector at the start of the step.
-        let (pa, pb) = (&x0[a].x, &x0[b].x);
-        let d0 = [
-            (pb.x[l] - pa.x[l]) as f64,
-            (pb.y[l] - pa.y[l]) as f64,
-            (pb.z[l] - pa.z[l]) as f64,
-        ];
-        let len0 = (d0[0] * d0[0] + d0[1] * d0[1] + d0[2] * d0[2]).sqrt();
-        let n0 = if len0 > MIN_LENGTH as f64 {
-            [d0[0] / len0, d0[1] / len0, d0[2] / len0]
-        } else {
-            [0.0; 3]
-        };
-        let dd = [d[0] - d0[0], d[1] - d0[1], d[2] - d0[2]];
-        let ch = h * c; // (c/h) * h²
-        let hh = h * h;
-        let stretch = if ok { len - rest } else { 0.0 };
-        let (pdd, damp_e) = if AXIAL {
-            let t = n0[0] * dd[0] + n0[1] * dd[1] + n0[2] * dd[2];
-            ([n0[0] * t, n0[1] * t, n0[2] * t], t * t)
-        } else {
-            (dd, dd[0] * dd[0] + dd[1] * dd[1] + dd[2] * dd[2])
-        };
-        energy[l] += hh * 0.5 * k * stretch * stretch + 0.5 * ch * damp_e;
-        for r in 0..3 {
-            let gr = hh * k * stretch * n[r] + ch * pdd[r];
+        energy[l] += hh * 0.5 * k[l] * stretch[l] * stretch[l] + 0.5 * ch[l] * damp_e[l];
+    }
+    let Some(grad) = grad else {
+        return; // the line search's trial: its energy only
+    };
+    for r in 0..3 {
+        for l in 0..W {
+            let gr = hh * k[l] * stretch[l] * n[r][l] + ch[l] * pdd[r][l];
             grad[3 * b + r][l] += gr;
             grad[3 * a + r][l] -= gr;
         }
-        let alpha = if ok { (1.0 - rest * inv).max(0.0) } else { 0.0 };
-        for r in 0..3 {
-            for q in 0..3 {
-                let id = if r == q { 1.0 } else { 0.0 };
-                let damp = if AXIAL { n0[r] * n0[q] } else { id };
-                blocks[l][r][q] = hh * k * (alpha * id + (1.0 - alpha) * n[r] * n[q]) + ch * damp;
-            }
-        }
     }
-    if let Some(band) = band {
-        for l in 0..W {
-            for r in 0..3 {
-                for q in 0..3 {
-                    let v = blocks[l][r][q];
-                    if q <= r {
-                        band[3 * a + r][r - q][l] += v;
-                        band[3 * b + r][r - q][l] += v;
-                    }
-                    band[3 * b + r][off + r - q][l] -= v;
+    let Some(band) = band else {
+        return;
+    };
+    let alpha = lanes(&|l| {
+        if len[l] > min_len {
+            (1.0 - rest[l] * inv[l]).max(0.0)
+        } else {
+            0.0
+        }
+    });
+    for r in 0..3 {
+        for q in 0..3 {
+            let id = if r == q { 1.0 } else { 0.0 };
+            let v = lanes(&|l| {
+                let damp = if AXIAL { n0[r][l] * n0[q][l] } else { id };
+                hh * k[l] * (alpha[l] * id + (1.0 - alpha[l]) * n[r][l] * n[q][l]) + ch[l] * damp
+            });
+            for l in 0..W {
+                if q <= r {
+                    band[3 * a + r][r - q][l] += v[l];
+                    band[3 * b + r][r - q][l] += v[l];
                 }
+                band[3 * b + r][off + r - q][l] -= v[l];
             }
         }
     }
 }
 
-/// Energy (times h²) and gradient of the whole strand at `sc.x`; the Hessian too when asked.
+/// Energy (times h²) of the whole strand at `x`; its gradient and Hessian too when asked.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn strand_terms<const AXIAL: bool>(
@@ -161,26 +171,27 @@ fn strand_terms<const AXIAL: bool>(
     bend: bool,
     h: f64,
     hc: f64,
-    grad: &mut [LaneD],
+    mut grad: Option<&mut [LaneD]>,
     mut band: Option<&mut [[LaneD; BAND + 1]]>,
 ) -> LaneD {
     let p = x0.len();
     let mut energy = [0.0f64; W];
     for i in 0..p {
-        for l in 0..W {
-            let m = inertia(rows[i].inv_mass[l], hc);
-            for c in 0..3 {
+        let m: LaneD = std::array::from_fn(|l| inertia(rows[i].inv_mass[l], hc));
+        for c in 0..3 {
+            for l in 0..W {
                 let e = x[3 * i + c][l] - target[3 * i + c][l];
-                energy[l] += 0.5 * m * e * e;
-                grad[3 * i + c][l] = m * e;
+                energy[l] += 0.5 * m[l] * e * e;
+                if let Some(g) = grad.as_deref_mut() {
+                    g[3 * i + c][l] = m[l] * e;
+                }
             }
         }
         if let Some(band) = band.as_deref_mut() {
             for c in 0..3 {
                 band[3 * i + c] = [[0.0; W]; BAND + 1];
                 for l in 0..W {
-                    let m = inertia(rows[i].inv_mass[l], hc);
-                    band[3 * i + c][0][l] = if m > 0.0 { m } else { 1.0 };
+                    band[3 * i + c][0][l] = if m[l] > 0.0 { m[l] } else { 1.0 };
                 }
             }
         }
@@ -189,7 +200,8 @@ fn strand_terms<const AXIAL: bool>(
     for (gap, on) in [(1, true), (2, bend)] {
         for i in (0..p.saturating_sub(gap)).filter(|_| on) {
             let s = if gap == 1 { &rows[i].stretch } else { &rows[i].bend };
-            spring_terms::<AXIAL>(x, x0, i, i + gap, s, h, &mut energy, grad, band.as_deref_mut());
+            let g = grad.as_deref_mut();
+            spring_terms::<AXIAL>(x, x0, i, i + gap, s, h, &mut energy, g, band.as_deref_mut());
         }
     }
     energy
@@ -261,7 +273,7 @@ pub fn implicit_euler_block<const AXIAL: bool>(
             bend,
             hd,
             hc,
-            &mut sc.grad[..n],
+            Some(&mut sc.grad[..n]),
             Some(&mut sc.a[..n]),
         );
         // Newton direction d = -H⁻¹ ∇E; pinned DOFs do not move (identity rows, zero gradient).
@@ -305,17 +317,7 @@ pub fn implicit_euler_block<const AXIAL: bool>(
                     sc.trial[r][l] = sc.x[r][l] + step[l] * sc.rhs[r][l];
                 }
             }
-            let e = strand_terms::<AXIAL>(
-                &sc.trial[..n],
-                state,
-                &sc.target[..n],
-                rows,
-                bend,
-                hd,
-                hc,
-                &mut sc.grad[..n],
-                None,
-            );
+            let e = strand_terms::<AXIAL>(&sc.trial[..n], state, &sc.target[..n], rows, bend, hd, hc, None, None);
             let mut all = true;
             for l in 0..W {
                 if !done[l] {
@@ -354,7 +356,10 @@ pub fn implicit_euler_block<const AXIAL: bool>(
 }
 
 /// Solves `A y = b` in place (`b` becomes `y`) for a symmetric positive definite banded `A`
-/// given by its lower band, by Cholesky `L Lᵀ` (overwriting `A` with `L`).
+/// given by its lower band, by Cholesky `L Lᵀ` (overwriting `A` with `L`). Every loop runs
+/// the lanes innermost, so each multiply-subtract is one vector operation over the strands;
+/// with a strand's sum outermost the compiler kept them scalar (two-thirds of an implicit
+/// step). Each lane's operations, and so its bits, are those of a one-strand solve.
 #[inline(always)]
 pub fn solve_banded(a: &mut [[LaneD; BAND + 1]], b: &mut [LaneD]) {
     let n = a.len();
@@ -362,38 +367,51 @@ pub fn solve_banded(a: &mut [[LaneD; BAND + 1]], b: &mut [LaneD]) {
         for k in (1..=BAND.min(r)).rev() {
             let c = r - k;
             // L[r][c] = (A[r][c] - Σ_{j < c} L[r][j] L[c][j]) / L[c][c]
-            for l in 0..W {
-                let mut s = a[r][k][l];
-                for j in (k + 1)..=BAND.min(r) {
-                    s -= a[r][j][l] * a[c][j - k][l];
+            let mut s = a[r][k];
+            for j in (k + 1)..=BAND.min(r) {
+                let (lr, lc) = (a[r][j], a[c][j - k]);
+                for l in 0..W {
+                    s[l] -= lr[l] * lc[l];
                 }
-                a[r][k][l] = s / a[c][0][l];
+            }
+            let d = a[c][0];
+            for l in 0..W {
+                a[r][k][l] = s[l] / d[l];
+            }
+        }
+        let mut s = a[r][0];
+        for k in 1..=BAND.min(r) {
+            let lr = a[r][k];
+            for l in 0..W {
+                s[l] -= lr[l] * lr[l];
             }
         }
         for l in 0..W {
-            let mut s = a[r][0][l];
-            for k in 1..=BAND.min(r) {
-                s -= a[r][k][l] * a[r][k][l];
-            }
-            a[r][0][l] = s.max(1e-300).sqrt();
+            a[r][0][l] = s[l].max(1e-300).sqrt();
         }
     }
     for r in 0..n {
-        for l in 0..W {
-            let mut s = b[r][l];
-            for k in 1..=BAND.min(r) {
-                s -= a[r][k][l] * b[r - k][l];
+        let mut s = b[r];
+        for k in 1..=BAND.min(r) {
+            let (lr, y) = (a[r][k], b[r - k]);
+            for l in 0..W {
+                s[l] -= lr[l] * y[l];
             }
-            b[r][l] = s / a[r][0][l];
+        }
+        for l in 0..W {
+            b[r][l] = s[l] / a[r][0][l];
         }
     }
     for r in (0..n).rev() {
-        for l in 0..W {
-            let mut s = b[r][l];
-            for k in 1..=BAND.min(n - 1 - r) {
-                s -= a[r + k][k][l] * b[r + k][l];
+        let mut s = b[r];
+        for k in 1..=BAND.min(n - 1 - r) {
+            let (lk, y) = (a[r + k][k], b[r + k]);
+            for l in 0..W {
+                s[l] -= lk[l] * y[l];
             }
-            b[r][l] = s / a[r][0][l];
+        }
+        for l in 0..W {
+            b[r][l] = s[l] / a[r][0][l];
         }
     }
 }
