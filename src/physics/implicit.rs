@@ -52,6 +52,34 @@ pub struct BandScratch {
     x: Vec<LaneD>,
     trial: Vec<LaneD>,
     grad: Vec<LaneD>,
+    /// Each spring at the substep's start (stretch springs, then bend), for its damping.
+    starts: Vec<SpringStart>,
+}
+
+/// A spring's vector at the substep's start and its direction (zero when shorter than
+/// [`MIN_LENGTH`]): the same for every Newton iteration and line-search trial, so computed once.
+#[derive(Clone, Copy, Debug, Default)]
+struct SpringStart {
+    d0: [LaneD; 3],
+    n0: [LaneD; 3],
+}
+
+impl SpringStart {
+    /// The spring from row `a` to row `b` of `x0`.
+    #[inline(always)]
+    fn new(x0: &[StateRow], a: usize, b: usize) -> SpringStart {
+        let lanes = |f: &dyn Fn(usize) -> f64| -> LaneD { std::array::from_fn(f) };
+        let (pa, pb) = (&x0[a].x, &x0[b].x);
+        let d0 = [
+            lanes(&|l| (pb.x[l] - pa.x[l]) as f64),
+            lanes(&|l| (pb.y[l] - pa.y[l]) as f64),
+            lanes(&|l| (pb.z[l] - pa.z[l]) as f64),
+        ];
+        let len0 = lanes(&|l| (d0[0][l] * d0[0][l] + d0[1][l] * d0[1][l] + d0[2][l] * d0[2][l]).sqrt());
+        let min_len = MIN_LENGTH as f64;
+        let n0 = std::array::from_fn(|r| lanes(&|l| if len0[l] > min_len { d0[r][l] / len0[l] } else { 0.0 }));
+        SpringStart { d0, n0 }
+    }
 }
 
 impl BandScratch {
@@ -64,6 +92,7 @@ impl BandScratch {
             x: vec![[0.0; W]; 3 * points],
             trial: vec![[0.0; W]; 3 * points],
             grad: vec![[0.0; W]; 3 * points],
+            starts: vec![SpringStart::default(); 2 * points],
         }
     }
 }
@@ -74,7 +103,7 @@ impl BandScratch {
 #[allow(clippy::too_many_arguments)]
 fn spring_terms<const AXIAL: bool>(
     x: &[LaneD],
-    x0: &[StateRow],
+    start: &SpringStart,
     a: usize,
     b: usize,
     s: &SpringLanes,
@@ -95,16 +124,10 @@ fn spring_terms<const AXIAL: bool>(
     let n: [LaneD; 3] = std::array::from_fn(|r| lanes(&|l| d[r][l] * inv[l]));
     let k = lanes(&|l| s.k[l] as f64);
     let rest = lanes(&|l| s.rest[l] as f64);
-    let ch = lanes(&|l| h * s.c[l] as f64); // (c/h) * h²
-                                            // Damping potential about the spring's vector at the start of the step.
-    let (pa, pb) = (&x0[a].x, &x0[b].x);
-    let d0 = [
-        lanes(&|l| (pb.x[l] - pa.x[l]) as f64),
-        lanes(&|l| (pb.y[l] - pa.y[l]) as f64),
-        lanes(&|l| (pb.z[l] - pa.z[l]) as f64),
-    ];
-    let len0 = lanes(&|l| (d0[0][l] * d0[0][l] + d0[1][l] * d0[1][l] + d0[2][l] * d0[2][l]).sqrt());
-    let n0: [LaneD; 3] = std::array::from_fn(|r| lanes(&|l| if len0[l] > min_len { d0[r][l] / len0[l] } else { 0.0 }));
+    // (c/h) h²
+    let ch = lanes(&|l| h * s.c[l] as f64);
+    // Damping potential about the spring's vector at the start of the step.
+    let (d0, n0) = (&start.d0, &start.n0);
     let dd: [LaneD; 3] = std::array::from_fn(|r| lanes(&|l| d[r][l] - d0[r][l]));
     let stretch = lanes(&|l| if len[l] > min_len { len[l] - rest[l] } else { 0.0 });
     let (pdd, damp_e) = if AXIAL {
@@ -165,7 +188,7 @@ fn spring_terms<const AXIAL: bool>(
 #[allow(clippy::too_many_arguments)]
 fn strand_terms<const AXIAL: bool>(
     x: &[LaneD],
-    x0: &[StateRow],
+    starts: &[SpringStart],
     target: &[LaneD],
     rows: &[ParamRow],
     bend: bool,
@@ -174,7 +197,7 @@ fn strand_terms<const AXIAL: bool>(
     mut grad: Option<&mut [LaneD]>,
     mut band: Option<&mut [[LaneD; BAND + 1]]>,
 ) -> LaneD {
-    let p = x0.len();
+    let p = x.len() / 3;
     let mut energy = [0.0f64; W];
     for i in 0..p {
         let m: LaneD = std::array::from_fn(|l| inertia(rows[i].inv_mass[l], hc));
@@ -200,8 +223,8 @@ fn strand_terms<const AXIAL: bool>(
     for (gap, on) in [(1, true), (2, bend)] {
         for i in (0..p.saturating_sub(gap)).filter(|_| on) {
             let s = if gap == 1 { &rows[i].stretch } else { &rows[i].bend };
-            let g = grad.as_deref_mut();
-            spring_terms::<AXIAL>(x, x0, i, i + gap, s, h, &mut energy, g, band.as_deref_mut());
+            let (g, start) = (grad.as_deref_mut(), &starts[(gap - 1) * p + i]);
+            spring_terms::<AXIAL>(x, start, i, i + gap, s, h, &mut energy, g, band.as_deref_mut());
         }
     }
     energy
@@ -264,10 +287,15 @@ pub fn implicit_euler_block<const AXIAL: bool>(
             }
         }
     }
+    for gap in [1, 2] {
+        for i in 0..p.saturating_sub(gap) {
+            sc.starts[(gap - 1) * p + i] = SpringStart::new(state, i, i + gap);
+        }
+    }
     for _ in 0..iterations.max(1) {
         let e0 = strand_terms::<AXIAL>(
             &sc.x[..n],
-            state,
+            &sc.starts[..2 * p],
             &sc.target[..n],
             rows,
             bend,
@@ -317,7 +345,17 @@ pub fn implicit_euler_block<const AXIAL: bool>(
                     sc.trial[r][l] = sc.x[r][l] + step[l] * sc.rhs[r][l];
                 }
             }
-            let e = strand_terms::<AXIAL>(&sc.trial[..n], state, &sc.target[..n], rows, bend, hd, hc, None, None);
+            let e = strand_terms::<AXIAL>(
+                &sc.trial[..n],
+                &sc.starts[..2 * p],
+                &sc.target[..n],
+                rows,
+                bend,
+                hd,
+                hc,
+                None,
+                None,
+            );
             let mut all = true;
             for l in 0..W {
                 if !done[l] {
