@@ -161,7 +161,7 @@ mod tests {
             })
             .collect();
         let d_b = 0.008;
-        for avx2 in [false, super::super::kernel::cpu_has_avx2()] {
+        for avx2 in [false, super::super::avx2::cpu_has_avx2()] {
             let mut got = vec![Vec3::NAN; n];
             pull_range(3..n, &xs, &pairs, d_b, avx2, |i, f| got[i] = f);
             let mut pulled = 0;

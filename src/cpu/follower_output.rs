@@ -34,7 +34,7 @@ pub(super) fn write_followers(
     pool: Option<&super::pool::Pool>,
     dst: &mut [f32],
 ) {
-    let job = Job::new(fl, points, blend, roots, attrs, dst, super::kernel::cpu_has_avx2());
+    let job = Job::new(fl, points, blend, roots, attrs, dst, super::avx2::cpu_has_avx2());
     run_job(&job, fl.strand_first.len() - 1, pool);
 }
 
@@ -91,22 +91,10 @@ struct Job<'a> {
     avx2: bool,
 }
 
-/// [`write_strands`] compiled for AVX2 where the machine has it.
-fn write_strands_best(job: &Job, strands: std::ops::Range<usize>) {
-    #[cfg(target_arch = "x86_64")]
-    if job.avx2 {
-        // SAFETY: `avx2` comes from `is_x86_feature_detected!("avx2")` (`cpu_has_avx2`).
-        unsafe { write_strands_avx2(job, strands) };
-        return;
-    }
-    write_strands(job, strands)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn write_strands_avx2(job: &Job, strands: std::ops::Range<usize>) {
-    write_strands(job, strands)
-}
+super::avx2::avx2_or_base!(
+    /// [`write_strands`] compiled for AVX2 where the machine has it.
+    fn write_strands_best(job: &Job, strands: std::ops::Range<usize>) => write_strands
+);
 
 /// Host strands `strands`: each strand's points (eight at a time where its guides allow, see
 /// [`point_for_point`]), then its vertices eight at a time: tangents as lanes, laid out in a
@@ -424,7 +412,7 @@ mod tests {
                 };
                 let want = write(true, false);
                 assert!(want.iter().all(|v| v.is_finite()), "every vertex written");
-                let avx2 = super::super::kernel::cpu_has_avx2();
+                let avx2 = super::super::avx2::cpu_has_avx2();
                 for (one_point, avx2) in [(false, false), (false, avx2), (true, avx2)] {
                     let got = write(one_point, avx2);
                     let same = got.iter().zip(&want).all(|(a, b)| a.to_bits() == b.to_bits());

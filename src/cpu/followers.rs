@@ -80,7 +80,7 @@ impl CpuFollowers {
         assert_eq!(dst.len(), fl.rest.len() * attrs.stride(), "one vertex per host point");
         let mut points = self.points.lock().unwrap_or_else(|e| e.into_inner());
         points.resize(&fl.spans);
-        let avx2 = super::kernel::cpu_has_avx2();
+        let avx2 = super::avx2::cpu_has_avx2();
         self.guide_frames(lay, state, wet, kept, guides, pool, avx2, &mut points);
         super::follower_output::write_followers(fl, &points, self.blend, &self.roots, attrs, pool, dst);
     }
@@ -138,24 +138,12 @@ struct FramesJob<'a> {
     avx2: bool,
 }
 
-/// Blocks `blocks` of pass guide_frames, compiled for AVX2 where the CPU has it (a closure on
-/// the pool is compiled for the baseline: the frames' square roots and divides then ran one
-/// lane at a time, a quarter of the output's time at 25% guides).
-fn frames_blocks_best(job: &FramesJob, blocks: std::ops::Range<usize>) {
-    #[cfg(target_arch = "x86_64")]
-    if job.avx2 {
-        // SAFETY: `avx2` comes from `is_x86_feature_detected!("avx2")` (`cpu_has_avx2`).
-        unsafe { frames_blocks_avx2(job, blocks) };
-        return;
-    }
-    frames_blocks(job, blocks)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn frames_blocks_avx2(job: &FramesJob, blocks: std::ops::Range<usize>) {
-    frames_blocks(job, blocks)
-}
+super::avx2::avx2_or_base!(
+    /// Blocks `blocks` of pass guide_frames, compiled for AVX2 where the CPU has it (a closure
+    /// on the pool is compiled for the baseline: the frames' square roots and divides then ran
+    /// one lane at a time, a quarter of the output's time at 25% guides).
+    fn frames_blocks_best(job: &FramesJob, blocks: std::ops::Range<usize>) => frames_blocks
+);
 
 #[inline(always)]
 fn frames_blocks(job: &FramesJob, blocks: std::ops::Range<usize>) {
@@ -288,7 +276,7 @@ mod tests {
             (Some((&kept[..], 0.6f32)), 13, false),
             (None, 21, true),
         ];
-        let avx2 = crate::cpu::kernel::cpu_has_avx2();
+        let avx2 = crate::cpu::avx2::cpu_has_avx2();
         for ((kept, guides, roots), avx2) in cases.into_iter().flat_map(|c| [(c, false), (c, avx2)]) {
             fl.roots = if roots { frames.clone() } else { Vec::new() };
             let head = |s: &GuideSpan| match roots {

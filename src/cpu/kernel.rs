@@ -434,15 +434,3 @@ fn gather_runs(
         adhesion::gather_run_lanes(x, mask, run, s, reactions, acc, near, w.r_min, w.r_max, w.s, wet);
     }
 }
-
-/// Whether this CPU runs AVX2 (checked once per simulation).
-pub(super) fn cpu_has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}

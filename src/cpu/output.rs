@@ -85,22 +85,10 @@ fn write_range(job: &Job, blocks: std::ops::Range<usize>) {
     write_blocks_best(job, blocks)
 }
 
-/// [`write_blocks`] compiled for AVX2 where the CPU has it.
-fn write_blocks_best(job: &Job, blocks: std::ops::Range<usize>) {
-    #[cfg(target_arch = "x86_64")]
-    if job.avx2 {
-        // SAFETY: `avx2` comes from `is_x86_feature_detected!("avx2")` (see `cpu_has_avx2`).
-        unsafe { write_blocks_avx2(job, blocks) };
-        return;
-    }
-    write_blocks(job, blocks)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn write_blocks_avx2(job: &Job, blocks: std::ops::Range<usize>) {
-    write_blocks(job, blocks)
-}
+super::avx2::avx2_or_base!(
+    /// [`write_blocks`] compiled for AVX2 where the CPU has it.
+    fn write_blocks_best(job: &Job, blocks: std::ops::Range<usize>) => write_blocks
+);
 
 /// Rows staged per pass over a block: the stage is 8 lanes x (`STAGE_ROWS` x 7 + 8) floats,
 /// 3.8 KB, which stays in L1.
@@ -339,7 +327,7 @@ mod tests {
     #[test]
     fn avx2_and_portable_writers_agree() {
         assert!(
-            !cfg!(target_arch = "x86_64") || super::super::kernel::cpu_has_avx2(),
+            !cfg!(target_arch = "x86_64") || super::super::avx2::cpu_has_avx2(),
             "this test compares the AVX2 writer; the machine has no AVX2"
         );
         let counts: Vec<u32> = (0..21).map(|s| 2 + (s * 11) % 37).collect();

@@ -5,7 +5,8 @@
 //! block while it sits in cache ("fused" order). With water, particles couple blocks, so every
 //! substep visits all blocks before the particles move. Both orders run the same block kernel.
 
-use super::kernel::{block_substep, cpu_has_avx2, AbsorbCtx, Ctx, WaterCtx, Worker};
+use super::avx2::cpu_has_avx2;
+use super::kernel::{block_substep, AbsorbCtx, Ctx, WaterCtx, Worker};
 use super::layout::{Layout, StateRow};
 use super::water::Water;
 use crate::error::{Error, Result};
