@@ -74,13 +74,16 @@ impl RootTargets {
     }
 
     /// Every `stride`-th simulated strand's targets (the error estimate's shadow runs those
-    /// strands).
-    pub(super) fn targets_every(&self, stride: usize) -> Vec<RootFrame> {
-        let all: Vec<RootFrame> = match &self.guides {
-            Some((host_of, _)) => host_of.iter().map(|&h| self.target[h as usize]).collect(),
-            None => self.target.clone(),
-        };
-        all.into_iter().step_by(stride.max(1)).collect()
+    /// strands), read in place: only the sampled strands' frames are copied.
+    pub(super) fn targets_every(&self, stride: usize) -> impl Iterator<Item = RootFrame> + '_ {
+        let simulated = self
+            .guides
+            .as_ref()
+            .map_or(self.target.len(), |(host_of, _)| host_of.len());
+        (0..simulated).step_by(stride.max(1)).map(move |s| match &self.guides {
+            Some((host_of, _)) => self.target[host_of[s] as usize],
+            None => self.target[s],
+        })
     }
 
     /// The frames the followers' output shows: where the last step left them, or `a` of the
