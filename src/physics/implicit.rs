@@ -292,8 +292,8 @@ pub fn implicit_euler_block<const AXIAL: bool>(
             }
         }
     }
-    for gap in [1, 2] {
-        for i in 0..p.saturating_sub(gap) {
+    for (gap, on) in [(1, true), (2, bend)] {
+        for i in (0..p.saturating_sub(gap)).filter(|_| on) {
             sc.starts[(gap - 1) * p + i] = SpringStart::new(state, i, i + gap);
         }
     }
