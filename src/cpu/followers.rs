@@ -215,10 +215,8 @@ fn frames_blocks(job: &FramesJob, blocks: std::ops::Range<usize>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::groom::Groom;
     use crate::physics::follow::guide_frame_at;
     use crate::physics::followers::GuideSpan;
-    use crate::scenes::Lcg;
     use glam::Vec3;
 
     /// Pass guide_frames, a row of eight guides at a time, gathers what the one-point law
@@ -228,24 +226,8 @@ mod tests {
     #[test]
     fn guide_frames_gather_the_one_point_frames() {
         let counts: Vec<u32> = (0..21).map(|s| 2 + (s * 7) % 19).collect();
-        let total: u32 = counts.iter().sum();
-        let mut rng = Lcg(17);
-        let pos = (0..total)
-            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()))
-            .collect();
-        let groom = Groom::new(pos, &counts, None, None, 1e-3).expect("groom");
-        let lay = Layout::new(&groom, &crate::SimParams::paper());
-        let mut state = lay.rest_state(&glam::Affine3A::IDENTITY);
-        for r in &mut state {
-            for l in 0..W {
-                r.x.x[l] += rng.next_f32() - 0.5;
-                r.x.z[l] -= rng.next_f32() * 0.2;
-            }
-        }
+        let (groom, lay, state, wet, _) = super::super::layout::fixture::ragged(&counts, 17, (1.0, 0.2));
         let kept: Vec<L3> = state.iter().map(|r| r.x.toward(&L3::ZERO, 0.1)).collect();
-        let wet: Vec<Lane> = (0..state.len())
-            .map(|_| std::array::from_fn(|_| rng.next_f32()))
-            .collect();
         let spans: Vec<GuideSpan> = (0..counts.len())
             .map(|s| GuideSpan {
                 first: groom.strand_first[s],

@@ -157,3 +157,42 @@ fn strand_order(groom: &Groom, params: &SimParams, slots: usize) -> Vec<u32> {
     order.resize(slots, u32::MAX);
     order
 }
+
+/// Test input shared by the lane-by-lane passes' bit-for-bit tests.
+#[cfg(test)]
+pub(crate) mod fixture {
+    use super::{Layout, StateRow};
+    use crate::groom::Groom;
+    use crate::physics::lanes::{Lane, W};
+    use crate::scenes::Lcg;
+    use glam::Vec3;
+
+    /// Strands of `counts` points placed at random in a unit cube (ragged: some blocks end in
+    /// padding lanes), their layout under the paper's parameters, the rest state with every
+    /// point moved at random (`jitter` a metre at most in x, down by at most `jitter.1` in z),
+    /// and a random wetness per point; then the generator, for what a test draws next.
+    pub(crate) fn ragged(
+        counts: &[u32],
+        seed: u32,
+        jitter: (f32, f32),
+    ) -> (Groom, Layout, Vec<StateRow>, Vec<Lane>, Lcg) {
+        let total: u32 = counts.iter().sum();
+        let mut rng = Lcg(seed);
+        let pos = (0..total)
+            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()))
+            .collect();
+        let groom = Groom::new(pos, counts, None, None, 1e-3).expect("groom");
+        let lay = Layout::new(&groom, &crate::SimParams::paper());
+        let mut state = lay.rest_state(&glam::Affine3A::IDENTITY);
+        for r in &mut state {
+            for l in 0..W {
+                r.x.x[l] += jitter.0 * (rng.next_f32() - 0.5);
+                r.x.z[l] -= jitter.1 * rng.next_f32();
+            }
+        }
+        let wet = (0..state.len())
+            .map(|_| std::array::from_fn(|_| rng.next_f32()))
+            .collect();
+        (groom, lay, state, wet, rng)
+    }
+}

@@ -317,9 +317,6 @@ pub(super) fn stage_run(avx2: bool, cols: &[Lane; 8], run: &mut [f32], at: usize
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::groom::Groom;
-    use crate::scenes::Lcg;
-    use glam::Vec3;
 
     /// The AVX2 writer and the portable one write the same bits, for every attribute set, on
     /// ragged strands with random positions and wetness (tests/output.rs checks the result
@@ -331,22 +328,7 @@ mod tests {
             "this test compares the AVX2 writer; the machine has no AVX2"
         );
         let counts: Vec<u32> = (0..21).map(|s| 2 + (s * 11) % 37).collect();
-        let total: u32 = counts.iter().sum();
-        let mut rng = Lcg(11);
-        let pos = (0..total)
-            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()))
-            .collect();
-        let groom = Groom::new(pos, &counts, None, None, 1e-3).expect("groom");
-        let lay = Layout::new(&groom, &crate::SimParams::paper());
-        let mut state = lay.rest_state(&glam::Affine3A::IDENTITY);
-        for r in &mut state {
-            for l in 0..W {
-                r.x.x[l] += rng.next_f32() - 0.5;
-            }
-        }
-        let wet: Vec<Lane> = (0..state.len())
-            .map(|_| std::array::from_fn(|_| rng.next_f32()))
-            .collect();
+        let (_, lay, state, wet, _) = super::super::layout::fixture::ragged(&counts, 11, (1.0, 0.0));
         for bits in 1..=7 {
             let attrs = VertexAttributes(bits);
             let n = lay.mass.len() * attrs.stride();
