@@ -21,7 +21,7 @@ pub fn mean_nearest_tip_distance(tips: &[Vec3]) -> f32 {
     // Tips lie on a surface: spacing ~ extent / sqrt(n); two spacings per cell finds most
     // nearest neighbours within one query.
     let cell = ((hi - lo).max_element() / (n as f32).sqrt() * 2.0).max(1e-6);
-    let mut grid = Grid::new(n, cell);
+    let mut grid = Grid::without_prefilter(n, cell);
     grid.build(tips);
     // Room for a query over every column, so no box is ever too wide.
     let mut runs = vec![(0u32, 0u32); (grid.dims().x * grid.dims().y) as usize];

@@ -44,12 +44,27 @@ pub struct Grid {
     fine_inv: f32,
     fine_dims: IVec3,
     near: Vec<u64>,
+    /// Whether builds mark the prefilter's bits (a grid made by
+    /// [`Grid::without_prefilter`] does not, and its prefilter passes every point in its box).
+    filtered: bool,
 }
 
 impl Grid {
     /// A grid for up to `capacity` points with cells of side at least `cell_min` (m); it
     /// allocates all it will need, so [`Grid::build`] does not allocate.
     pub fn new(capacity: usize, cell_min: f32) -> Self {
+        Grid::made(capacity, cell_min, true)
+    }
+
+    /// [`Grid::new`] for callers that only query cells (`runs_in_box`, `for_each_candidate`):
+    /// builds skip the prefilter's bits, a pass over every point and its 27 fine cells that
+    /// took as long as the rest of a build.
+    pub fn without_prefilter(capacity: usize, cell_min: f32) -> Self {
+        Grid::made(capacity, cell_min, false)
+    }
+
+    /// The grid of [`Grid::new`] (`filtered`) or of [`Grid::without_prefilter`].
+    fn made(capacity: usize, cell_min: f32, filtered: bool) -> Self {
         Grid {
             cell_min,
             cell: cell_min,
@@ -61,7 +76,8 @@ impl Grid {
             cell_of_point: Vec::with_capacity(capacity),
             fine_inv: 1.0 / cell_min,
             fine_dims: IVec3::ONE,
-            near: Vec::with_capacity(FINE_BITS / 64),
+            near: Vec::with_capacity(if filtered { FINE_BITS / 64 } else { 0 }),
+            filtered,
         }
     }
 
@@ -146,7 +162,9 @@ impl Grid {
             self.cell_of_point.push(c);
         }
         self.order.sort(&self.cell_of_point, cells);
-        self.mark_fine(points);
+        if self.filtered {
+            self.mark_fine(points);
+        }
     }
 
     /// Sets the fine bits of the cells each point's cube of half-side `cell_min` touches (at
@@ -162,9 +180,7 @@ impl Grid {
             for x in a.x..=b.x {
                 for y in a.y..=b.y {
                     let row = ((x * fd.y + y) * fd.z) as usize;
-                    for bit in row + a.z as usize..=row + b.z as usize {
-                        self.near[bit / 64] |= 1 << (bit % 64);
-                    }
+                    set_bits(&mut self.near, row + a.z as usize, row + b.z as usize);
                 }
             }
         }
@@ -185,7 +201,11 @@ impl Grid {
     #[inline(always)]
     pub fn may_have_near(&self, p: Vec3, r: f32) -> bool {
         debug_assert!(r <= self.cell_min);
-        p.cmpge(self.lo - r).all() && p.cmple(self.hi + r).all() && !self.near.is_empty() && self.fine_bit(p)
+        let in_box = p.cmpge(self.lo - r).all() && p.cmple(self.hi + r).all();
+        if !self.filtered {
+            return in_box;
+        }
+        in_box && !self.near.is_empty() && self.fine_bit(p)
     }
 
     /// [`Grid::may_have_near`] for the `W` points of a lane row at once (the arithmetic runs
@@ -194,10 +214,19 @@ impl Grid {
     pub fn may_have_near_lanes(&self, x: &crate::physics::lanes::L3, r: f32) -> u32 {
         use crate::physics::lanes::W;
         debug_assert!(r <= self.cell_min);
-        if self.near.is_empty() {
+        if self.filtered && self.near.is_empty() {
             return 0;
         }
         let (lo, hi, inv) = (self.lo - r, self.hi + r, self.fine_inv);
+        if !self.filtered {
+            let mut bits = 0u32;
+            for l in 0..W {
+                let (px, py, pz) = (x.x[l], x.y[l], x.z[l]);
+                let inside = (px >= lo.x) & (px <= hi.x) & (py >= lo.y) & (py <= hi.y) & (pz >= lo.z) & (pz <= hi.z);
+                bits |= (inside as u32) << l;
+            }
+            return bits;
+        }
         let top = (self.fine_dims - IVec3::ONE).as_vec3();
         let mut idx = [0i32; W];
         let mut inside = [false; W];
@@ -286,5 +315,83 @@ impl Grid {
     /// Number of points per cell (tests and GPU parity).
     pub fn cell_counts(&self) -> Vec<u32> {
         self.order.start.windows(2).map(|w| w[1] - w[0]).collect()
+    }
+}
+
+/// Sets bits `a..=b` of `words` (bit `i` is bit `i % 64` of word `i / 64`) a word at a time.
+/// Bit by bit, each set read back the word the last one wrote, and marking the prefilter's
+/// bits took most of a grid build.
+#[inline(always)]
+fn set_bits(words: &mut [u64], a: usize, b: usize) {
+    let (wa, wb) = (a / 64, b / 64);
+    let from = u64::MAX << (a % 64);
+    let to = u64::MAX >> (63 - b % 64);
+    if wa == wb {
+        words[wa] |= from & to;
+        return;
+    }
+    words[wa] |= from;
+    words[wa + 1..wb].fill(u64::MAX);
+    words[wb] |= to;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Grid;
+    use crate::physics::lanes::{L3, W};
+    use glam::Vec3;
+
+    /// A grid without the prefilter finds the same runs as one with it, and its prefilter
+    /// passes every point the filtered one passes (it may pass more, never fewer).
+    #[test]
+    fn a_grid_without_prefilter_queries_the_same_cells() {
+        let mut rng = crate::scenes::Lcg(5);
+        let mut r = || rng.next_f32();
+        let pts: Vec<Vec3> = (0..500).map(|_| Vec3::new(r(), r(), r()) * 0.2).collect();
+        let (mut a, mut b) = (Grid::new(pts.len(), 0.01), Grid::without_prefilter(pts.len(), 0.01));
+        a.build(&pts);
+        b.build(&pts);
+        assert_eq!((a.dims(), a.cell(), a.sorted()), (b.dims(), b.cell(), b.sorted()));
+        let (mut ra, mut rb) = ([(0u32, 0u32); 64], [(0u32, 0u32); 64]);
+        for _ in 0..300 {
+            let p = Vec3::new(r(), r(), r()) * 0.3 - Vec3::splat(0.05);
+            let (na, nb) = (
+                a.runs_in_box(p - 0.01, p + 0.01, &mut ra),
+                b.runs_in_box(p - 0.01, p + 0.01, &mut rb),
+            );
+            assert_eq!(na, nb);
+            let n = na.expect("a 2 cm box spans few columns");
+            assert_eq!(ra[..n], rb[..n]);
+            assert!(b.may_have_near(p, 0.01) || !a.may_have_near(p, 0.01));
+            let mut row = L3::ZERO;
+            for l in 0..W {
+                row.set(l, p + Vec3::new(0.004 * l as f32, 0.0, 0.0));
+            }
+            let (fa, fb) = (a.may_have_near_lanes(&row, 0.01), b.may_have_near_lanes(&row, 0.01));
+            assert_eq!(fa & fb, fa, "lanes {fa:08b} against {fb:08b}");
+        }
+    }
+
+    /// A run set a word at a time sets exactly the bits of the run, within a word, across
+    /// one boundary and across several.
+    #[test]
+    fn set_bits_sets_the_run_and_nothing_else() {
+        for (a, b) in [
+            (0, 0),
+            (3, 5),
+            (60, 63),
+            (63, 64),
+            (62, 130),
+            (64, 127),
+            (5, 250),
+            (191, 191),
+        ] {
+            let mut words = [0u64; 4];
+            super::set_bits(&mut words, a, b);
+            for i in 0..256 {
+                let set = words[i / 64] >> (i % 64) & 1 == 1;
+                assert_eq!(set, (a..=b).contains(&i), "run {a}..={b}, bit {i}");
+            }
+        }
     }
 }
