@@ -226,7 +226,7 @@ mod tests {
     #[test]
     fn guide_frames_gather_the_one_point_frames() {
         let counts: Vec<u32> = (0..21).map(|s| 2 + (s * 7) % 19).collect();
-        let (groom, lay, state, wet, _) = super::super::layout::fixture::ragged(&counts, 17, (1.0, 0.2));
+        let (groom, lay, state, wet) = super::super::layout::fixture::ragged(&counts, 17, (1.0, 0.2));
         let kept: Vec<L3> = state.iter().map(|r| r.x.toward(&L3::ZERO, 0.1)).collect();
         let spans: Vec<GuideSpan> = (0..counts.len())
             .map(|s| GuideSpan {

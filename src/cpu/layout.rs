@@ -170,12 +170,8 @@ pub(crate) mod fixture {
     /// Strands of `counts` points placed at random in a unit cube (ragged: some blocks end in
     /// padding lanes), their layout under the paper's parameters, the rest state with every
     /// point moved at random (`jitter` a metre at most in x, down by at most `jitter.1` in z),
-    /// and a random wetness per point; then the generator, for what a test draws next.
-    pub(crate) fn ragged(
-        counts: &[u32],
-        seed: u32,
-        jitter: (f32, f32),
-    ) -> (Groom, Layout, Vec<StateRow>, Vec<Lane>, Lcg) {
+    /// and a random wetness per point.
+    pub(crate) fn ragged(counts: &[u32], seed: u32, jitter: (f32, f32)) -> (Groom, Layout, Vec<StateRow>, Vec<Lane>) {
         let total: u32 = counts.iter().sum();
         let mut rng = Lcg(seed);
         let pos = (0..total)
@@ -193,6 +189,6 @@ pub(crate) mod fixture {
         let wet = (0..state.len())
             .map(|_| std::array::from_fn(|_| rng.next_f32()))
             .collect();
-        (groom, lay, state, wet, rng)
+        (groom, lay, state, wet)
     }
 }

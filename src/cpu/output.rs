@@ -328,7 +328,7 @@ mod tests {
             "this test compares the AVX2 writer; the machine has no AVX2"
         );
         let counts: Vec<u32> = (0..21).map(|s| 2 + (s * 11) % 37).collect();
-        let (_, lay, state, wet, _) = super::super::layout::fixture::ragged(&counts, 11, (1.0, 0.0));
+        let (_, lay, state, wet) = super::super::layout::fixture::ragged(&counts, 11, (1.0, 0.0));
         for bits in 1..=7 {
             let attrs = VertexAttributes(bits);
             let n = lay.mass.len() * attrs.stride();
