@@ -172,6 +172,12 @@ pub trait Engine: std::fmt::Debug + Send {
     fn water(&self) -> Result<(Vec<Vec3>, Vec<Vec3>)>;
     /// Particle and thread counters.
     fn counters(&self) -> Counters;
+    /// Runs independent jobs (the stats' measures) on the backend's worker pool where it has
+    /// one, else one after another. Each job writes its own result, so what they compute does
+    /// not depend on the thread count.
+    fn run_jobs(&self, jobs: &mut [Box<dyn FnMut() + Send + '_>]) {
+        jobs.iter_mut().for_each(|j| j());
+    }
     /// Every buffer the backend holds and its size in bytes.
     fn buffers(&self) -> Vec<(&'static str, usize)>;
     /// Wets every free hair point up to saturation `s` (held water; never removes water).

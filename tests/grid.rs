@@ -203,3 +203,40 @@ fn hash_grid_query_equals_brute_force() {
         }
     }
 }
+
+/// The stats' clumping measures, run as jobs on the simulation's pool, are the measures'
+/// functions' values to the bit, on one thread and on three.
+#[test]
+fn stats_clumping_is_the_measures_on_any_thread_count() {
+    use wethair::physics::clumping::{mean_nearest_along_strands, mean_nearest_tip_distance};
+    use wethair::{Backend, SimParams, Simulation};
+    let _s = crate::common::serial();
+    let groom = wethair::groom::paper_scene(2_000, 6).expect("groom");
+    let mut first: Vec<u32> = (0..groom.strand_count())
+        .map(|s| groom.strand_range(s).start as u32)
+        .collect();
+    first.push(groom.positions().len() as u32);
+    let mut seen = Vec::new();
+    for threads in [1, 3] {
+        let params = SimParams {
+            backend: Backend::CPU,
+            threads,
+            ..SimParams::paper_scene_with_head()
+        };
+        let mut sim = Simulation::new(&groom, params).expect("sim");
+        let water = wethair::scenes::on_hair(groom.positions(), 200, &mut Lcg(4));
+        sim.add_water(&water, &[]).expect("water");
+        for _ in 0..20 {
+            sim.step(1.0 / 60.0).expect("step");
+        }
+        let st = sim.stats();
+        let x = sim.positions();
+        assert_eq!(st.clumping.to_bits(), mean_nearest_tip_distance(&sim.tips()).to_bits());
+        assert_eq!(
+            st.clumping_along.to_bits(),
+            mean_nearest_along_strands(&x, &first).to_bits()
+        );
+        seen.push((st.clumping.to_bits(), st.clumping_along.to_bits()));
+    }
+    assert_eq!(seen[0], seen[1], "one thread against three");
+}

@@ -178,6 +178,16 @@ impl Engine for CpuBackend {
         }
     }
 
+    fn run_jobs(&self, jobs: &mut [Box<dyn FnMut() + Send + '_>]) {
+        match &self.pool {
+            Some(pool) => pool.install(|| {
+                use rayon::prelude::*;
+                jobs.par_iter_mut().with_max_len(1).for_each(|j| j())
+            }),
+            None => jobs.iter_mut().for_each(|j| j()),
+        }
+    }
+
     fn buffers(&self) -> Vec<(&'static str, usize)> {
         CpuBackend::buffers(self)
     }

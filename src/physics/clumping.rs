@@ -75,16 +75,26 @@ pub fn mean_nearest_along_strands(points: &[Vec3], strand_first: &[u32]) -> f32 
     if points.is_empty() || strand_first.len() < 2 {
         return 0.0;
     }
-    let mut level_points = Vec::with_capacity(strand_first.len() - 1);
-    let mut sum = 0.0f64;
-    for level in ALONG_STRAND_LEVELS {
-        level_points.clear();
-        level_points.extend(strand_first.windows(2).map(|w| {
+    let levels = ALONG_STRAND_LEVELS.map(|level| mean_nearest_tip_distance(&level_points(points, strand_first, level)));
+    mean_of_levels(&levels)
+}
+
+/// Each strand's point at `level` of its length, the points
+/// [`mean_nearest_along_strands`] measures at that level.
+pub fn level_points(points: &[Vec3], strand_first: &[u32], level: f32) -> Vec<Vec3> {
+    strand_first
+        .windows(2)
+        .map(|w| {
             let n = (w[1] - w[0]) as f32;
             points[w[0] as usize + (level * (n - 1.0)).round() as usize]
-        }));
-        sum += mean_nearest_tip_distance(&level_points) as f64;
-    }
+        })
+        .collect()
+}
+
+/// [`mean_nearest_along_strands`] from its levels' measures (in [`ALONG_STRAND_LEVELS`]'
+/// order), summed in that order.
+pub fn mean_of_levels(levels: &[f32; ALONG_STRAND_LEVELS.len()]) -> f32 {
+    let sum = levels.iter().fold(0.0f64, |sum, &m| sum + m as f64);
     (sum / ALONG_STRAND_LEVELS.len() as f64) as f32
 }
 

@@ -15,7 +15,7 @@ use crate::engine::Engine;
 use crate::error::{invalid, Error, Result};
 use crate::groom::Groom;
 use crate::params::{Backend, SimParams, VertexAttributes};
-use crate::physics::clumping::{mean_nearest_along_strands, mean_nearest_tip_distance};
+use crate::physics::clumping::{level_points, mean_nearest_tip_distance, mean_of_levels, ALONG_STRAND_LEVELS};
 use crate::physics::spring::spring_energy;
 use crate::plan::Pass;
 use glam::{Affine3A, DVec3, Mat4, Vec3};
@@ -793,12 +793,13 @@ impl Simulation {
         self.host.strand_first[1..].iter().map(|&e| x[e as usize - 1]).collect()
     }
 
-    /// Counters and measures (the clumping measure is computed now, O(strands); on the GPU
-    /// this reads back the state and waits for the device).
+    /// Counters and measures (the clumping measures are computed now, O(strands), on the CPU
+    /// backend's worker pool; on the GPU this reads back the state and waits for the device).
     pub fn stats(&self) -> Stats {
         let (strands, points) = self.stats_counts();
         let c = self.engine.counters();
         let x = self.positions(); // one read back for both measures
+        let (clumping, clumping_along) = self.clumping_of(&x);
         Stats {
             strands,
             points,
@@ -807,8 +808,8 @@ impl Simulation {
             steps: self.steps,
             last_step_ms: self.last_step_ms,
             max_speed: self.max_speed,
-            clumping: mean_nearest_tip_distance(&self.tips_of(&x)),
-            clumping_along: mean_nearest_along_strands(&x, &self.host.strand_first),
+            clumping,
+            clumping_along,
             threads: c.threads,
             integrator: self.last_integrator,
             backend: self.engine.kind(),
@@ -820,6 +821,30 @@ impl Simulation {
                 .and_then(|sh| sh.estimate(&x)),
             substeps: self.last_substeps,
         }
+    }
+
+    /// The tip measure and the along-strand measure of the positions `x`: five independent
+    /// nearest-point searches (the tips, and each of the quarter levels), run as jobs on the
+    /// backend's pool, each into its own slot, and combined in a fixed order (the same bits
+    /// on any thread count).
+    fn clumping_of(&self, x: &[Vec3]) -> (f32, f32) {
+        if x.is_empty() || self.host.strand_first.len() < 2 {
+            return (mean_nearest_tip_distance(&self.tips_of(x)), 0.0);
+        }
+        let first = &self.host.strand_first;
+        let sets: Vec<Vec<Vec3>> = std::iter::once(self.tips_of(x))
+            .chain(ALONG_STRAND_LEVELS.map(|level| level_points(x, first, level)))
+            .collect();
+        let mut out = [0.0f32; 1 + ALONG_STRAND_LEVELS.len()];
+        let mut jobs: Vec<Box<dyn FnMut() + Send + '_>> = out
+            .iter_mut()
+            .zip(&sets)
+            .map(|(o, set)| Box::new(move || *o = mean_nearest_tip_distance(set)) as Box<dyn FnMut() + Send>)
+            .collect();
+        self.engine.run_jobs(&mut jobs);
+        drop(jobs);
+        let levels = std::array::from_fn(|k| out[1 + k]);
+        (out[0], mean_of_levels(&levels))
     }
 
     /// The mass of host point `i` holding saturation `wetness`, kg: its dry mass, plus its water
