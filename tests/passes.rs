@@ -1,29 +1,48 @@
 //! Leave out what a scene does not need: the pass list and the buffers follow the scene.
 
+//! On each backend: a default-backend scene would test the GPU on a real GPU and the CPU on
+//! lavapipe (AUTO passes over software adapters), so each backend is named.
+
+use crate::common::{backends, serial};
 use glam::Vec3;
 use wethair::groom::paper_scene;
 use wethair::plan::Pass;
-use wethair::{Shape, SimParams, Simulation, SpringParams};
+use wethair::{Backend, Shape, SimParams, Simulation, SpringParams};
 
 #[test]
 fn dry_scene_has_no_water_passes_or_buffers() {
+    let _serial = serial();
     let groom = paper_scene(100, 6).unwrap();
-    let sim = Simulation::new(&groom, SimParams::paper()).unwrap();
-    assert_eq!(
-        sim.passes(),
-        vec![Pass::StretchSprings, Pass::BendSprings, Pass::Integrate]
-    );
-    let names: Vec<_> = sim.buffers().iter().map(|b| b.0).collect();
-    assert!(
-        !names.iter().any(|n| n.starts_with("water") || *n == "wetness"),
-        "{names:?}"
-    );
+    for backend in backends() {
+        let p = SimParams {
+            backend,
+            ..SimParams::paper()
+        };
+        let sim = Simulation::new(&groom, p).unwrap();
+        assert_eq!(
+            sim.passes(),
+            vec![Pass::StretchSprings, Pass::BendSprings, Pass::Integrate]
+        );
+        let names: Vec<_> = sim.buffers().iter().map(|b| b.0).collect();
+        assert!(
+            !names.iter().any(|n| n.starts_with("water") || *n == "wetness"),
+            "{backend:?}: {names:?}"
+        );
+    }
 }
 
 #[test]
 fn passes_appear_only_with_their_feature() {
+    let _serial = serial();
+    for backend in backends() {
+        passes_follow_the_features(backend);
+    }
+}
+
+fn passes_follow_the_features(backend: Backend) {
     let groom = paper_scene(100, 6).unwrap();
     let params = SimParams {
+        backend,
         bend: SpringParams {
             stiffness: 0.0,
             damping: 0.0,
@@ -56,7 +75,12 @@ fn passes_appear_only_with_their_feature() {
         ]
     );
     let names: Vec<_> = sim.buffers().iter().map(|b| b.0).collect();
-    assert!(names.contains(&"water_grid") && names.contains(&"wetness"));
+    assert!(
+        names.contains(&"water_grid") && names.contains(&"water_particles"),
+        "{backend:?}: {names:?}"
+    );
+    // The CPU keeps the paper's wetness per point in its own buffer; the GPU in the state.
+    assert_eq!(names.contains(&"wetness"), backend == Backend::CPU, "{names:?}");
     // Water gone: its passes go too (buffers stay for the next shower).
     sim.clear_water().unwrap();
     assert!(!sim.passes().contains(&Pass::Adhesion));
@@ -83,6 +107,7 @@ fn single_and_multi_threaded_steps_agree_exactly_when_dry() {
     let mut a = Simulation::new(
         &groom,
         SimParams {
+            backend: Backend::CPU,
             threads: 1,
             ..SimParams::paper()
         },
@@ -91,6 +116,7 @@ fn single_and_multi_threaded_steps_agree_exactly_when_dry() {
     let mut b = Simulation::new(
         &groom,
         SimParams {
+            backend: Backend::CPU,
             threads: 2,
             ..SimParams::paper()
         },

@@ -1,12 +1,14 @@
 //! SDF colliders (issue 17, item 3; `physics/sdf.rs`): a sampled sphere holds hair as the
 //! analytic sphere does, within a cell; no point ends a step more than the documented depth
 //! inside any field; a field moved by its transform pushes hair and water; results are the
-//! same on any thread count and run after run on the GPU; the GPU pushes as the CPU does; bad
+//! same on any thread count and run after run on the GPU; the GPU pushes as the CPU does,
+//! point by point where the scene is not chaotic and by what the scene does where it is; bad
 //! grids and transforms are refused by name.
 
-use crate::common::{backends, serial};
+use crate::common::{backends, nudged_groom, serial};
 use glam::{Affine3A, Mat4, Quat, Vec3};
 use std::sync::Arc;
+use wethair::groom::Groom;
 use wethair::physics::sdf::{PlacedSdf, Sdf};
 use wethair::{Backend, Error, Shape, SimParams, Simulation};
 
@@ -29,6 +31,11 @@ fn scene(colliders: Vec<Shape>, sdfs: Vec<Sdf>, threads: u32) -> Simulation {
 /// The same scene on `backend`.
 fn scene_on(backend: Backend, colliders: Vec<Shape>, sdfs: Vec<Sdf>, threads: u32) -> Simulation {
     let groom = wethair::groom::paper_scene(300, 6).unwrap();
+    scene_with(&groom, backend, colliders, sdfs, threads)
+}
+
+/// The scene's settings on `groom`.
+fn scene_with(groom: &Groom, backend: Backend, colliders: Vec<Shape>, sdfs: Vec<Sdf>, threads: u32) -> Simulation {
     let p = SimParams {
         backend,
         threads,
@@ -36,7 +43,7 @@ fn scene_on(backend: Backend, colliders: Vec<Shape>, sdfs: Vec<Sdf>, threads: u3
         sdfs: sdfs.into_iter().map(Arc::new).collect(),
         ..SimParams::paper()
     };
-    Simulation::new(&groom, p).unwrap()
+    Simulation::new(groom, p).unwrap()
 }
 
 /// The deepest a free point of `s` lies inside `sdf` placed by `t`, in cells (0 when none is;
@@ -126,16 +133,16 @@ fn a_sampled_sphere_pushes_out_as_the_analytic_sphere_does_within_a_cell() {
 
 /// A slab 4 cm thick (|z| < 0.02 in its frame), 40 cm wide, rotated and scaled by 1.5 and
 /// raised from z = -0.3 to -0.05 under the hanging hair over 120 frames, with 200 drops
-/// falling onto it; returns the hair and the water after 150 frames. Asserts on the way that
+/// falling onto it; returns where hair and water end after 150 frames. Asserts on the way that
 /// no point ends a step deeper than the documented depth, and at the end that hair and water
 /// rest on the slab's top face and no particle is inside it.
-fn moving_slab(backend: Backend) -> (Vec<Vec3>, Vec<Vec3>) {
+fn moving_slab(groom: &Groom, backend: Backend) -> SlabStats {
     let cell = 0.01;
     let field = Sdf::from_fn([41, 41, 9], Vec3::new(-0.2, -0.2, -0.04), cell, |p| p.z.abs() - 0.02);
     let place = |z: f32| {
         Affine3A::from_scale_rotation_translation(Vec3::splat(1.5), Quat::from_rotation_z(0.3), Vec3::new(0.0, 0.0, z))
     };
-    let mut s = scene_on(backend, vec![], vec![field.clone()], 2);
+    let mut s = scene_with(groom, backend, vec![], vec![field.clone()], 2);
     s.set_sdf_transform(0, Mat4::from(place(-0.3))).unwrap();
     s.reset().unwrap(); // reset puts the field where it was last set
     let mut rng = wethair::scenes::Lcg(3);
@@ -170,25 +177,131 @@ fn moving_slab(backend: Backend) -> (Vec<Vec3>, Vec<Vec3>) {
         water.iter().any(|p| (p.z - top).abs() < 0.01),
         "{backend:?}: particles rest on the slab"
     );
-    (hair, water)
+    SlabStats { hair, water, on_top }
+}
+
+/// Where a moving slab run ended.
+struct SlabStats {
+    hair: Vec<Vec3>,
+    water: Vec<Vec3>,
+    /// Hair points resting on the slab's top face.
+    on_top: usize,
+}
+
+impl SlabStats {
+    const NAMES: [&'static str; 7] = [
+        "hair points on top",
+        "hair mean x",
+        "hair mean y",
+        "hair mean z",
+        "water mean x",
+        "water mean y",
+        "water mean z",
+    ];
+
+    /// The statistics compared across backends, in `NAMES`' order.
+    fn stats(&self) -> [f32; 7] {
+        let mean = |w: &[Vec3]| w.iter().fold(Vec3::ZERO, |a, p| a + *p) / w.len().max(1) as f32;
+        let (h, w) = (mean(&self.hair), mean(&self.water));
+        [self.on_top as f32, h.x, h.y, h.z, w.x, w.y, w.z]
+    }
 }
 
 #[test]
 fn a_moving_field_pushes_hair_and_water_and_follows_its_transform() {
     let _serial = serial();
-    let runs: Vec<_> = backends().into_iter().map(moving_slab).collect();
-    // The GPU against the CPU (`sdf.wgsl` mirrors `physics/sdf.rs`): the hair within a
-    // millimetre (measured: see the note printed), the particles' mean (they are stored in a
-    // different order) within a millimetre.
-    if let [(hc, wc), (hg, wg)] = &runs[..] {
-        let gap = hc.iter().zip(hg).map(|(p, q)| (*p - *q).length()).fold(0.0, f32::max);
-        let mean = |w: &[Vec3]| w.iter().fold(Vec3::ZERO, |a, p| a + *p) / w.len().max(1) as f32;
-        let drift = (mean(wc) - mean(wg)).length();
-        eprintln!("SDF parity: hair {gap:e} m, particles' mean {drift:e} m from the CPU");
-        assert_eq!(wc.len(), wg.len(), "the same particles on both backends");
-        assert!(gap < 1e-3, "GPU hair {gap} m from the CPU's");
-        assert!(drift < 1e-3, "GPU particles' mean {drift} m from the CPU's");
+    let groom = wethair::groom::paper_scene(300, 6).unwrap();
+    let runs: Vec<_> = backends().into_iter().map(|b| moving_slab(&groom, b)).collect();
+    let [cpu, gpu] = &runs[..] else {
+        return;
+    };
+    // The GPU against the CPU. Hair standing on the slab buckles one way or the other: a
+    // sideways nudge of 1e-7 m moves the CPU's own hair up to centimetres by the end, and an
+    // H100's rounding does the same (its hair 3e-8 m off the CPU's after one frame, 6 mm by
+    // frame 60, whether the slab moves or not). So here the two are compared by what the
+    // scene does, each statistic within the spread of five nudged CPU runs widened by that
+    // spread again; pointwise parity of the SDF pass is `the_gpu_pushes_as_the_cpu_does`.
+    let band: Vec<SlabStats> = (1..=5)
+        .map(|seed| moving_slab(&nudged_groom(&groom, seed), Backend::CPU))
+        .collect();
+    let (c, g) = (cpu.stats(), gpu.stats());
+    for k in 0..c.len() {
+        let lo = band.iter().map(|b| b.stats()[k]).fold(c[k], f32::min);
+        let hi = band.iter().map(|b| b.stats()[k]).fold(c[k], f32::max);
+        let w = hi - lo;
+        eprintln!(
+            "moving slab, {}: CPU {:.4e}, nudged CPU {lo:.4e}..{hi:.4e}, GPU {:.4e}",
+            SlabStats::NAMES[k],
+            c[k],
+            g[k]
+        );
+        assert!(
+            g[k] >= lo - w && g[k] <= hi + w,
+            "{}: GPU {} outside the nudged CPU runs' {lo}..{hi} widened by {w}",
+            SlabStats::NAMES[k],
+            g[k]
+        );
     }
+    assert_eq!(cpu.water.len(), gpu.water.len(), "the same particles on both backends");
+}
+
+/// A curtain of 40 hanging strands that a sampled sphere, placed by a transform that scales,
+/// turns and slides it, pushes aside across 60 frames: hair pushed by a convex body does not
+/// buckle, so a GPU that pushes as the CPU does ends within rounding of it point by point.
+/// (Hair standing on the head sphere is no such case: strands near its pole fall one way or
+/// the other, and a 1e-7 m nudge grows to 1e-5 m in 10 frames.)
+#[test]
+fn the_gpu_pushes_as_the_cpu_does() {
+    let _serial = serial();
+    let mass = wethair::groom::paper_scene(1, 6).unwrap().masses()[1];
+    let pos: Vec<Vec3> = (0..40)
+        .flat_map(|i| (0..6).map(move |k| Vec3::new(-0.1025 + 0.005 * i as f32, 0.0, -0.02 * k as f32)))
+        .collect();
+    let groom = Groom::new(pos, &[6; 40], None, None, mass).unwrap();
+    // A 0.024 m sphere scaled by 1.25 (0.03 m) turns, which a sphere shows only in the
+    // arithmetic, and slides from 8 cm in front of the curtain to 1 cm behind its plane.
+    let field = sphere(0.024, 0.006);
+    let place = |f: u32| {
+        let a = f as f32 / 59.0;
+        Mat4::from_scale_rotation_translation(
+            Vec3::splat(1.25),
+            Quat::from_rotation_z(0.5 * a) * Quat::from_rotation_x(0.2),
+            Vec3::new(0.0, -0.08 + 0.09 * a, -0.07),
+        )
+    };
+    let run = |g: &Groom, backend: Backend| {
+        let mut s = scene_with(g, backend, vec![], vec![field.clone()], 2);
+        s.set_sdf_transform(0, place(0)).unwrap();
+        s.reset().unwrap();
+        for f in 0..60 {
+            s.set_sdf_transform(0, place(f)).unwrap();
+            s.step(1.0 / 60.0).unwrap();
+        }
+        s.positions()
+    };
+    let c = run(&groom, Backend::CPU);
+    // Points sliding on the sphere with friction turn a 1e-7 m nudge into 1e-5 m, in 60
+    // frames as in 90: sensitive, not chaotic.
+    let floor = (1..=3)
+        .map(|seed| max_gap(&run(&nudged_groom(&groom, seed), Backend::CPU), &c))
+        .fold(0.0, f32::max);
+    assert!(
+        floor < 5e-5,
+        "the scene amplifies a 1e-7 m nudge to {floor} m: not a pointwise case"
+    );
+    let pushed = c.iter().map(|p| p.y).fold(0.0, f32::max);
+    assert!(pushed > 0.02, "the field pushes the curtain {pushed} m");
+    if backends().contains(&Backend::GPU) {
+        let g = run(&groom, Backend::GPU);
+        let gap = max_gap(&g, &c);
+        // Measured: lavapipe 0 (its arithmetic is the CPU's).
+        eprintln!("SDF parity: GPU {gap:e} m from the CPU, nudged CPU {floor:e} m");
+        assert!(gap < (4.0 * floor).max(1e-5), "GPU hair {gap} m from the CPU's");
+    }
+}
+
+fn max_gap(a: &[Vec3], b: &[Vec3]) -> f32 {
+    a.iter().zip(b).map(|(p, q)| (*p - *q).length()).fold(0.0, f32::max)
 }
 
 #[test]

@@ -760,7 +760,8 @@ impl Simulation {
         self.engine.point_states()
     }
 
-    /// Water particle positions and velocities (order changes when particles are removed).
+    /// Water particle positions and velocities (order changes when particles are removed; the
+    /// GPU backend hands them sorted by their bits, the same order every run).
     /// On the GPU backend a read back that fails (a lost device) is an error, not no water.
     /// After a failed step it returns that failure: no non-finite particle is handed out.
     pub fn water(&self) -> Result<(Vec<Vec3>, Vec<Vec3>)> {

@@ -68,3 +68,29 @@ pub fn frames_moved(
         })
         .collect()
 }
+
+/// `g` with every free point moved sideways (x and y) by up to 1e-7 m, drawn from `seed`.
+/// A real GPU rounds differently from the CPU (fused multiply-adds: its hair is 3e-8 m off
+/// the CPU's after one frame on an H100), sideways too, which is what decides the way a strand
+/// buckles on a surface or parts at a bundle. The CPU against itself on this groom is the
+/// chaos floor a GPU-against-CPU comparison is held to; a nudge of the water or the head alone
+/// can miss that sideways channel.
+pub fn nudged_groom(g: &wethair::groom::Groom, seed: u32) -> wethair::groom::Groom {
+    let mut rng = wethair::scenes::Lcg(seed);
+    let pinned = g.pinned();
+    let pos = g
+        .positions()
+        .iter()
+        .zip(pinned)
+        .map(|(p, &pin)| {
+            let (dx, dy) = (rng.next_f32() - 0.5, rng.next_f32() - 0.5);
+            if pin {
+                *p
+            } else {
+                *p + 2e-7 * glam::Vec3::new(dx, dy, 0.0)
+            }
+        })
+        .collect();
+    let counts: Vec<u32> = (0..g.strand_count()).map(|s| g.strand_range(s).len() as u32).collect();
+    wethair::groom::Groom::new(pos, &counts, Some(pinned.to_vec()), Some(g.masses().to_vec()), 0.0).unwrap()
+}

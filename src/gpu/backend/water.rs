@@ -293,13 +293,21 @@ impl GpuBackend {
         })
     }
 
-    /// Every particle (blocking; order is the GPU's).
+    /// Every particle (blocking), sorted by its record's bits.
+    ///
+    /// The device stores particles in the order its atomics handed out slots (append, cull,
+    /// grid scatter), which changes run to run and with how steps are batched; every law
+    /// reads them order-free (integer reaction sums, deterministic absorption winners), so
+    /// the set is the same bits every run (checked on an H100 at 30, 60 and 144 Hz hosts) and
+    /// only its order is not. Sorting on read hands the host the same bits every run.
     pub fn read_water(&self) -> Result<Vec<ParticleGpu>> {
         let (st, _) = self.peek_status()?;
         let Some(w) = &self.water else { return Ok(Vec::new()) };
         let n = st.particles as u64;
         let bytes = self.read_buffers(&[(&w.particles[w.cur], n * 32)], None)?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes[..n as usize * 32]))
+        let mut recs: Vec<ParticleGpu> = bytemuck::pod_collect_to_vec(&bytes[..n as usize * 32]);
+        recs.sort_unstable_by_key(|p| (p.x.map(f32::to_bits), p.v.map(f32::to_bits), p.mass, p.left));
+        Ok(recs)
     }
 
     /// Per-cell particle counts of a grid built now over the held particles, with its dims
