@@ -57,6 +57,11 @@ static WetHairSimDesc paper_desc(const WetHairGroom *groom, const WetHairCollide
 }
 
 /* Expects `r` to be `want` with a message containing `needle`; counts failures. */
+/* Orders 3-float points by their bytes (any fixed order will do: it only pairs two sets). */
+static int cmp_point(const void *a, const void *b) {
+    return memcmp(a, b, 12);
+}
+
 static int expect(WetHairResult r, WetHairResult want, const char *needle, const char *what) {
     const char *msg = r == WETHAIR_OK ? "" : wethair_last_error_message();
     if (r != want || (needle && !strstr(msg, needle))) {
@@ -546,16 +551,28 @@ int main(int argc, char **argv) {
         printf("shared VkBuffer vs copy path: %zu bytes %s, %zu non-finite\n", vbytes,
                mismatched ? "DIFFER" : "identical", nan);
         mismatched |= nan != 0;
-        /* The shared water: the indirect draw's count and the positions equal the copy path's. */
+        /* The shared water: the indirect draw's count and the particles equal the copy path's.
+           The shared buffer holds them in the device's order, the copy path sorted: both are
+           sorted the same way here and compared as sets. */
         const uint32_t *cmdw = water_copy.map;
         const float *wv = (const float *)water_copy.map + 4;
-        float *wp = malloc(sizeof(float) * 3 * (desc.water.capacity ? desc.water.capacity : 1));
+        size_t wcap = desc.water.capacity ? desc.water.capacity : 1;
+        float *wp = malloc(sizeof(float) * 3 * wcap);
+        float *ws = malloc(sizeof(float) * 3 * wcap);
         uint32_t nw = 0;
-        if (!wp) return 1;
+        if (!wp || !ws) return 1;
         wh_check(wethair_sim_get_water(sim, wp, desc.water.capacity, &nw), "wethair_sim_get_water");
         int water_bad = cmdw[0] != nw || cmdw[1] != 1 || cmdw[2] != 0 || cmdw[3] != 0 || nw == 0;
-        for (uint32_t i = 0; i < nw && !water_bad; i++)
-            water_bad = memcmp(wv + 4 * i, wp + 3 * i, 12) != 0 || wv[4 * i + 3] != 1.0f;
+        for (uint32_t i = 0; i < nw && !water_bad; i++) {
+            memcpy(ws + 3 * i, wv + 4 * i, 12);
+            water_bad = wv[4 * i + 3] != 1.0f;
+        }
+        if (!water_bad) {
+            qsort(ws, nw, 12, cmp_point);
+            qsort(wp, nw, 12, cmp_point);
+            water_bad = memcmp(ws, wp, (size_t)nw * 12) != 0;
+        }
+        free(ws);
         printf("shared water VkBuffers vs copy path: draw count %u, %u particles %s\n", cmdw[0], nw,
                water_bad ? "DIFFER" : "identical");
         mismatched |= water_bad;

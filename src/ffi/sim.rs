@@ -333,7 +333,9 @@ pub unsafe extern "C" fn wethair_sim_get_vertex_buffer(
 /// in `written`. `capacity` is in particles (`dst` holds `capacity * 3` floats); a buffer
 /// smaller than the particles held is refused with `WETHAIR_ERROR_BUFFER_TOO_SMALL`, as a
 /// short vertex buffer is, and nothing is written (the count is `WetHairStats::particles`,
-/// and at most `WetHairWaterDesc::capacity`).
+/// and at most `WetHairWaterDesc::capacity`). On the GPU backend the particles come sorted by
+/// their bits, the same order every run; a shared water buffer holds them in the device's
+/// order, which may differ from run to run.
 ///
 /// # Safety
 /// `sim` is valid; `dst` holds `capacity * 3` floats (may be NULL when `capacity` is 0);
