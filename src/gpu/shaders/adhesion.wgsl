@@ -53,10 +53,15 @@ fn from_fixed(a: vec2<u32>) -> f32 {
 }
 
 // Adds to a particle's reaction word pair `at`: the carry out of the low word goes into the
-// high one, so the pair ends as the exact sum in any order.
+// high one, so the pair ends as the exact sum in any order. Adding 0 changes nothing, so it is
+// skipped: one pull is at most about 2^32 units, so the high word to add is mostly 0 (a
+// positive pull without a carry, or a negative one's all-ones word cancelled by its carry).
 fn atomic_add_fixed(at: u32, v: vec2<u32>) {
     let old = atomicAdd(&water_force[at], v.x);
-    atomicAdd(&water_force[at + 1u], v.y + select(0u, 1u, old + v.x < old));
+    let hi = v.y + select(0u, 1u, old + v.x < old);
+    if (hi != 0u) {
+        atomicAdd(&water_force[at + 1u], hi);
+    }
 }
 
 fn reaction(k: u32) -> vec3<f32> {
