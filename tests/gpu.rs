@@ -4,7 +4,7 @@
 
 #![cfg(feature = "gpu")]
 
-use crate::common::nudged_groom;
+use crate::common::{max_diff, nudged_groom};
 use glam::Vec3;
 use wethair::groom::{paper_scene, Groom};
 use wethair::physics::grid::Grid;
@@ -47,11 +47,6 @@ fn cpu(groom: &Groom, params: SimParams) -> Simulation {
         },
     )
     .unwrap()
-}
-
-fn max_diff(a: &[Vec3], b: &[Vec3]) -> f32 {
-    assert_eq!(a.len(), b.len());
-    a.iter().zip(b).map(|(p, q)| (*p - *q).length()).fold(0.0, f32::max)
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! Leave out what a scene does not need: the pass list and the buffers follow the scene.
-
+//!
 //! On each backend: a default-backend scene would test the GPU on a real GPU and the CPU on
 //! lavapipe (AUTO passes over software adapters), so each backend is named.
 

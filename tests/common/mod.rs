@@ -94,3 +94,9 @@ pub fn nudged_groom(g: &wethair::groom::Groom, seed: u32) -> wethair::groom::Gro
     let counts: Vec<u32> = (0..g.strand_count()).map(|s| g.strand_range(s).len() as u32).collect();
     wethair::groom::Groom::new(pos, &counts, Some(pinned.to_vec()), Some(g.masses().to_vec()), 0.0).unwrap()
 }
+
+/// The largest distance between matching points of `a` and `b`, m.
+pub fn max_diff(a: &[glam::Vec3], b: &[glam::Vec3]) -> f32 {
+    assert_eq!(a.len(), b.len());
+    a.iter().zip(b).map(|(p, q)| (*p - *q).length()).fold(0.0, f32::max)
+}
