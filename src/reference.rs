@@ -136,6 +136,19 @@ impl Reference {
         self
     }
 
+    /// The same scene with every free point (hair points not pinned, and water particles)
+    /// moved by `offset(i)`, `i` counting hair points in the groom's order and then the
+    /// particles: a member of an ensemble perturbed at its start. Rest lengths stay those of
+    /// the groom, so only the state is perturbed, not the model.
+    pub fn moved(mut self, offset: impl Fn(usize) -> DVec3) -> Self {
+        for (i, x) in self.state.x.iter_mut().enumerate() {
+            if self.inv_mass[i] > 0.0 {
+                *x += offset(i);
+            }
+        }
+        self
+    }
+
     /// Accelerations of every point at `s`.
     fn accel(&self, s: &State, out: &mut [DVec3]) {
         let f = out;
