@@ -1363,3 +1363,71 @@ fn the_error_budget_changes_gpu_substeps_as_on_the_cpu() {
     let gap = max_diff(&g.positions(), &c.positions());
     assert!(gap < 1e-4, "GPU and CPU {gap:e} m apart after the same choices");
 }
+
+/// Set in the child process that runs the device-cycle check alone.
+const DEVICES_ALONE: &str = "WETHAIR_GPU_DEVICE_CYCLE_ALONE";
+
+/// Open file descriptors, threads and resident bytes of this process (Linux).
+fn process_footprint() -> (usize, usize, u64) {
+    let count = |dir: &str| std::fs::read_dir(dir).map(|d| d.count()).unwrap_or(0);
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let rss_kb = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmRSS:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<u64>().ok())
+        .unwrap_or(0);
+    (count("/proc/self/fd"), count("/proc/self/task"), rss_kb * 1024)
+}
+
+/// An engine creates and destroys simulations as levels load; each GPU simulation opens its
+/// own device, so a device that outlived its simulation would pile up driver handles, threads
+/// and memory (on an H100 the adapter stopped appearing after twenty to thirty devices in one
+/// process; this shows whether ours are released). Thirty cycles of create, step, read, drop
+/// must leave the process's descriptors and threads where they were, and its resident memory
+/// within 16 MiB. The counts see every thread of the process, so the check runs in a child
+/// process of this test binary with only this test selected.
+#[test]
+#[cfg(target_os = "linux")]
+fn gpu_devices_close_leaving_nothing_behind() {
+    if std::env::var_os(DEVICES_ALONE).is_none() {
+        let _serial = serial();
+        let name = "gpu::gpu_devices_close_leaving_nothing_behind";
+        let out = std::process::Command::new(std::env::current_exe().expect("test binary"))
+            .args([name, "--exact", "--test-threads=1", "--nocapture"])
+            .env(DEVICES_ALONE, "1")
+            .output()
+            .expect("the test binary runs again");
+        let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "the check alone failed:\n{text}");
+        assert!(text.contains("1 passed"), "the check did not run alone:\n{text}");
+        return;
+    }
+    let groom = paper_scene(64, 6).unwrap();
+    let cycle = || -> bool {
+        let Some(mut sim) = gpu(&groom, SimParams::paper()) else {
+            return false;
+        };
+        sim.step(1.0 / 60.0).unwrap();
+        assert_eq!(sim.positions().len(), groom.point_count());
+        true
+    };
+    // Warm up what a process opens once (the Vulkan loader, the driver's shared state).
+    for _ in 0..3 {
+        if !cycle() {
+            return; // no adapter, none required: `gpu` said so
+        }
+    }
+    let before = process_footprint();
+    for _ in 0..30 {
+        assert!(cycle());
+    }
+    let after = process_footprint();
+    eprintln!("30 device cycles: (fds, threads, resident bytes) {before:?} -> {after:?}");
+    assert_eq!(after.0, before.0, "file descriptors left open by 30 closed devices");
+    assert_eq!(after.1, before.1, "threads left running by 30 closed devices");
+    assert!(
+        after.2 < before.2 + (16 << 20),
+        "30 closed devices left {} MiB more resident",
+        (after.2 as i64 - before.2 as i64) >> 20
+    );
+}
