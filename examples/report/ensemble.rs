@@ -145,11 +145,27 @@ fn direction(seed: u64) -> DVec3 {
 /// rounding) reaches the hair points directly, not through the droplets, and the droplets
 /// alone span a band 0.6x as wide on the wet patch.
 pub fn run(sc: &ReportScene, members: usize, t: f64, h: f64) -> Vec<Statistics> {
-    (0..members as u64)
-        .map(|k| {
-            let mut r = sc.reference().moved(|i| NUDGE * direction(mix(k + 1) ^ i as u64));
-            r.run_to(t, h);
-            Statistics::of(sc, r.hair_positions(), r.energy())
-        })
-        .collect()
+    let member = |k: u64| {
+        let mut r = sc.reference().moved(|i| NUDGE * direction(mix(k + 1) ^ i as u64));
+        r.run_to(t, h);
+        Statistics::of(sc, r.hair_positions(), r.energy())
+    };
+    // The members are independent and untimed: they run on every core, member k's result the
+    // same whichever thread computes it, and are returned in member order.
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(members.max(1));
+    let mut out: Vec<Option<Statistics>> = vec![None; members];
+    std::thread::scope(|s| {
+        for (w, slots) in out.chunks_mut(members.div_ceil(threads).max(1)).enumerate() {
+            let first = w * members.div_ceil(threads).max(1);
+            let member = &member;
+            s.spawn(move || {
+                for (j, slot) in slots.iter_mut().enumerate() {
+                    *slot = Some(member((first + j) as u64));
+                }
+            });
+        }
+    });
+    out.into_iter().map(|m| m.expect("every member ran")).collect()
 }
