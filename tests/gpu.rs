@@ -1391,15 +1391,7 @@ fn process_footprint() -> (usize, usize, u64) {
 fn gpu_devices_close_leaving_nothing_behind() {
     if std::env::var_os(DEVICES_ALONE).is_none() {
         let _serial = serial();
-        let name = "gpu::gpu_devices_close_leaving_nothing_behind";
-        let out = std::process::Command::new(std::env::current_exe().expect("test binary"))
-            .args([name, "--exact", "--test-threads=1", "--nocapture"])
-            .env(DEVICES_ALONE, "1")
-            .output()
-            .expect("the test binary runs again");
-        let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "the check alone failed:\n{text}");
-        assert!(text.contains("1 passed"), "the check did not run alone:\n{text}");
+        crate::common::ran_alone("gpu::gpu_devices_close_leaving_nothing_behind", DEVICES_ALONE);
         return;
     }
     let groom = paper_scene(64, 6).unwrap();

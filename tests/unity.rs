@@ -120,17 +120,7 @@ fn plugin_loads_falls_back_and_unloads_without_leaks() {
     // The byte counter sees every thread of the process, and the other tests of this binary
     // allocate while they run beside this one; so the check runs in a child process of this
     // same test binary with only this test selected, where nothing else allocates.
-    if std::env::var_os(ALONE).is_none() {
-        let name = "unity::plugin_loads_falls_back_and_unloads_without_leaks";
-        let out = std::process::Command::new(std::env::current_exe().expect("test binary"))
-            .args([name, "--exact", "--test-threads=1", "--nocapture"])
-            .env(ALONE, "1")
-            .output()
-            .expect("the test binary runs again");
-        let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "the check alone failed:\n{text}");
-        // It must have run the check, not filtered it out.
-        assert!(text.contains("1 passed"), "the check did not run alone:\n{text}");
+    if crate::common::ran_alone("unity::plugin_loads_falls_back_and_unloads_without_leaks", ALONE) {
         return;
     }
     unsafe {

@@ -155,10 +155,11 @@ pub fn run(sc: &ReportScene, members: usize, t: f64, h: f64) -> Vec<Statistics> 
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(members.max(1));
+    let per_thread = members.div_ceil(threads).max(1);
     let mut out: Vec<Option<Statistics>> = vec![None; members];
     std::thread::scope(|s| {
-        for (w, slots) in out.chunks_mut(members.div_ceil(threads).max(1)).enumerate() {
-            let first = w * members.div_ceil(threads).max(1);
+        for (w, slots) in out.chunks_mut(per_thread).enumerate() {
+            let first = w * per_thread;
             let member = &member;
             s.spawn(move || {
                 for (j, slot) in slots.iter_mut().enumerate() {

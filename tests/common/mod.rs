@@ -100,3 +100,24 @@ pub fn max_diff(a: &[glam::Vec3], b: &[glam::Vec3]) -> f32 {
     assert_eq!(a.len(), b.len());
     a.iter().zip(b).map(|(p, q)| (*p - *q).length()).fold(0.0, f32::max)
 }
+
+/// Runs test `name` (its full path, e.g. `gpu::some_test`) again, alone, in a child process of
+/// this test binary with `marker` set in its environment, and asserts that it ran and passed.
+/// Returns false in that child (where the test goes on to its check), true in the parent (where
+/// the test is done). For checks that count what the whole process holds (heap bytes,
+/// descriptors, threads), which the other tests of this binary would disturb.
+pub fn ran_alone(name: &str, marker: &str) -> bool {
+    if std::env::var_os(marker).is_some() {
+        return false;
+    }
+    let out = std::process::Command::new(std::env::current_exe().expect("test binary"))
+        .args([name, "--exact", "--test-threads=1", "--nocapture"])
+        .env(marker, "1")
+        .output()
+        .expect("the test binary runs again");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "the check alone failed:\n{text}");
+    // It must have run the check, not filtered it out.
+    assert!(text.contains("1 passed"), "the check did not run alone:\n{text}");
+    true
+}
