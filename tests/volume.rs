@@ -4,7 +4,7 @@
 //! any thread count and GPU run after run; a scene without it has no pass; bad parameters are
 //! refused by name, through Rust and C.
 
-use crate::common::{backends, serial};
+use crate::common::{backends, max_diff, serial};
 use glam::Vec3;
 use wethair::groom::paper_scene;
 use wethair::plan::Pass;
@@ -192,7 +192,7 @@ fn a_fine_volume_grid_spreads_on_the_gpu_as_on_the_cpu() {
         s.positions()
     };
     let (c, g) = (run(Backend::CPU), run(Backend::GPU));
-    let d = c.iter().zip(&g).map(|(p, q)| (*p - *q).length()).fold(0.0, f32::max);
+    let d = max_diff(&c, &g);
     eprintln!("fine volume grid: GPU {d:e} m from the CPU after 2 frames");
     assert!(d < 1e-5, "GPU {d} m from the CPU");
 }
@@ -224,10 +224,7 @@ fn the_gpu_keeps_the_volume_as_the_cpu_does() {
         make(Backend::GPU, 0.0),
     );
     assert!(g.backend_info().backend == Backend::GPU);
-    let gap = |a: &Simulation, b: &Simulation| {
-        let (xa, xb) = (a.positions(), b.positions());
-        xa.iter().zip(&xb).map(|(p, q)| (*p - *q).length()).fold(0.0, f32::max)
-    };
+    let gap = |a: &Simulation, b: &Simulation| max_diff(&a.positions(), &b.positions());
     for f in 0..10 {
         for s in [&mut c, &mut n, &mut g] {
             s.step(1.0 / 60.0).unwrap();

@@ -58,7 +58,7 @@ fn from_fixed(a: vec2<u32>) -> f32 {
 // positive pull without a carry, or a negative one's all-ones word cancelled by its carry).
 fn atomic_add_fixed(at: u32, v: vec2<u32>) {
     let old = atomicAdd(&water_force[at], v.x);
-    let hi = v.y + select(0u, 1u, old + v.x < old);
+    let hi = carried_high(old, v);
     if (hi != 0u) {
         atomicAdd(&water_force[at + 1u], hi);
     }

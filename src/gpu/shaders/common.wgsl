@@ -52,3 +52,11 @@ fn collide(x: ptr<function, vec3<f32>>, v: ptr<function, vec3<f32>>, c: Collider
     *x = axis + n * c.a.w;
     *v = vv - n * into - tang * friction;
 }
+
+// The high word to add to a 64-bit fixed-point sum kept as two u32 words, after `v.x` was
+// added to a low word that held `old`: `v.y` plus the carry out of the low word. The adds of
+// adhesion's reactions and of the volume's grid and workgroup table all take it, and skip
+// their second atomic when it is 0.
+fn carried_high(old: u32, v: vec2<u32>) -> u32 {
+    return v.y + select(0u, 1u, old + v.x < old);
+}

@@ -25,7 +25,7 @@ fn volume_add(at: u32, v: vec2<u32>) {
         return;
     }
     let old = atomicAdd(&volume_grid[at], v.x);
-    let hi = v.y + select(0u, 1u, old + v.x < old);
+    let hi = carried_high(old, v);
     if (hi != 0u) {
         atomicAdd(&volume_grid[at + 1u], hi);
     }
@@ -34,7 +34,7 @@ fn volume_add(at: u32, v: vec2<u32>) {
 // The same into table slot word `at`.
 fn spread_add(at: u32, v: vec2<u32>) {
     let old = atomicAdd(&spread_sum[at], v.x);
-    let hi = v.y + select(0u, 1u, old + v.x < old);
+    let hi = carried_high(old, v);
     if (hi != 0u) {
         atomicAdd(&spread_sum[at + 1u], hi);
     }
