@@ -199,12 +199,19 @@ fn implicit_hanging_chain_settles_at_static_stretch() {
     }
 }
 
-/// RMS distance of `sc` run by `integrator` (2 Newton iterations, `substeps` per frame, one
+/// RMS distance of `sc` run by `integrator` (`iterations` Newton iterations, `substeps` per frame, one
 /// thread, the CPU) over frames of `dts` from the f64 reference at the same time.
-fn rms_error(sc: &ReportScene, integrator: Integrator, substeps: u32, dts: &[f32], reference: &Reference) -> f64 {
+fn rms_error(
+    sc: &ReportScene,
+    integrator: Integrator,
+    substeps: u32,
+    iterations: u32,
+    dts: &[f32],
+    reference: &Reference,
+) -> f64 {
     let params = SimParams {
         integrator,
-        solver_iterations: 2,
+        solver_iterations: iterations,
         substeps,
         threads: 1,
         backend: Backend::CPU,
@@ -244,8 +251,8 @@ fn bdf2_is_second_order_on_the_swinging_chain() {
     let sc = swinging_chain();
     let dts = [1.0f32 / 60.0; 30];
     let r = reference_after(&sc, &dts, 1.0 / 32_000.0);
-    let bdf = [8, 16].map(|n| rms_error(&sc, Integrator::BDF2, n, &dts, &r));
-    let euler = [8, 16].map(|n| rms_error(&sc, Integrator::IMPLICIT_EULER, n, &dts, &r));
+    let bdf = [8, 16].map(|n| rms_error(&sc, Integrator::BDF2, n, 2, &dts, &r));
+    let euler = [8, 16].map(|n| rms_error(&sc, Integrator::IMPLICIT_EULER, n, 2, &dts, &r));
     assert!(bdf[0] / bdf[1] > 3.2, "BDF2 should converge at second order: {bdf:?}");
     assert!(
         euler[0] / euler[1] < 2.2,
@@ -271,14 +278,14 @@ fn bdf2_with_implicit_drag_is_second_order_at_varying_frame_times() {
     assert!(sc.params.air_drag > 0.0 && sc.water.is_empty());
     let steady = [1.0f32 / 60.0; 30];
     let r = reference_after(&sc, &steady, 1.0 / 64_000.0);
-    let bdf = rms_error(&sc, Integrator::BDF2, 4, &steady, &r);
-    let euler = rms_error(&sc, Integrator::IMPLICIT_EULER, 4, &steady, &r);
+    let bdf = rms_error(&sc, Integrator::BDF2, 4, 2, &steady, &r);
+    let euler = rms_error(&sc, Integrator::IMPLICIT_EULER, 4, 2, &steady, &r);
     assert!(bdf < 0.1 * euler, "BDF2 {bdf} m vs implicit Euler {euler} m");
-    // Many substeps do not let rounding build up: the error reaches the f32 state's floor
-    // (measured: 3.0e-7 m at 16 substeps, 2.8e-7 at 64) and stays there. (The blend once
-    // scaled every position by the f32 error in a - b each step: 7.8e-6 m at 64 substeps,
-    // doubling with their number.)
-    let fine = [16, 64].map(|n| rms_error(&sc, Integrator::BDF2, n, &steady, &r));
+    // Many substeps do not let rounding build up (measured: 2.8e-7 m at 16 substeps, 3.6e-8
+    // at 64; 2.8e-7 at 64 while the history kept the earlier positions in f32). (The blend
+    // once scaled every position by the f32 error in a - b each step: 7.8e-6 m at 64
+    // substeps, doubling with their number.)
+    let fine = [16, 64].map(|n| rms_error(&sc, Integrator::BDF2, n, 2, &steady, &r));
     assert!(
         fine[1] < 1e-6 && fine[1] < 1.5 * fine[0],
         "BDF2 at 16 and 64 substeps: {fine:?}"
@@ -294,10 +301,34 @@ fn bdf2_with_implicit_drag_is_second_order_at_varying_frame_times() {
         .collect();
     for dts in [varying, hitch] {
         let r = reference_after(&sc, &dts, 1.0 / 64_000.0);
-        let e = [2, 4].map(|n| rms_error(&sc, Integrator::BDF2, n, &dts, &r));
-        let ie = rms_error(&sc, Integrator::IMPLICIT_EULER, 4, &dts, &r);
+        let e = [2, 4].map(|n| rms_error(&sc, Integrator::BDF2, n, 2, &dts, &r));
+        let ie = rms_error(&sc, Integrator::IMPLICIT_EULER, 4, 2, &dts, &r);
         assert!(e[0] / e[1] > 2.8, "BDF2 at varying frame times: {e:?}");
         assert!(e[1] < 0.1 * ie, "BDF2 {} m vs implicit Euler {ie} m", e[1]);
+    }
+}
+
+/// BDF2 keeps converging where the f32 state's rounding once stopped it: its history keeps the
+/// last substep's displacement and each position's rounding from the f64 solve
+/// (`physics/bdf2.rs` `Bdf2Row`). On a 20-strand patch of the paper scene after 1 s, at 64 and
+/// 128 substeps (one Newton iteration; measured: 8.3e-9 and 5.8e-9 m; 1000x stiffer, 2.4e-9
+/// and 2.2e-9 m), where the earlier positions kept in f32 gave 7.7e-7 and 2.9e-6 m.
+#[test]
+fn bdf2_converges_past_the_f32_rounding() {
+    for stiffness in [1.0, 1000.0] {
+        let sc = paper_slice(20, 0, stiffness);
+        let dts = [1.0f32 / 60.0; 60];
+        let h = if stiffness > 1.0 {
+            1.0 / 256_000.0
+        } else {
+            1.0 / 32_000.0
+        };
+        let r = reference_after(&sc, &dts, h);
+        let e = [64, 128].map(|n| rms_error(&sc, Integrator::BDF2, n, 1, &dts, &r));
+        assert!(
+            e.iter().all(|&e| e < 2e-8),
+            "BDF2 at 64 and 128 substeps, stiffness {stiffness}x: {e:?} m"
+        );
     }
 }
 

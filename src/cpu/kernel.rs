@@ -4,7 +4,7 @@
 
 use super::layout::{Layout, StateRow};
 use crate::params::Integrator;
-use crate::physics::bdf2::{blend_rows, Bdf2Blend};
+use crate::physics::bdf2::{keep_push, Bdf2Blend, Bdf2Row};
 use crate::physics::collide::{Colliders, Placed};
 use crate::physics::implicit::{implicit_euler_block, BandScratch};
 use crate::physics::integrate::symplectic_euler_row;
@@ -115,7 +115,7 @@ pub(super) fn block_substep<const AXIAL: bool>(
     s: usize,
     rows: &mut [StateRow],
     wet: &mut [Lane],
-    history: &mut [StateRow],
+    history: &mut [Bdf2Row],
     worker: &mut Worker,
 ) {
     #[cfg(target_arch = "x86_64")]
@@ -135,7 +135,7 @@ unsafe fn block_substep_avx2<const AXIAL: bool>(
     s: usize,
     rows: &mut [StateRow],
     wet: &mut [Lane],
-    history: &mut [StateRow],
+    history: &mut [Bdf2Row],
     worker: &mut Worker,
 ) {
     block_substep_impl::<AXIAL>(ctx, b, s, rows, wet, history, worker)
@@ -148,7 +148,7 @@ fn block_substep_base<const AXIAL: bool>(
     s: usize,
     rows: &mut [StateRow],
     wet: &mut [Lane],
-    history: &mut [StateRow],
+    history: &mut [Bdf2Row],
     worker: &mut Worker,
 ) {
     block_substep_impl::<AXIAL>(ctx, b, s, rows, wet, history, worker)
@@ -162,7 +162,7 @@ fn block_substep_impl<const AXIAL: bool>(
     s: usize,
     rows: &mut [StateRow],
     wet: &mut [Lane],
-    history: &mut [StateRow],
+    history: &mut [Bdf2Row],
     worker: &mut Worker,
 ) {
     let lay = ctx.lay;
@@ -312,16 +312,16 @@ fn block_substep_impl<const AXIAL: bool>(
         Integrator::IMPLICIT_EULER | Integrator::BDF2 => {
             let sc = worker.band.as_mut().expect("band scratch allocated for implicit Euler");
             let iters = ctx.solver_iterations;
-            let mut h = ctx.h;
-            if ctx.integrator == Integrator::BDF2 {
+            let (mut h, mut bdf2) = (ctx.h, None);
+            if ctx.integrator == Integrator::BDF2 && !history.is_empty() {
                 // BDF2: backward Euler from the blend of this start and the last (the drag
                 // above was taken at this start, as backward Euler takes it).
                 let blend = if s == 0 { ctx.bdf2.0 } else { ctx.bdf2.1 };
-                blend_rows(rows, history, blend);
                 h = blend.h;
+                bdf2 = Some((&mut *history, blend.b));
             }
             let drag = (ctx.drag, ctx.wind);
-            implicit_euler_block::<AXIAL>(rows, f, params, &target, ctx.bend, ctx.g, drag, h, iters, sc);
+            implicit_euler_block::<AXIAL>(rows, f, params, &target, ctx.bend, ctx.g, drag, h, iters, bdf2, sc);
         }
         Integrator::XPBD => {
             let prev = &mut worker.prev[..p];
@@ -390,10 +390,16 @@ fn block_substep_impl<const AXIAL: bool>(
         sdfs: ctx.sdfs,
         placed_sdfs: &ctx.placed_sdfs[s * ns..(s + 1) * ns],
     };
+    // BDF2's history keeps the substep's displacement, so it follows the pushes.
+    let keep = ctx.integrator == Integrator::BDF2 && !history.is_empty();
     for i in 0..p {
         let r = &mut rows[i];
+        let before = r.x;
         // Pass: collide.
         colliders.push_out_row(&mut r.x, &mut r.v, &params[i].inv_mass, ctx.friction);
+        if keep {
+            keep_push(&mut history[i], &before, &r.x);
+        }
         for l in 0..W {
             let v2 = r.v.x[l] * r.v.x[l] + r.v.y[l] * r.v.y[l] + r.v.z[l] * r.v.z[l];
             max_v2 = max_v2.max(v2);

@@ -11,7 +11,7 @@ use super::layout::{Layout, StateRow};
 use super::water::Water;
 use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
-use crate::physics::bdf2::{Bdf2Blend, Bdf2Clock};
+use crate::physics::bdf2::{Bdf2Blend, Bdf2Clock, Bdf2Row};
 use crate::physics::collide::{Colliders, Placed};
 use crate::physics::head::head_between;
 use crate::physics::integrate::blown_up;
@@ -67,8 +67,8 @@ pub struct CpuBackend {
     domain: WaterDomain,
     avx2: bool,
     integrator: Integrator,
-    /// BDF2's history: each row as it was at the start of the last substep (BDF2 only).
-    history: Vec<StateRow>,
+    /// BDF2's history: each row's last displacement, velocities and rounding (BDF2 only).
+    history: Vec<Bdf2Row>,
     /// BDF2's clock (which frames keep the history) and this frame's blends: the first
     /// substep's, then the others'.
     bdf2: (Bdf2Clock, (Bdf2Blend, Bdf2Blend)),
@@ -133,7 +133,7 @@ impl CpuBackend {
             Vec::new()
         };
         let history = if integrator == Integrator::BDF2 {
-            vec![StateRow::default(); state.len()]
+            vec![Bdf2Row::default(); state.len()]
         } else {
             Vec::new()
         };
@@ -328,7 +328,7 @@ impl CpuBackend {
             w.scratch_for(integrator, self.lay.rows);
         }
         if integrator == Integrator::BDF2 && self.history.is_empty() {
-            self.history = vec![StateRow::default(); self.state.len()];
+            self.history = vec![Bdf2Row::default(); self.state.len()];
         }
         self.bdf2.0 = Bdf2Clock::default();
         self.integrator = integrator;
@@ -574,31 +574,30 @@ impl CpuBackend {
         };
         let rows = self.lay.rows;
         let per_chunk = self.active_blocks.div_ceil(self.workers.len()).max(1);
-        let run =
-            |k: usize, state: &mut [StateRow], wet: &mut [Lane], history: &mut [StateRow], worker: &mut Worker| {
-                worker.reactions.clear();
-                worker.demands.clear();
-                let first = k * per_chunk;
-                for (j, rows_b) in state.chunks_mut(rows).enumerate() {
-                    let wet_b = if wet.is_empty() {
-                        &mut [][..]
+        let run = |k: usize, state: &mut [StateRow], wet: &mut [Lane], history: &mut [Bdf2Row], worker: &mut Worker| {
+            worker.reactions.clear();
+            worker.demands.clear();
+            let first = k * per_chunk;
+            for (j, rows_b) in state.chunks_mut(rows).enumerate() {
+                let wet_b = if wet.is_empty() {
+                    &mut [][..]
+                } else {
+                    &mut wet[j * rows..(j + 1) * rows]
+                };
+                let hist_b = if history.is_empty() {
+                    &mut [][..]
+                } else {
+                    &mut history[j * rows..(j + 1) * rows]
+                };
+                for s in subs.clone() {
+                    if axial {
+                        block_substep::<true>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
                     } else {
-                        &mut wet[j * rows..(j + 1) * rows]
-                    };
-                    let hist_b = if history.is_empty() {
-                        &mut [][..]
-                    } else {
-                        &mut history[j * rows..(j + 1) * rows]
-                    };
-                    for s in subs.clone() {
-                        if axial {
-                            block_substep::<true>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
-                        } else {
-                            block_substep::<false>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
-                        }
+                        block_substep::<false>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
                     }
                 }
-            };
+            }
+        };
         let chunk_rows = per_chunk * rows;
         // A lower simulated fraction leaves the last guides' blocks out.
         let active = self.active_blocks * rows;

@@ -25,7 +25,7 @@
 //! Restarting at every jump above 2x instead cost a hitch from 1/60 to 1/20 s about 3x in
 //! error on the dry patch (measured in `tests/integrators.rs`).
 
-use super::lanes::{StateRow, W};
+use super::lanes::{StateRow, L3, W};
 
 /// Largest growth of a stray difference between the two starts that [`Bdf2Clock`] lets the
 /// history carry (the product of the blends' `b` since an error could enter); past it, a
@@ -37,7 +37,7 @@ pub const MAX_GROWTH: f64 = 2.0;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bdf2Blend {
     /// Weight of this start, `(1+ω)² / (1+2ω)`, which is `1 + b` (the blend is taken as
-    /// `x₀ + b (x₀ - x₋₁)`: see [`blend_rows`]).
+    /// `x₀ + b (x₀ - x₋₁)`: see [`start_lane`]).
     pub a: f32,
     /// Weight of the start before, `ω² / (1+2ω)` (0: backward Euler).
     pub b: f32,
@@ -107,30 +107,97 @@ impl Bdf2Clock {
     }
 }
 
-/// Replaces each row by its blended start `a x₀ - b x₋₁`, `a v₀ - b v₋₁` (`history` holds
-/// `x₋₁, v₋₁`) and keeps the rows as they were in `history` for the next step. With `b = 0` the
-/// rows stay as they are (and are still kept).
+/// BDF2's history of one row of `W` points, kept between substeps (CPU backend).
 ///
-/// Computed as `x₀ + b (x₀ - x₋₁)` (`a = 1 + b`): in f32 the rounded `a` and `b` do not differ
-/// by exactly 1, and `a x₀ - b x₋₁` scaled every position by that error each step, an error
-/// that grew with the number of steps (1.4e-5 m after 7,680 steps on the dry patch, past
-/// implicit Euler's).
+/// Why a displacement and a rounding, not the earlier positions: in f32, `x₀ - x₋₁` is the
+/// difference of two rounded positions near 0.2 m, so it carries an error of a few 1e-9 m in a
+/// substep's motion of about as much, and the rounding of each new position is lost for good;
+/// the blend feeds both forward every substep, and BDF2's error on the dry patch rose with the
+/// substeps past 32 (2.9e-6 m at 128, where the method's own is below 1e-8 m). Kept from the
+/// f64 solve as below, the positions are as good as an f64 state would give them to about
+/// 7e-9 m (`tests/integrators.rs`).
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(32))]
+pub struct Bdf2Row {
+    /// `x₀ - x₋₁`: the last substep's displacement, from the solve's f64 positions (and the
+    /// collide pass's pushes), rounded once.
+    pub dx: L3,
+    /// `v₋₁`: the velocities at the last substep's start.
+    pub v: L3,
+    /// What rounding the solve's f64 positions to the f32 state took off: the start of the
+    /// next substep is the state plus this (0 for points a push moved).
+    pub rounding: L3,
+}
+
+/// The start of lane `l` of a row in f64 (`x₀` with its rounding restored) and the blended
+/// start `x̂ = x₀ + b Δx`, `v̂ = v₀ + b (v₀ - v₋₁)`. With `b = 0` (a restart) the start is
+/// the row as it is, whatever the history holds.
+///
+/// Taken as `x₀ + b (x₀ - x₋₁)` (`a = 1 + b`): in f32 the rounded `a` and `b` do not differ by
+/// exactly 1, and `a x₀ - b x₋₁` scaled every position by that error each step (1.4e-5 m after
+/// 7,680 steps on the dry patch, past implicit Euler's).
 #[inline(always)]
-pub fn blend_rows(rows: &mut [StateRow], history: &mut [StateRow], blend: Bdf2Blend) {
-    let b = blend.b;
-    for (r, h) in rows.iter_mut().zip(history.iter_mut()) {
-        let now = *r;
-        if b != 0.0 {
-            for l in 0..W {
-                r.x.x[l] = now.x.x[l] + b * (now.x.x[l] - h.x.x[l]);
-                r.x.y[l] = now.x.y[l] + b * (now.x.y[l] - h.x.y[l]);
-                r.x.z[l] = now.x.z[l] + b * (now.x.z[l] - h.x.z[l]);
-                r.v.x[l] = now.v.x[l] + b * (now.v.x[l] - h.v.x[l]);
-                r.v.y[l] = now.v.y[l] + b * (now.v.y[l] - h.v.y[l]);
-                r.v.z[l] = now.v.z[l] + b * (now.v.z[l] - h.v.z[l]);
+pub fn start_lane(now: &StateRow, history: &Bdf2Row, b: f32, l: usize) -> Start {
+    let x = [now.x.x[l], now.x.y[l], now.x.z[l]].map(f64::from);
+    let v = [now.v.x[l], now.v.y[l], now.v.z[l]].map(f64::from);
+    if b == 0.0 {
+        return Start { x0: x, x, v };
+    }
+    let b = b as f64;
+    let r = &history.rounding;
+    let x0 = [x[0] + r.x[l] as f64, x[1] + r.y[l] as f64, x[2] + r.z[l] as f64];
+    let dx = [history.dx.x[l], history.dx.y[l], history.dx.z[l]].map(f64::from);
+    let vp = [history.v.x[l], history.v.y[l], history.v.z[l]].map(f64::from);
+    Start {
+        x0,
+        x: std::array::from_fn(|c| x0[c] + b * dx[c]),
+        v: std::array::from_fn(|c| v[c] + b * (v[c] - vp[c])),
+    }
+}
+
+/// One point's start of a BDF2 substep ([`start_lane`]), f64.
+#[derive(Clone, Copy, Debug)]
+pub struct Start {
+    /// `x₀`: where the point is, its rounding restored.
+    pub x0: [f64; 3],
+    /// `x̂`: the blended start the solve steps from.
+    pub x: [f64; 3],
+    /// `v̂`.
+    pub v: [f64; 3],
+}
+
+/// Keeps lane `l`'s history for the next substep, after a solve that took the row from `now`
+/// (whose start was `x0`) to `x1` (f64, before it is rounded into the state).
+#[inline(always)]
+pub fn keep_lane(history: &mut Bdf2Row, now: &StateRow, x0: [f64; 3], x1: [f64; 3], l: usize) {
+    history.dx.x[l] = (x1[0] - x0[0]) as f32;
+    history.dx.y[l] = (x1[1] - x0[1]) as f32;
+    history.dx.z[l] = (x1[2] - x0[2]) as f32;
+    history.v.x[l] = now.v.x[l];
+    history.v.y[l] = now.v.y[l];
+    history.v.z[l] = now.v.z[l];
+    history.rounding.x[l] = (x1[0] - (x1[0] as f32) as f64) as f32;
+    history.rounding.y[l] = (x1[1] - (x1[1] as f32) as f64) as f32;
+    history.rounding.z[l] = (x1[2] - (x1[2] as f32) as f64) as f32;
+}
+
+/// The history follows a push after the solve (the collide pass moved a row from `before` to
+/// `after`): a moved lane's displacement gains the push, less the rounding its old place had,
+/// and its new place is exact; lanes left alone keep theirs.
+#[inline(always)]
+pub fn keep_push(history: &mut Bdf2Row, before: &L3, after: &L3) {
+    let (d, r) = (&mut history.dx, &mut history.rounding);
+    for (dx, rx, b, a) in [
+        (&mut d.x, &mut r.x, &before.x, &after.x),
+        (&mut d.y, &mut r.y, &before.y, &after.y),
+        (&mut d.z, &mut r.z, &before.z, &after.z),
+    ] {
+        for l in 0..W {
+            if a[l] != b[l] {
+                dx[l] += (a[l] - b[l]) - rx[l];
+                rx[l] = 0.0;
             }
         }
-        *h = now;
     }
 }
 
@@ -171,6 +238,51 @@ mod tests {
         assert!(c.frame(0.27, 1).0.b > 1.0, "growth 81/49 < 2");
         assert_eq!(c.frame(0.81, 1).0, Bdf2Blend::euler(0.81), "growth 2.1 > 2 restarts");
         assert_eq!(c.frame(5.0, 1).0, Bdf2Blend::euler(5.0), "a 6x jump alone passes 2");
+    }
+
+    /// A kept row starts the next substep where the f64 solve left it, not where the f32 state
+    /// rounded it, and a push moves the start exactly to the pushed place.
+    #[test]
+    fn the_history_restores_what_rounding_took() {
+        let splat = |v: f32| L3 {
+            x: [v; W],
+            y: [v; W],
+            z: [v; W],
+        };
+        let now = StateRow {
+            x: splat(0.2),
+            v: splat(0.5),
+        };
+        let x0 = [0.2f32 as f64; 3];
+        let x1 = [0.2 + 3.3e-9, 0.2 - 1.7e-9, 0.2 + 1e-12];
+        let mut hist = Bdf2Row::default();
+        for l in 0..W {
+            keep_lane(&mut hist, &now, x0, x1, l);
+        }
+        let mut next = now;
+        for l in 0..W {
+            next.x.set(l, glam::Vec3::from(x1.map(|c| c as f32)));
+        }
+        let s = start_lane(&next, &hist, 0.25, 3);
+        for c in 0..3 {
+            assert!((s.x0[c] - x1[c]).abs() < 1e-16, "{c}: {} vs {}", s.x0[c], x1[c]);
+            assert!((s.x[c] - (x1[c] + 0.25 * (x1[c] - x0[c]))).abs() < 1e-16);
+        }
+        assert_eq!(
+            start_lane(&next, &hist, 0.0, 3).x0,
+            next.x.get(3).to_array().map(f64::from)
+        );
+        // A push to 0.3 in lane 1: that lane's start is the pushed place; lane 0's is kept.
+        let before = next.x;
+        next.x.set(1, glam::Vec3::splat(0.3));
+        keep_push(&mut hist, &before, &next.x);
+        let pushed = start_lane(&next, &hist, 0.25, 1);
+        assert_eq!(pushed.x0, [0.3f32 as f64; 3]);
+        for c in 0..3 {
+            let moved = 0.3f32 as f64 - x0[c];
+            assert!((pushed.x[c] - (0.3f32 as f64 + 0.25 * moved)).abs() < 1e-9);
+        }
+        assert_eq!(start_lane(&next, &hist, 0.25, 0).x0, s.x0);
     }
 
     /// The blend is exact for a quadratic path: x(t) = t², steps h then h ω: BDF2 is exact on

@@ -21,6 +21,7 @@
 //! Energies, the matrix and the solve are f64: at stiffness 10^6 times the explicit limit the
 //! system's condition number is ~10^6 and f32 would lose ~10% of the step. State stays f32.
 
+use super::bdf2::{keep_lane, start_lane, Bdf2Row};
 use super::lanes::{ParamRow, StateRow, L3, W};
 use super::spring::{SpringLanes, MIN_LENGTH};
 
@@ -47,7 +48,11 @@ pub struct BandScratch {
     /// Lower band: `a[r][k]` is the entry (r, r - k).
     a: Vec<[LaneD; BAND + 1]>,
     rhs: Vec<LaneD>,
-    /// Inertial target x̃ and the current iterate (f64, per DOF).
+    /// The start (BDF2's blended start x̂, never rounded), the inertial target x̃ and the
+    /// current iterate (f64, per DOF).
+    start: Vec<LaneD>,
+    /// BDF2's x₀ with its rounding restored (the displacement it keeps is measured from it).
+    x0: Vec<LaneD>,
     target: Vec<LaneD>,
     x: Vec<LaneD>,
     trial: Vec<LaneD>,
@@ -72,15 +77,10 @@ struct SpringStart {
 }
 
 impl SpringStart {
-    /// The spring from row `a` to row `b` of `x0`.
+    /// The spring from point `a` to point `b` of the start `x0` (per DOF).
     #[inline(always)]
-    fn new(x0: &[StateRow], a: usize, b: usize) -> SpringStart {
-        let (pa, pb) = (&x0[a].x, &x0[b].x);
-        let d0 = [
-            lanes(&|l| (pb.x[l] - pa.x[l]) as f64),
-            lanes(&|l| (pb.y[l] - pa.y[l]) as f64),
-            lanes(&|l| (pb.z[l] - pa.z[l]) as f64),
-        ];
+    fn new(x0: &[LaneD], a: usize, b: usize) -> SpringStart {
+        let d0: [LaneD; 3] = std::array::from_fn(|c| lanes(&|l| x0[3 * b + c][l] - x0[3 * a + c][l]));
         let len0 = lanes(&|l| (d0[0][l] * d0[0][l] + d0[1][l] * d0[1][l] + d0[2][l] * d0[2][l]).sqrt());
         let min_len = MIN_LENGTH as f64;
         let n0 = std::array::from_fn(|r| lanes(&|l| if len0[l] > min_len { d0[r][l] / len0[l] } else { 0.0 }));
@@ -94,6 +94,8 @@ impl BandScratch {
         BandScratch {
             a: vec![[[0.0; W]; BAND + 1]; 3 * points],
             rhs: vec![[0.0; W]; 3 * points],
+            start: vec![[0.0; W]; 3 * points],
+            x0: vec![[0.0; W]; 3 * points],
             target: vec![[0.0; W]; 3 * points],
             x: vec![[0.0; W]; 3 * points],
             trial: vec![[0.0; W]; 3 * points],
@@ -249,7 +251,9 @@ fn inertia(w: f32, hc: f64) -> f64 {
 /// Advances one block of `W` strands by `h` with implicit Euler: `iterations` Newton steps on
 /// the incremental potential, each with a per-strand backtracking line search. `f_ext` holds
 /// the explicit forces (adhesion, cohesion); `drag` pulls toward `wind` implicitly;
-/// `target(i)` the head's target for rows with pinned lanes.
+/// `target(i)` the head's target for rows with pinned lanes. `bdf2`: BDF2's history and this
+/// substep's `b` (the solve starts from the blended start and keeps the history,
+/// [`super::bdf2::start_lane`], [`super::bdf2::keep_lane`]); `None` for backward Euler.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn implicit_euler_block<const AXIAL: bool>(
@@ -262,9 +266,11 @@ pub fn implicit_euler_block<const AXIAL: bool>(
     (drag, wind): (f32, [f32; 3]),
     h: f32,
     iterations: u32,
+    mut bdf2: Option<(&mut [Bdf2Row], f32)>,
     sc: &mut BandScratch,
 ) {
     let p = state.len();
+    debug_assert!(bdf2.as_ref().is_none_or(|(hist, _)| hist.len() == p));
     let n = 3 * p;
     let hd = h as f64;
     let hc = hd * drag as f64;
@@ -276,25 +282,37 @@ pub fn implicit_euler_block<const AXIAL: bool>(
         let (st, f) = (&state[i], &f_ext[i]);
         for l in 0..W {
             let w = rows[i].inv_mass[l];
-            let xs = [st.x.x[l], st.x.y[l], st.x.z[l]];
-            let vs = [st.v.x[l], st.v.y[l], st.v.z[l]];
+            let (xs, vs) = match &bdf2 {
+                Some((hist, b)) => {
+                    let s = start_lane(st, &hist[i], *b, l);
+                    for c in 0..3 {
+                        sc.x0[3 * i + c][l] = s.x0[c];
+                    }
+                    (s.x, s.v)
+                }
+                None => (
+                    [st.x.x[l], st.x.y[l], st.x.z[l]].map(f64::from),
+                    [st.v.x[l], st.v.y[l], st.v.z[l]].map(f64::from),
+                ),
+            };
             let fs = [f.x[l], f.y[l], f.z[l]];
             let pin = t.as_ref().filter(|_| w == 0.0).map(|t| [t.x[l], t.y[l], t.z[l]]);
             // With drag: the target weighted toward x0 + h wind by h c against m.
             let m = if w > 0.0 { 1.0 / w as f64 } else { 0.0 };
             let mw = m / (m + hc).max(f64::MIN_POSITIVE);
             for c in 0..3 {
-                let x0 = xs[c] as f64;
-                let inertial = x0 + hd * vs[c] as f64 + hd * hd * (fs[c] * w + g[c]) as f64;
+                let x0 = xs[c];
+                let inertial = x0 + hd * vs[c] + hd * hd * (fs[c] * w + g[c]) as f64;
                 let dragged = x0 + hd * wind[c] as f64;
+                sc.start[3 * i + c][l] = x0;
                 sc.target[3 * i + c][l] = mw * inertial + (1.0 - mw) * dragged;
-                sc.x[3 * i + c][l] = pin.map_or(x0 + hd * vs[c] as f64, |t| t[c] as f64);
+                sc.x[3 * i + c][l] = pin.map_or(x0 + hd * vs[c], |t| t[c] as f64);
             }
         }
     }
     for (gap, on) in [(1, true), (2, bend)] {
         for i in (0..p.saturating_sub(gap)).filter(|_| on) {
-            sc.starts[(gap - 1) * p + i] = SpringStart::new(state, i, i + gap);
+            sc.starts[(gap - 1) * p + i] = SpringStart::new(&sc.start[..3 * p], i, i + gap);
         }
     }
     for _ in 0..iterations.max(1) {
@@ -388,9 +406,14 @@ pub fn implicit_euler_block<const AXIAL: bool>(
     for (i, st) in state.iter_mut().enumerate() {
         for l in 0..W {
             let x1 = [sc.x[3 * i][l], sc.x[3 * i + 1][l], sc.x[3 * i + 2][l]];
-            st.v.x[l] = ((x1[0] - st.x.x[l] as f64) * inv_h) as f32;
-            st.v.y[l] = ((x1[1] - st.x.y[l] as f64) * inv_h) as f32;
-            st.v.z[l] = ((x1[2] - st.x.z[l] as f64) * inv_h) as f32;
+            let start = [sc.start[3 * i][l], sc.start[3 * i + 1][l], sc.start[3 * i + 2][l]];
+            if let Some((hist, _)) = &mut bdf2 {
+                let x0 = [sc.x0[3 * i][l], sc.x0[3 * i + 1][l], sc.x0[3 * i + 2][l]];
+                keep_lane(&mut hist[i], st, x0, x1, l);
+            }
+            st.v.x[l] = ((x1[0] - start[0]) * inv_h) as f32;
+            st.v.y[l] = ((x1[1] - start[1]) * inv_h) as f32;
+            st.v.z[l] = ((x1[2] - start[2]) * inv_h) as f32;
             st.x.x[l] = x1[0] as f32;
             st.x.y[l] = x1[1] as f32;
             st.x.z[l] = x1[2] as f32;
