@@ -391,14 +391,16 @@ fn block_substep_impl<const AXIAL: bool>(
         placed_sdfs: &ctx.placed_sdfs[s * ns..(s + 1) * ns],
     };
     // BDF2's history keeps the substep's displacement, so it follows the pushes.
-    let keep = ctx.integrator == Integrator::BDF2 && !history.is_empty();
+    let keep = ctx.integrator == Integrator::BDF2 && !history.is_empty() && colliders.any();
     for i in 0..p {
         let r = &mut rows[i];
-        let before = r.x;
         // Pass: collide.
-        colliders.push_out_row(&mut r.x, &mut r.v, &params[i].inv_mass, ctx.friction);
         if keep {
+            let before = r.x;
+            colliders.push_out_row(&mut r.x, &mut r.v, &params[i].inv_mass, ctx.friction);
             keep_push(&mut history[i], &before, &r.x);
+        } else {
+            colliders.push_out_row(&mut r.x, &mut r.v, &params[i].inv_mass, ctx.friction);
         }
         for l in 0..W {
             let v2 = r.v.x[l] * r.v.x[l] + r.v.y[l] * r.v.y[l] + r.v.z[l] * r.v.z[l];

@@ -25,7 +25,8 @@
 //! Restarting at every jump above 2x instead cost a hitch from 1/60 to 1/20 s about 3x in
 //! error on the dry patch (measured in `tests/integrators.rs`).
 
-use super::lanes::{StateRow, L3, W};
+use super::implicit::LaneD;
+use super::lanes::{Lane, StateRow, L3, W};
 
 /// Largest growth of a stray difference between the two starts that [`Bdf2Clock`] lets the
 /// history carry (the product of the blends' `b` since an error could enter); past it, a
@@ -37,7 +38,7 @@ pub const MAX_GROWTH: f64 = 2.0;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bdf2Blend {
     /// Weight of this start, `(1+ω)² / (1+2ω)`, which is `1 + b` (the blend is taken as
-    /// `x₀ + b (x₀ - x₋₁)`: see [`start_lane`]).
+    /// `x₀ + b (x₀ - x₋₁)`: see [`start_rows`]).
     pub a: f32,
     /// Weight of the start before, `ω² / (1+2ω)` (0: backward Euler).
     pub b: f32,
@@ -129,56 +130,87 @@ pub struct Bdf2Row {
     pub rounding: L3,
 }
 
-/// The start of lane `l` of a row in f64 (`x₀` with its rounding restored) and the blended
-/// start `x̂ = x₀ + b Δx`, `v̂ = v₀ + b (v₀ - v₋₁)`. With `b = 0` (a restart) the start is
-/// the row as it is, whatever the history holds.
+/// The starts of a block's rows in f64, per DOF (`3 i + c`): `x`, the blended start
+/// `x̂ = x₀ + b Δx` (`x₀` each position with its rounding restored), and `v`,
+/// `v̂ = v₀ + b (v₀ - v₋₁)`. With `b = 0` (a restart) the start is the state as it is,
+/// whatever the history holds.
 ///
 /// Taken as `x₀ + b (x₀ - x₋₁)` (`a = 1 + b`): in f32 the rounded `a` and `b` do not differ by
 /// exactly 1, and `a x₀ - b x₋₁` scaled every position by that error each step (1.4e-5 m after
 /// 7,680 steps on the dry patch, past implicit Euler's).
 #[inline(always)]
-pub fn start_lane(now: &StateRow, history: &Bdf2Row, b: f32, l: usize) -> Start {
-    let x = [now.x.x[l], now.x.y[l], now.x.z[l]].map(f64::from);
-    let v = [now.v.x[l], now.v.y[l], now.v.z[l]].map(f64::from);
-    if b == 0.0 {
-        return Start { x0: x, x, v };
-    }
-    let b = b as f64;
-    let r = &history.rounding;
-    let x0 = [x[0] + r.x[l] as f64, x[1] + r.y[l] as f64, x[2] + r.z[l] as f64];
-    let dx = [history.dx.x[l], history.dx.y[l], history.dx.z[l]].map(f64::from);
-    let vp = [history.v.x[l], history.v.y[l], history.v.z[l]].map(f64::from);
-    Start {
-        x0,
-        x: std::array::from_fn(|c| x0[c] + b * dx[c]),
-        v: std::array::from_fn(|c| v[c] + b * (v[c] - vp[c])),
+pub fn start_rows(state: &[StateRow], history: &[Bdf2Row], b: f32, x: &mut [LaneD], v: &mut [LaneD]) {
+    for (i, (st, h)) in state.iter().zip(history).enumerate() {
+        let (xs, vs) = (&mut x[3 * i..3 * i + 3], &mut v[3 * i..3 * i + 3]);
+        if b == 0.0 {
+            for (c, (p, q)) in [(&st.x.x, &st.v.x), (&st.x.y, &st.v.y), (&st.x.z, &st.v.z)]
+                .into_iter()
+                .enumerate()
+            {
+                (xs[c], vs[c]) = (p.map(f64::from), q.map(f64::from));
+            }
+            continue;
+        }
+        let bd = b as f64;
+        start_coord(
+            &mut xs[0],
+            &mut vs[0],
+            (&st.x.x, &st.v.x),
+            (&h.rounding.x, &h.dx.x, &h.v.x),
+            bd,
+        );
+        start_coord(
+            &mut xs[1],
+            &mut vs[1],
+            (&st.x.y, &st.v.y),
+            (&h.rounding.y, &h.dx.y, &h.v.y),
+            bd,
+        );
+        start_coord(
+            &mut xs[2],
+            &mut vs[2],
+            (&st.x.z, &st.v.z),
+            (&h.rounding.z, &h.dx.z, &h.v.z),
+            bd,
+        );
     }
 }
 
-/// One point's start of a BDF2 substep ([`start_lane`]), f64.
-#[derive(Clone, Copy, Debug)]
-pub struct Start {
-    /// `x₀`: where the point is, its rounding restored.
-    pub x0: [f64; 3],
-    /// `x̂`: the blended start the solve steps from.
-    pub x: [f64; 3],
-    /// `v̂`.
-    pub v: [f64; 3],
-}
-
-/// Keeps lane `l`'s history for the next substep, after a solve that took the row from `now`
-/// (whose start was `x0`) to `x1` (f64, before it is rounded into the state).
+/// One coordinate of [`start_rows`] for the `W` lanes of a row (kept history).
 #[inline(always)]
-pub fn keep_lane(history: &mut Bdf2Row, now: &StateRow, x0: [f64; 3], x1: [f64; 3], l: usize) {
-    history.dx.x[l] = (x1[0] - x0[0]) as f32;
-    history.dx.y[l] = (x1[1] - x0[1]) as f32;
-    history.dx.z[l] = (x1[2] - x0[2]) as f32;
-    history.v.x[l] = now.v.x[l];
-    history.v.y[l] = now.v.y[l];
-    history.v.z[l] = now.v.z[l];
-    history.rounding.x[l] = (x1[0] - (x1[0] as f32) as f64) as f32;
-    history.rounding.y[l] = (x1[1] - (x1[1] as f32) as f64) as f32;
-    history.rounding.z[l] = (x1[2] - (x1[2] as f32) as f64) as f32;
+fn start_coord(x: &mut LaneD, v: &mut LaneD, (now, vel): (&Lane, &Lane), (r, dx, vp): (&Lane, &Lane, &Lane), b: f64) {
+    for l in 0..W {
+        let (p, q) = (now[l] as f64 + r[l] as f64, vel[l] as f64);
+        x[l] = p + b * dx[l] as f64;
+        v[l] = q + b * (q - vp[l] as f64);
+    }
+}
+
+/// Keeps the history of a block's rows for the next substep, after a solve with blend `b` took
+/// them from `state` to `x1` (f64, before they are rounded into the state; the history still
+/// holds the last substep's): the displacement `x1 - x₀` (`x₀` as [`start_rows`] took it),
+/// the velocities `v₀`, and what rounding `x1` to f32 takes off.
+#[inline(always)]
+pub fn keep_rows(history: &mut [Bdf2Row], state: &[StateRow], b: f32, x1: &[LaneD]) {
+    // A restart's start ignored the history's rounding.
+    let kept = if b == 0.0 { 0.0 } else { 1.0 };
+    for (i, (h, st)) in history.iter_mut().zip(state).enumerate() {
+        h.v = st.v;
+        let x1 = &x1[3 * i..3 * i + 3];
+        keep_coord(&mut h.dx.x, &mut h.rounding.x, &st.x.x, &x1[0], kept);
+        keep_coord(&mut h.dx.y, &mut h.rounding.y, &st.x.y, &x1[1], kept);
+        keep_coord(&mut h.dx.z, &mut h.rounding.z, &st.x.z, &x1[2], kept);
+    }
+}
+
+/// One coordinate of [`keep_rows`] for the `W` lanes of a row.
+#[inline(always)]
+fn keep_coord(dx: &mut Lane, r: &mut Lane, now: &Lane, x1: &LaneD, kept: f64) {
+    for l in 0..W {
+        let x0 = now[l] as f64 + kept * r[l] as f64;
+        dx[l] = (x1[l] - x0) as f32;
+        r[l] = (x1[l] - (x1[l] as f32) as f64) as f32;
+    }
 }
 
 /// The history follows a push after the solve (the collide pass moved a row from `before` to
@@ -193,10 +225,10 @@ pub fn keep_push(history: &mut Bdf2Row, before: &L3, after: &L3) {
         (&mut d.z, &mut r.z, &before.z, &after.z),
     ] {
         for l in 0..W {
-            if a[l] != b[l] {
-                dx[l] += (a[l] - b[l]) - rx[l];
-                rx[l] = 0.0;
-            }
+            // Branch-free (every BDF2 row passes here each substep): 1 where the push moved it.
+            let moved = (a[l] != b[l]) as u32 as f32;
+            dx[l] += moved * ((a[l] - b[l]) - rx[l]);
+            rx[l] *= 1.0 - moved;
         }
     }
 }
@@ -249,40 +281,44 @@ mod tests {
             y: [v; W],
             z: [v; W],
         };
-        let now = StateRow {
+        let now = [StateRow {
             x: splat(0.2),
             v: splat(0.5),
-        };
-        let x0 = [0.2f32 as f64; 3];
-        let x1 = [0.2 + 3.3e-9, 0.2 - 1.7e-9, 0.2 + 1e-12];
-        let mut hist = Bdf2Row::default();
-        for l in 0..W {
-            keep_lane(&mut hist, &now, x0, x1, l);
-        }
+        }];
+        let x0 = [[0.2f32 as f64; W]; 3];
+        let x1: [LaneD; 3] = [[0.2 + 3.3e-9; W], [0.2 - 1.7e-9; W], [0.2 + 1e-12; W]];
+        let mut hist = [Bdf2Row::default()];
+        keep_rows(&mut hist, &now, 0.0, &x1);
         let mut next = now;
         for l in 0..W {
-            next.x.set(l, glam::Vec3::from(x1.map(|c| c as f32)));
+            next[0]
+                .x
+                .set(l, glam::Vec3::new(x1[0][l] as f32, x1[1][l] as f32, x1[2][l] as f32));
         }
-        let s = start_lane(&next, &hist, 0.25, 3);
+        // The start with b = 0 is x₀ itself: where the solve left the row, rounding restored
+        // only when the history is kept (b > 0).
+        let start = |state: &[StateRow], hist: &[Bdf2Row], b: f32| {
+            let (mut s, mut v) = ([[0.0; W]; 3], [[0.0; W]; 3]);
+            start_rows(state, hist, b, &mut s, &mut v);
+            s
+        };
+        let s = start(&next, &hist, 0.25);
         for c in 0..3 {
-            assert!((s.x0[c] - x1[c]).abs() < 1e-16, "{c}: {} vs {}", s.x0[c], x1[c]);
-            assert!((s.x[c] - (x1[c] + 0.25 * (x1[c] - x0[c]))).abs() < 1e-16);
+            let s0 = s[c][3] - 0.25 * hist[0].dx.get(3)[c] as f64;
+            assert!((s0 - x1[c][3]).abs() < 1e-16, "{c}: {s0} vs {}", x1[c][3]);
+            assert!((s[c][3] - (x1[c][3] + 0.25 * (x1[c][3] - x0[c][3]))).abs() < 1e-16);
+            assert_eq!(start(&next, &hist, 0.0)[c][3], next[0].x.get(3)[c] as f64);
         }
-        assert_eq!(
-            start_lane(&next, &hist, 0.0, 3).x0,
-            next.x.get(3).to_array().map(f64::from)
-        );
         // A push to 0.3 in lane 1: that lane's start is the pushed place; lane 0's is kept.
-        let before = next.x;
-        next.x.set(1, glam::Vec3::splat(0.3));
-        keep_push(&mut hist, &before, &next.x);
-        let pushed = start_lane(&next, &hist, 0.25, 1);
-        assert_eq!(pushed.x0, [0.3f32 as f64; 3]);
+        let before = next[0].x;
+        next[0].x.set(1, glam::Vec3::splat(0.3));
+        keep_push(&mut hist[0], &before, &next[0].x);
+        let p = start(&next, &hist, 0.25);
         for c in 0..3 {
-            let moved = 0.3f32 as f64 - x0[c];
-            assert!((pushed.x[c] - (0.3f32 as f64 + 0.25 * moved)).abs() < 1e-9);
+            let moved = 0.3f32 as f64 - x0[c][1];
+            assert!((p[c][1] - (0.3f32 as f64 + 0.25 * moved)).abs() < 1e-9);
+            assert_eq!(p[c][0], s[c][0]);
         }
-        assert_eq!(start_lane(&next, &hist, 0.25, 0).x0, s.x0);
     }
 
     /// The blend is exact for a quadratic path: x(t) = t², steps h then h ω: BDF2 is exact on

@@ -133,6 +133,12 @@ impl Colliders<'_> {
         }
     }
 
+    /// Whether there is any collider to push out of.
+    #[inline(always)]
+    pub fn any(&self) -> bool {
+        !self.placed.is_empty() || !self.sdfs.is_empty()
+    }
+
     /// Pushes the free lanes of one row out of every collider, analytic ones first. Always
     /// inlined: the row kernels call it from their AVX2 bodies, and a call out of them runs the
     /// analytic colliders without AVX2 (the head collider was then 57% of a dry paper-scene step).

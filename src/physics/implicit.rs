@@ -21,7 +21,7 @@
 //! Energies, the matrix and the solve are f64: at stiffness 10^6 times the explicit limit the
 //! system's condition number is ~10^6 and f32 would lose ~10% of the step. State stays f32.
 
-use super::bdf2::{keep_lane, start_lane, Bdf2Row};
+use super::bdf2::{keep_rows, start_rows, Bdf2Row};
 use super::lanes::{ParamRow, StateRow, L3, W};
 use super::spring::{SpringLanes, MIN_LENGTH};
 
@@ -51,8 +51,8 @@ pub struct BandScratch {
     /// The start (BDF2's blended start x̂, never rounded), the inertial target x̃ and the
     /// current iterate (f64, per DOF).
     start: Vec<LaneD>,
-    /// BDF2's x₀ with its rounding restored (the displacement it keeps is measured from it).
-    x0: Vec<LaneD>,
+    /// The start's velocities v̂ (f64, per DOF).
+    vstart: Vec<LaneD>,
     target: Vec<LaneD>,
     x: Vec<LaneD>,
     trial: Vec<LaneD>,
@@ -76,14 +76,41 @@ struct SpringStart {
     n0: [LaneD; 3],
 }
 
+/// Point `i`'s three DOFs of a per-DOF array.
+#[inline(always)]
+fn dof3(x: &[LaneD], i: usize) -> &[LaneD; 3] {
+    x[3 * i..3 * i + 3].try_into().expect("three DOFs")
+}
+
 impl SpringStart {
-    /// The spring from point `a` to point `b` of the start `x0` (per DOF).
+    /// The spring from row `a` to row `b` of the state (backward Euler's start).
     #[inline(always)]
-    fn new(x0: &[LaneD], a: usize, b: usize) -> SpringStart {
-        let d0: [LaneD; 3] = std::array::from_fn(|c| lanes(&|l| x0[3 * b + c][l] - x0[3 * a + c][l]));
+    fn of_state(x0: &[StateRow], a: usize, b: usize) -> SpringStart {
+        let (pa, pb) = (&x0[a].x, &x0[b].x);
+        SpringStart::of_vector([
+            lanes(&|l| (pb.x[l] - pa.x[l]) as f64),
+            lanes(&|l| (pb.y[l] - pa.y[l]) as f64),
+            lanes(&|l| (pb.z[l] - pa.z[l]) as f64),
+        ])
+    }
+
+    /// The spring from point `a` to point `b` of a start given per DOF (BDF2's, in f64).
+    #[inline(always)]
+    fn of_start(x0: &[LaneD], a: usize, b: usize) -> SpringStart {
+        let (pa, pb) = (dof3(x0, a), dof3(x0, b));
+        SpringStart::of_vector([
+            lanes(&|l| pb[0][l] - pa[0][l]),
+            lanes(&|l| pb[1][l] - pa[1][l]),
+            lanes(&|l| pb[2][l] - pa[2][l]),
+        ])
+    }
+
+    #[inline(always)]
+    fn of_vector(d0: [LaneD; 3]) -> SpringStart {
         let len0 = lanes(&|l| (d0[0][l] * d0[0][l] + d0[1][l] * d0[1][l] + d0[2][l] * d0[2][l]).sqrt());
         let min_len = MIN_LENGTH as f64;
-        let n0 = std::array::from_fn(|r| lanes(&|l| if len0[l] > min_len { d0[r][l] / len0[l] } else { 0.0 }));
+        let unit = |r: usize| lanes(&|l| if len0[l] > min_len { d0[r][l] / len0[l] } else { 0.0 });
+        let n0 = [unit(0), unit(1), unit(2)];
         SpringStart { d0, n0 }
     }
 }
@@ -95,7 +122,7 @@ impl BandScratch {
             a: vec![[[0.0; W]; BAND + 1]; 3 * points],
             rhs: vec![[0.0; W]; 3 * points],
             start: vec![[0.0; W]; 3 * points],
-            x0: vec![[0.0; W]; 3 * points],
+            vstart: vec![[0.0; W]; 3 * points],
             target: vec![[0.0; W]; 3 * points],
             x: vec![[0.0; W]; 3 * points],
             trial: vec![[0.0; W]; 3 * points],
@@ -253,7 +280,7 @@ fn inertia(w: f32, hc: f64) -> f64 {
 /// the explicit forces (adhesion, cohesion); `drag` pulls toward `wind` implicitly;
 /// `target(i)` the head's target for rows with pinned lanes. `bdf2`: BDF2's history and this
 /// substep's `b` (the solve starts from the blended start and keeps the history,
-/// [`super::bdf2::start_lane`], [`super::bdf2::keep_lane`]); `None` for backward Euler.
+/// [`super::bdf2::start_rows`], [`super::bdf2::keep_rows`]); `None` for backward Euler.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn implicit_euler_block<const AXIAL: bool>(
@@ -274,45 +301,53 @@ pub fn implicit_euler_block<const AXIAL: bool>(
     let n = 3 * p;
     let hd = h as f64;
     let hc = hd * drag as f64;
+    // The start (x̂, v̂): the state as it is, or BDF2's blend of it and its history.
+    match &bdf2 {
+        Some((hist, b)) => start_rows(state, hist, *b, &mut sc.start[..n], &mut sc.vstart[..n]),
+        None => {
+            for (i, st) in state.iter().enumerate() {
+                for (c, (x, v)) in [(&st.x.x, &st.v.x), (&st.x.y, &st.v.y), (&st.x.z, &st.v.z)]
+                    .into_iter()
+                    .enumerate()
+                {
+                    for l in 0..W {
+                        sc.start[3 * i + c][l] = x[l] as f64;
+                        sc.vstart[3 * i + c][l] = v[l] as f64;
+                    }
+                }
+            }
+        }
+    }
     // Inertial target x̃, and the start iterate x = x + h v (free points; far more accurate
     // than starting where they were, which makes one iteration damp rotation), pinned points on
     // the head's target, where they stay.
     for i in 0..p {
         let t = target(i);
-        let (st, f) = (&state[i], &f_ext[i]);
+        let f = &f_ext[i];
+        let (xs, vs) = (dof3(&sc.start, i), dof3(&sc.vstart, i));
         for l in 0..W {
             let w = rows[i].inv_mass[l];
-            let (xs, vs) = match &bdf2 {
-                Some((hist, b)) => {
-                    let s = start_lane(st, &hist[i], *b, l);
-                    for c in 0..3 {
-                        sc.x0[3 * i + c][l] = s.x0[c];
-                    }
-                    (s.x, s.v)
-                }
-                None => (
-                    [st.x.x[l], st.x.y[l], st.x.z[l]].map(f64::from),
-                    [st.v.x[l], st.v.y[l], st.v.z[l]].map(f64::from),
-                ),
-            };
             let fs = [f.x[l], f.y[l], f.z[l]];
             let pin = t.as_ref().filter(|_| w == 0.0).map(|t| [t.x[l], t.y[l], t.z[l]]);
             // With drag: the target weighted toward x0 + h wind by h c against m.
             let m = if w > 0.0 { 1.0 / w as f64 } else { 0.0 };
             let mw = m / (m + hc).max(f64::MIN_POSITIVE);
             for c in 0..3 {
-                let x0 = xs[c];
-                let inertial = x0 + hd * vs[c] + hd * hd * (fs[c] * w + g[c]) as f64;
+                let (x0, v0) = (xs[c][l], vs[c][l]);
+                let inertial = x0 + hd * v0 + hd * hd * (fs[c] * w + g[c]) as f64;
                 let dragged = x0 + hd * wind[c] as f64;
-                sc.start[3 * i + c][l] = x0;
                 sc.target[3 * i + c][l] = mw * inertial + (1.0 - mw) * dragged;
-                sc.x[3 * i + c][l] = pin.map_or(x0 + hd * vs[c], |t| t[c] as f64);
+                sc.x[3 * i + c][l] = pin.map_or(x0 + hd * v0, |t| t[c] as f64);
             }
         }
     }
     for (gap, on) in [(1, true), (2, bend)] {
         for i in (0..p.saturating_sub(gap)).filter(|_| on) {
-            sc.starts[(gap - 1) * p + i] = SpringStart::new(&sc.start[..3 * p], i, i + gap);
+            sc.starts[(gap - 1) * p + i] = if bdf2.is_some() {
+                SpringStart::of_start(&sc.start[..n], i, i + gap)
+            } else {
+                SpringStart::of_state(state, i, i + gap)
+            };
         }
     }
     for _ in 0..iterations.max(1) {
@@ -402,15 +437,15 @@ pub fn implicit_euler_block<const AXIAL: bool>(
             }
         }
     }
+    if let Some((hist, b)) = &mut bdf2 {
+        keep_rows(hist, state, *b, &sc.x[..n]);
+    }
     let inv_h = 1.0 / hd;
     for (i, st) in state.iter_mut().enumerate() {
+        let (x1, start) = (dof3(&sc.x, i), dof3(&sc.start, i));
         for l in 0..W {
-            let x1 = [sc.x[3 * i][l], sc.x[3 * i + 1][l], sc.x[3 * i + 2][l]];
-            let start = [sc.start[3 * i][l], sc.start[3 * i + 1][l], sc.start[3 * i + 2][l]];
-            if let Some((hist, _)) = &mut bdf2 {
-                let x0 = [sc.x0[3 * i][l], sc.x0[3 * i + 1][l], sc.x0[3 * i + 2][l]];
-                keep_lane(&mut hist[i], st, x0, x1, l);
-            }
+            let x1 = [x1[0][l], x1[1][l], x1[2][l]];
+            let start = [start[0][l], start[1][l], start[2][l]];
             st.v.x[l] = ((x1[0] - start[0]) * inv_h) as f32;
             st.v.y[l] = ((x1[1] - start[1]) * inv_h) as f32;
             st.v.z[l] = ((x1[2] - start[2]) * inv_h) as f32;

@@ -1,4 +1,4 @@
-// BDF2's start (physics/bdf2.rs `start_lane`, inside pass implicit_solve): each point's state
+// BDF2's start (physics/bdf2.rs `start_rows`, inside pass implicit_solve): each point's state
 // blended with its state at the last substep's start, `a x0 - b x-1` written `x0 + b (x0 - x-1)`
 // (a = 1 + b; the rounded a and b would not sum to 1 and drift the strands) and the same for
 // velocities (S.blend = a, b, h, 1/h), which it then keeps for the next substep. With b = 0 (a
