@@ -140,39 +140,18 @@ pub struct Bdf2Row {
 /// 7,680 steps on the dry patch, past implicit Euler's).
 #[inline(always)]
 pub fn start_rows(state: &[StateRow], history: &[Bdf2Row], b: f32, x: &mut [LaneD], v: &mut [LaneD]) {
+    let bd = b as f64;
     for (i, (st, h)) in state.iter().zip(history).enumerate() {
-        let (xs, vs) = (&mut x[3 * i..3 * i + 3], &mut v[3 * i..3 * i + 3]);
-        if b == 0.0 {
-            for (c, (p, q)) in [(&st.x.x, &st.v.x), (&st.x.y, &st.v.y), (&st.x.z, &st.v.z)]
-                .into_iter()
-                .enumerate()
-            {
-                (xs[c], vs[c]) = (p.map(f64::from), q.map(f64::from));
+        let (now, vel) = (coords(&st.x), coords(&st.v));
+        let (r, dx, vp) = (coords(&h.rounding), coords(&h.dx), coords(&h.v));
+        for c in 0..3 {
+            let k = 3 * i + c;
+            if b == 0.0 {
+                (x[k], v[k]) = (now[c].map(f64::from), vel[c].map(f64::from));
+            } else {
+                start_coord(&mut x[k], &mut v[k], (now[c], vel[c]), (r[c], dx[c], vp[c]), bd);
             }
-            continue;
         }
-        let bd = b as f64;
-        start_coord(
-            &mut xs[0],
-            &mut vs[0],
-            (&st.x.x, &st.v.x),
-            (&h.rounding.x, &h.dx.x, &h.v.x),
-            bd,
-        );
-        start_coord(
-            &mut xs[1],
-            &mut vs[1],
-            (&st.x.y, &st.v.y),
-            (&h.rounding.y, &h.dx.y, &h.v.y),
-            bd,
-        );
-        start_coord(
-            &mut xs[2],
-            &mut vs[2],
-            (&st.x.z, &st.v.z),
-            (&h.rounding.z, &h.dx.z, &h.v.z),
-            bd,
-        );
     }
 }
 
@@ -196,10 +175,14 @@ pub fn keep_rows(history: &mut [Bdf2Row], state: &[StateRow], b: f32, x1: &[Lane
     let kept = if b == 0.0 { 0.0 } else { 1.0 };
     for (i, (h, st)) in history.iter_mut().zip(state).enumerate() {
         h.v = st.v;
-        let x1 = &x1[3 * i..3 * i + 3];
-        keep_coord(&mut h.dx.x, &mut h.rounding.x, &st.x.x, &x1[0], kept);
-        keep_coord(&mut h.dx.y, &mut h.rounding.y, &st.x.y, &x1[1], kept);
-        keep_coord(&mut h.dx.z, &mut h.rounding.z, &st.x.z, &x1[2], kept);
+        let now = coords(&st.x);
+        let (dx, r) = (&mut h.dx, &mut h.rounding);
+        for (c, (dx, r)) in [(&mut dx.x, &mut r.x), (&mut dx.y, &mut r.y), (&mut dx.z, &mut r.z)]
+            .into_iter()
+            .enumerate()
+        {
+            keep_coord(dx, r, now[c], &x1[3 * i + c], kept);
+        }
     }
 }
 
@@ -211,6 +194,12 @@ fn keep_coord(dx: &mut Lane, r: &mut Lane, now: &Lane, x1: &LaneD, kept: f64) {
         dx[l] = (x1[l] - x0) as f32;
         r[l] = (x1[l] - (x1[l] as f32) as f64) as f32;
     }
+}
+
+/// The three coordinates' lanes of `v`.
+#[inline(always)]
+fn coords(v: &L3) -> [&Lane; 3] {
+    [&v.x, &v.y, &v.z]
 }
 
 /// The history follows a push after the solve (the collide pass moved a row from `before` to
@@ -225,7 +214,8 @@ pub fn keep_push(history: &mut Bdf2Row, before: &L3, after: &L3) {
         (&mut d.z, &mut r.z, &before.z, &after.z),
     ] {
         for l in 0..W {
-            // Branch-free (every BDF2 row passes here each substep): 1 where the push moved it.
+            // Branch-free (every BDF2 row of a scene with colliders passes here each substep):
+            // 1 where the push moved it.
             let moved = (a[l] != b[l]) as u32 as f32;
             dx[l] += moved * ((a[l] - b[l]) - rx[l]);
             rx[l] *= 1.0 - moved;
