@@ -25,7 +25,7 @@
 //! Restarting at every jump above 2x instead cost a hitch from 1/60 to 1/20 s about 3x in
 //! error on the dry patch (measured in `tests/integrators.rs`).
 
-use super::implicit::LaneD;
+use super::implicit::{start_of_state, LaneD};
 use super::lanes::{Lane, StateRow, L3, W};
 
 /// Largest growth of a stray difference between the two starts that [`Bdf2Clock`] lets the
@@ -115,8 +115,8 @@ impl Bdf2Clock {
 /// substep's motion of about as much, and the rounding of each new position is lost for good;
 /// the blend feeds both forward every substep, and BDF2's error on the dry patch rose with the
 /// substeps past 32 (2.9e-6 m at 128, where the method's own is below 1e-8 m). Kept from the
-/// f64 solve as below, the positions are as good as an f64 state would give them to about
-/// 7e-9 m (`tests/integrators.rs`).
+/// f64 solve as below, the error there falls to about 6e-9 m
+/// (`tests/integrators.rs` `bdf2_converges_past_the_f32_rounding`).
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(32))]
 pub struct Bdf2Row {
@@ -140,17 +140,16 @@ pub struct Bdf2Row {
 /// 7,680 steps on the dry patch, past implicit Euler's).
 #[inline(always)]
 pub fn start_rows(state: &[StateRow], history: &[Bdf2Row], b: f32, x: &mut [LaneD], v: &mut [LaneD]) {
+    if b == 0.0 {
+        return start_of_state(state, x, v);
+    }
     let bd = b as f64;
     for (i, (st, h)) in state.iter().zip(history).enumerate() {
         let (now, vel) = (coords(&st.x), coords(&st.v));
         let (r, dx, vp) = (coords(&h.rounding), coords(&h.dx), coords(&h.v));
         for c in 0..3 {
             let k = 3 * i + c;
-            if b == 0.0 {
-                (x[k], v[k]) = (now[c].map(f64::from), vel[c].map(f64::from));
-            } else {
-                start_coord(&mut x[k], &mut v[k], (now[c], vel[c]), (r[c], dx[c], vp[c]), bd);
-            }
+            start_coord(&mut x[k], &mut v[k], (now[c], vel[c]), (r[c], dx[c], vp[c]), bd);
         }
     }
 }

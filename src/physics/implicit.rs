@@ -76,6 +76,23 @@ struct SpringStart {
     n0: [LaneD; 3],
 }
 
+/// The start as the state holds it, widened to f64 per DOF (`3 i + c`): backward Euler's, and
+/// BDF2's at a restart.
+#[inline(always)]
+pub fn start_of_state(state: &[StateRow], x: &mut [LaneD], v: &mut [LaneD]) {
+    for (i, st) in state.iter().enumerate() {
+        for (c, (p, q)) in [(&st.x.x, &st.v.x), (&st.x.y, &st.v.y), (&st.x.z, &st.v.z)]
+            .into_iter()
+            .enumerate()
+        {
+            for l in 0..W {
+                x[3 * i + c][l] = p[l] as f64;
+                v[3 * i + c][l] = q[l] as f64;
+            }
+        }
+    }
+}
+
 /// Point `i`'s three DOFs of a per-DOF array.
 #[inline(always)]
 fn dof3(x: &[LaneD], i: usize) -> &[LaneD; 3] {
@@ -304,19 +321,7 @@ pub fn implicit_euler_block<const AXIAL: bool>(
     // The start (x̂, v̂): the state as it is, or BDF2's blend of it and its history.
     match &bdf2 {
         Some((hist, b)) => start_rows(state, hist, *b, &mut sc.start[..n], &mut sc.vstart[..n]),
-        None => {
-            for (i, st) in state.iter().enumerate() {
-                for (c, (x, v)) in [(&st.x.x, &st.v.x), (&st.x.y, &st.v.y), (&st.x.z, &st.v.z)]
-                    .into_iter()
-                    .enumerate()
-                {
-                    for l in 0..W {
-                        sc.start[3 * i + c][l] = x[l] as f64;
-                        sc.vstart[3 * i + c][l] = v[l] as f64;
-                    }
-                }
-            }
-        }
+        None => start_of_state(state, &mut sc.start[..n], &mut sc.vstart[..n]),
     }
     // Inertial target x̃, and the start iterate x = x + h v (free points; far more accurate
     // than starting where they were, which makes one iteration damp rotation), pinned points on
