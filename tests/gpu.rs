@@ -583,6 +583,14 @@ fn implicit_matches_the_cpu(integrator: wethair::Integrator) {
     );
 }
 
+/// BDF2 on the GPU takes the adhesion at x + h v as the CPU does: a point held by a heavy
+/// droplet keeps its swing under every integrator (tests/integrators.rs).
+#[test]
+fn a_droplet_held_point_is_not_pumped_on_the_gpu() {
+    let _serial = serial();
+    crate::integrators::droplet_held_point_keeps_its_swing(gpu, Backend::GPU);
+}
+
 /// The accuracy issue's acceptance case on the GPU: springs 10^6 times stiffer than symplectic
 /// Euler's limit, one substep of 1/30 s, implicit Euler with two Newton iterations and BDF2
 /// with three: finite, energy bounded, every strand within 5% of its rest length.

@@ -6,8 +6,10 @@
 //! integrator's run whose statistics lie in the band counts as converged.
 
 use glam::{DVec3, Vec3};
+use wethair::groom::Groom;
 use wethair::physics::clumping::mean_nearest_along_strands;
 use wethair::scenes::ReportScene;
+use wethair::SimParams;
 
 /// Size of each free point's nudge (hair point or water particle) in the ensemble's members, m.
 pub const NUDGE: f64 = 1e-7;
@@ -61,6 +63,30 @@ pub struct Band {
     pub mean_centres: Vec<DVec3>,
     /// The greatest RMS distance (over strands) of a member's centres from the mean ones, m.
     pub centre_spread: f64,
+    /// The members' typical distance from their mean centres: the root mean square over
+    /// members of each one's RMS distance, m.
+    pub centre_rms: f64,
+    /// How many members the band was made of.
+    pub members: usize,
+}
+
+/// An ensemble of one integrator's runs against the references' [`Band`]: how many runs lie
+/// in the band, and whether the two ensembles' mean centres are further apart than their
+/// spreads explain.
+pub struct EnsembleVerdict {
+    /// Runs that lie in the band (all three statistics), of [`EnsembleVerdict::runs`].
+    pub in_band: usize,
+    /// Runs that finished (did not diverge).
+    pub runs: usize,
+    /// Each run's strand centres' RMS distance from the references' mean: median, least and
+    /// greatest, m.
+    pub distance: (f64, f64, f64),
+    /// The RMS distance (over strands) between this ensemble's mean centres and the
+    /// references', m.
+    pub means_apart: f64,
+    /// What chance alone would set them apart: the standard error of the difference of two
+    /// means, `sqrt(rms_ref² / n_ref + rms² / n)` with each ensemble's [`Band::centre_rms`], m.
+    pub by_chance: f64,
 }
 
 /// Where one run's statistics fall against a [`Band`].
@@ -96,16 +122,41 @@ impl Band {
         let mean_centres: Vec<DVec3> = (0..members[0].centres.len())
             .map(|s| members.iter().map(|m| m.centres[s]).sum::<DVec3>() / n)
             .collect();
-        let centre_spread = members
+        let distances: Vec<f64> = members
             .iter()
             .map(|m| rms_distance(&m.centres, &mean_centres))
-            .fold(0.0, f64::max);
+            .collect();
         Band {
             clumping: range(&|m| m.clumping),
             energy: range(&|m| m.energy),
             mean_centres,
-            centre_spread,
+            centre_spread: distances.iter().copied().fold(0.0, f64::max),
+            centre_rms: (distances.iter().map(|d| d * d).sum::<f64>() / n).sqrt(),
+            members: members.len(),
         }
+    }
+
+    /// Where an ensemble of one integrator's runs falls (`None`: the run diverged); `None`
+    /// when fewer than two runs finished.
+    pub fn judge_ensemble(&self, runs: &[Option<Statistics>]) -> Option<EnsembleVerdict> {
+        let done: Vec<Statistics> = runs.iter().flatten().cloned().collect();
+        if done.len() < 2 {
+            return None;
+        }
+        let own = Band::new(&done);
+        let mut distance: Vec<f64> = done
+            .iter()
+            .map(|s| rms_distance(&s.centres, &self.mean_centres))
+            .collect();
+        distance.sort_by(f64::total_cmp);
+        let (n_ref, n) = (self.members as f64, own.members as f64);
+        Some(EnsembleVerdict {
+            in_band: done.iter().filter(|s| self.judge(s).converged()).count(),
+            runs: done.len(),
+            distance: (distance[distance.len() / 2], distance[0], distance[distance.len() - 1]),
+            means_apart: rms_distance(&own.mean_centres, &self.mean_centres),
+            by_chance: (self.centre_rms.powi(2) / n_ref + own.centre_rms.powi(2) / n).sqrt(),
+        })
     }
 
     /// Where `s` falls.
@@ -139,31 +190,86 @@ fn direction(seed: u64) -> DVec3 {
     }
 }
 
+/// The nudge of free point `i` (hair points first, then water particles, as the reference
+/// orders them) in member `k`.
+fn nudge(k: usize, i: usize) -> DVec3 {
+    NUDGE * direction(mix(k as u64 + 1) ^ i as u64)
+}
+
 /// The statistics at `t` of `members` references of `sc` (RK4 at step `h`), member `k`'s
 /// every free hair point and every water particle moved by [`NUDGE`], each in its own
 /// direction. The hair is nudged as well as the water: a judged run's own error (and its f32
 /// rounding) reaches the hair points directly, not through the droplets, and the droplets
 /// alone span a band 0.6x as wide on the wet patch.
 pub fn run(sc: &ReportScene, members: usize, t: f64, h: f64) -> Vec<Statistics> {
-    let member = |k: u64| {
-        let mut r = sc.reference().moved(|i| NUDGE * direction(mix(k + 1) ^ i as u64));
+    each_member(members, |k| {
+        let mut r = sc.reference().moved(|i| nudge(k, i));
         r.run_to(t, h);
         Statistics::of(sc, r.hair_positions(), r.energy())
-    };
-    // The members are independent and untimed: they run on every core, member k's result the
-    // same whichever thread computes it, and are returned in member order.
+    })
+}
+
+/// The statistics after 1 s (60 frames) of `members` simulations of `sc` under `params`, each
+/// nudged as the references' member of its number is (`None`: it diverged). A simulation
+/// takes its rest lengths from the groom it is made from, so nudging its hair moves its rest
+/// pose as well: a change of the model by 1e-7 m, where the references' springs start 1e-7 m
+/// from rest. Either is a perturbation far below the spreads judged (1e-5 m).
+pub fn run_simulations(sc: &ReportScene, params: &SimParams, members: usize) -> Vec<Option<Statistics>> {
+    each_member(members, |k| {
+        let g = &sc.groom;
+        let pos: Vec<Vec3> = g
+            .positions()
+            .iter()
+            .zip(g.pinned())
+            .enumerate()
+            .map(|(i, (&p, &pinned))| {
+                if pinned {
+                    p
+                } else {
+                    (p.as_dvec3() + nudge(k, i)).as_vec3()
+                }
+            })
+            .collect();
+        let counts: Vec<u32> = (0..g.strand_count()).map(|s| g.strand_range(s).len() as u32).collect();
+        let groom = Groom::new(pos, &counts, Some(g.pinned().to_vec()), Some(g.masses().to_vec()), 1.0)
+            .expect("the scene's groom, nudged");
+        let hair = g.point_count();
+        let water: Vec<Vec3> = sc
+            .water
+            .iter()
+            .enumerate()
+            .map(|(j, &p)| (p.as_dvec3() + nudge(k, hair + j)).as_vec3())
+            .collect();
+        let scene = ReportScene {
+            groom,
+            water,
+            params: params.clone(),
+            name: sc.name,
+            soak: sc.soak,
+        };
+        let mut sim = scene.simulation(params.clone()).expect("valid scene");
+        (0..60).all(|_| sim.step(1.0 / 60.0).is_ok()).then(|| {
+            let x: Vec<DVec3> = sim.positions().iter().map(|p| p.as_dvec3()).collect();
+            Statistics::of(sc, &x, sim.energy().total())
+        })
+    })
+}
+
+/// `member(k)` for k in 0..members, on every core, returned in member order (member k's
+/// result is the same whichever thread computes it; these runs are untimed).
+fn each_member<T: Send>(members: usize, member: impl Fn(usize) -> T + Sync) -> Vec<T> {
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(members.max(1));
     let per_thread = members.div_ceil(threads).max(1);
-    let mut out: Vec<Option<Statistics>> = vec![None; members];
+    let mut out: Vec<Option<T>> = (0..members).map(|_| None).collect();
     std::thread::scope(|s| {
         for (w, slots) in out.chunks_mut(per_thread).enumerate() {
             let first = w * per_thread;
             let member = &member;
             s.spawn(move || {
                 for (j, slot) in slots.iter_mut().enumerate() {
-                    *slot = Some(member((first + j) as u64));
+                    *slot = Some(member(first + j));
                 }
             });
         }

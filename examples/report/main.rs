@@ -18,7 +18,12 @@
 //! centres) are also judged against the band of an ensemble of references with the hair and
 //! the water nudged by 1e-7 m (`ensemble.rs`).
 //!
+//! Then each integrator's cheapest setting runs as an ensemble of its own, nudged as the
+//! references are, at 256, 512 and 1,024 substeps on the wet scenes: whether its runs' mean sits
+//! where the references' does, within what the two spreads explain.
+//!
 //! Writes DIR/work_precision.csv, DIR/work_precision.svg, DIR/ensemble.csv,
+//! DIR/integrator_ensembles.csv,
 //! DIR/stability.csv, DIR/stability.svg, and prints markdown tables.
 
 mod ensemble;
@@ -284,6 +289,9 @@ fn main() {
     let members = if quick { 4 } else { 8 };
     let mut ens_csv = String::from("scene,integrator,substeps,ms_per_simulated_s,clumping_m,clumping_in_band,energy_j,energy_in_band,centre_distance_m,centre_spread_m,centres_in_band,converged\n");
     let mut ens_summary = String::from("| scene | integrator | substeps whose statistics lie in the ensemble's band | least ms per simulated s among them |\n|---|---|---|---|\n");
+    // Each integrator's own ensemble on the wet scenes (ensemble::run_simulations).
+    let mut judged = String::from("| scene | integrator | substeps | runs in the band | centre distance from the references' mean, median (least–most), m | the two ensembles' means apart, m | apart by chance, m | ratio |\n|---|---|---|---|---|---|---|---|\n");
+    let mut judged_csv = String::from("scene,integrator,substeps,runs,runs_in_band,centre_distance_median_m,centre_distance_min_m,centre_distance_max_m,means_apart_m,apart_by_chance_m,reference_centre_spread_m,wall_s\n");
     // Per scene and method: runs estimated, of them within 3x of the true RMS error, and the
     // smallest and largest estimate / true ratio.
     let mut est_tally = std::collections::BTreeMap::new();
@@ -472,6 +480,61 @@ fn main() {
         if dry_patch {
             equal_time(&mut equal, sc.name, &runs);
         }
+        // One run lies in the band or not partly by chance: an ensemble of each integrator's
+        // runs, nudged as the references are, says whether its mean sits where theirs does.
+        if let Some(b) = &band {
+            let finest: &[u32] = if quick { &[64] } else { &[256, 512, 1024] };
+            for m in METHODS
+                .iter()
+                .filter(|m| m.iterations == 1 && m.integrator != Integrator::XPBD)
+            {
+                for &n in finest {
+                    let t0 = Instant::now();
+                    let params = SimParams {
+                        integrator: m.integrator,
+                        solver_iterations: m.iterations,
+                        substeps: n,
+                        threads: 1,
+                        backend: Backend::CPU,
+                        ..sc.params.clone()
+                    };
+                    let runs = ensemble::run_simulations(sc, &params, members);
+                    let Some(v) = b.judge_ensemble(&runs) else {
+                        let _ = writeln!(judged, "| {} | {} | {n} | diverged | | | | |", sc.name, m.label);
+                        continue;
+                    };
+                    let _ = writeln!(
+                        judged,
+                        "| {} | {} | {n} | {} of {} | {:.2e} ({:.2e}–{:.2e}) | {:.2e} | {:.2e} | {:.1} |",
+                        sc.name,
+                        m.label,
+                        v.in_band,
+                        v.runs,
+                        v.distance.0,
+                        v.distance.1,
+                        v.distance.2,
+                        v.means_apart,
+                        v.by_chance,
+                        v.means_apart / v.by_chance
+                    );
+                    let _ = writeln!(
+                        judged_csv,
+                        "{},\"{}\",{n},{},{},{:.3e},{:.3e},{:.3e},{:.3e},{:.3e},{:.3e},{:.1}",
+                        sc.name,
+                        m.label,
+                        v.runs,
+                        v.in_band,
+                        v.distance.0,
+                        v.distance.1,
+                        v.distance.2,
+                        v.means_apart,
+                        v.by_chance,
+                        b.centre_spread,
+                        t0.elapsed().as_secs_f64()
+                    );
+                }
+            }
+        }
         let panel = svg::Panel {
             ox: 520.0 * (k % 3) as f64,
             oy: 400.0 * (k / 3) as f64,
@@ -486,8 +549,10 @@ fn main() {
     std::fs::write(format!("{out}/work_precision.csv"), &csv).expect("write csv");
     std::fs::write(format!("{out}/work_precision.svg"), svg::document(1560.0, 800.0, &body)).expect("write svg");
     std::fs::write(format!("{out}/ensemble.csv"), &ens_csv).expect("write csv");
+    std::fs::write(format!("{out}/integrator_ensembles.csv"), &judged_csv).expect("write csv");
     println!("\n{summary}");
     println!("{ens_summary}");
+    println!("Each integrator's own ensemble ({members} runs nudged as the references are) against the references' band:\n\n{judged}");
     println!("| scene | integrator | runs estimated | within 3x of the true RMS error | estimate / true, least–most |\n|---|---|---|---|---|");
     for ((scene, label), (n, inside, lo, hi)) in &est_tally {
         println!("| {scene} | {label} | {n} | {inside} | {lo:.2}–{hi:.2} |");
@@ -568,7 +633,7 @@ fn main() {
     std::fs::write(format!("{out}/stability.csv"), &csv).expect("write csv");
     std::fs::write(format!("{out}/stability.svg"), svg::document(1340.0, 350.0, &body)).expect("write svg");
     println!(
-        "wrote {out}/work_precision.csv, work_precision.svg, ensemble.csv, stability.csv, stability.svg in {:.1} s",
+        "wrote {out}/work_precision.csv, work_precision.svg, ensemble.csv, integrator_ensembles.csv, stability.csv, stability.svg in {:.1} s",
         started.elapsed().as_secs_f64()
     );
 }

@@ -387,7 +387,9 @@ impl Bridges {
     /// Pass `cohesion`: each wet point's pull toward its bridged neighbours at the substep's
     /// start, `c (1 - r / d_b) (x_j - x_i)` for `r < d_b`, summed in neighbour order (point by
     /// point in parallel) into the row force. Each pair's two forces are exact negatives.
-    pub fn gather(&mut self, state: &[StateRow], pool: Option<&Pool>, avx2: bool) {
+    /// With `ahead` > 0 (BDF2: the substep) the points are taken at `x + ahead v`
+    /// (physics/bdf2.rs `explicit_point` says why).
+    pub fn gather(&mut self, state: &[StateRow], ahead: f32, pool: Option<&Pool>, avx2: bool) {
         // The wet points' positions, packed: the pairs then read neighbours from cache.
         self.xs.clear();
         self.xs.resize(self.point.len(), Vec3::ZERO);
@@ -395,7 +397,12 @@ impl Bridges {
         let pack = |i0: usize, out: &mut [Vec3]| {
             for (k, x) in out.iter_mut().enumerate() {
                 let p = point[i0 + k] as usize;
-                *x = state[p / W].x.get(p % W);
+                let r = &state[p / W];
+                *x = if ahead == 0.0 {
+                    r.x.get(p % W)
+                } else {
+                    r.x.get(p % W) + ahead * r.v.get(p % W)
+                };
             }
         };
         for_chunks(pool, &mut self.xs, 4 * CHUNK, pack);

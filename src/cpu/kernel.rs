@@ -4,7 +4,7 @@
 
 use super::layout::{Layout, StateRow};
 use crate::params::Integrator;
-use crate::physics::bdf2::{keep_push, Bdf2Blend, Bdf2Row};
+use crate::physics::bdf2::{explicit_point, keep_push, Bdf2Blend, Bdf2Row};
 use crate::physics::collide::{Colliders, Placed};
 use crate::physics::implicit::{implicit_euler_block, BandScratch};
 use crate::physics::integrate::symplectic_euler_row;
@@ -198,12 +198,15 @@ fn block_substep_impl<const AXIAL: bool>(
             spring::<AXIAL>(&ra.x, &rb.x, &ra.v, &rb.v, &params[i].bend, &mut fa[i], &mut fb[0]);
         }
     }
+    let is_bdf2 = ctx.integrator == Integrator::BDF2;
     // Pass: adhesion (eq. 2), gathered per hair point; reactions go to this worker's list
-    // (summed per particle, in block order, before the particles move).
+    // (summed per particle, in block order, before the particles move). BDF2 takes it at
+    // x + h v, the step's end to O(h²) (`bdf2::explicit_point` says why).
     if let Some(w) = &ctx.water {
         for (i, r) in rows.iter().enumerate() {
+            let x = if is_bdf2 { explicit_point(r, ctx.h) } else { r.x };
             // Which lanes can have a particle within r_max (SIMD prefilter), minus padding.
-            let mut lanes = w.grid.may_have_near_lanes(&r.x, w.r_max) & lay.real_lanes[base + i] as u32;
+            let mut lanes = w.grid.may_have_near_lanes(&x, w.r_max) & lay.real_lanes[base + i] as u32;
             if lanes == 0 {
                 continue;
             }
@@ -215,8 +218,8 @@ fn block_substep_impl<const AXIAL: bool>(
             for l in 0..W {
                 if lanes & (1 << l) != 0 {
                     mask[l] = 1.0;
-                    lo = lo.min(r.x.get(l));
-                    hi = hi.max(r.x.get(l));
+                    lo = lo.min(x.get(l));
+                    hi = hi.max(x.get(l));
                 }
             }
             let mut runs = [(0u32, 0u32); MAX_RUNS];
@@ -241,7 +244,7 @@ fn block_substep_impl<const AXIAL: bool>(
             if let Some(n) = w.grid.runs_in_box(lo - w.r_max, hi + w.r_max, &mut runs) {
                 gather_runs(
                     w,
-                    &r.x,
+                    &x,
                     &mask,
                     &runs[..n],
                     reactions,
@@ -255,14 +258,14 @@ fn block_substep_impl<const AXIAL: bool>(
                     lanes &= lanes - 1;
                     let mut one = [0.0f32; W];
                     one[l] = 1.0;
-                    let x = r.x.get(l);
+                    let p = x.get(l);
                     let n = w
                         .grid
-                        .runs_in_box(x - w.r_max, x + w.r_max, &mut runs)
+                        .runs_in_box(p - w.r_max, p + w.r_max, &mut runs)
                         .expect("a point's query spans 3x3 columns");
                     gather_runs(
                         w,
-                        &r.x,
+                        &x,
                         &one,
                         &runs[..n],
                         reactions,
@@ -313,9 +316,8 @@ fn block_substep_impl<const AXIAL: bool>(
             let sc = worker.band.as_mut().expect("band scratch allocated for implicit Euler");
             let iters = ctx.solver_iterations;
             let (mut h, mut bdf2) = (ctx.h, None);
-            if ctx.integrator == Integrator::BDF2 && !history.is_empty() {
-                // BDF2: backward Euler from the blend of this start and the last (the drag
-                // above was taken at this start, as backward Euler takes it).
+            if is_bdf2 && !history.is_empty() {
+                // BDF2: backward Euler from the blend of this start and the last.
                 let blend = if s == 0 { ctx.bdf2.0 } else { ctx.bdf2.1 };
                 h = blend.h;
                 bdf2 = Some((&mut *history, blend.b));

@@ -421,6 +421,8 @@ impl CpuBackend {
             self.clock.stop(Stage::Volume, t);
         }
         let bridging = self.bridges.as_ref().is_some_and(|b| b.active());
+        // BDF2 takes the explicit forces at x + h v (physics/bdf2.rs `explicit_point`).
+        let ahead = if self.integrator == Integrator::BDF2 { h } else { 0.0 };
         let mut report = StepReport::default();
         if wet || bridging {
             for s in 0..n_sub {
@@ -435,7 +437,7 @@ impl CpuBackend {
                     self.bridges
                         .as_mut()
                         .expect("bridging")
-                        .gather(&self.state, pool, self.avx2);
+                        .gather(&self.state, ahead, pool, self.avx2);
                     self.clock.stop(Stage::Cohesion, t); // pass cohesion
                 }
                 let t = self.clock.start();

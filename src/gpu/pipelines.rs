@@ -48,7 +48,8 @@ pub struct SceneConsts {
     pub max_points: u32,
     /// Newton iterations of implicit Euler.
     pub iterations: u32,
-    /// The implicit solve starts from BDF2's blend (and binds its history).
+    /// The implicit solve starts from BDF2's blend (and binds its history), and the explicit
+    /// forces are taken at `x + h v` (`explicit_point` in hair.wgsl).
     pub bdf2: bool,
     /// Skinned roots: pinned points read their target from their record (`roots.wgsl`).
     pub roots: bool,
@@ -58,10 +59,11 @@ pub struct SceneConsts {
 /// helpers every module uses.
 fn prelude(c: SceneConsts) -> String {
     format!(
-        "const AXIAL: bool = {};\nconst BEND: bool = {};\nconst ROOTS: bool = {};\nconst N_COLLIDERS: u32 = {}u;\nconst NC: u32 = {}u;\n{}{COMMON}\n",
+        "const AXIAL: bool = {};\nconst BEND: bool = {};\nconst ROOTS: bool = {};\nconst BDF2: bool = {};\nconst N_COLLIDERS: u32 = {}u;\nconst NC: u32 = {}u;\n{}{COMMON}\n",
         c.axial,
         c.bend,
         c.roots,
+        c.bdf2,
         c.colliders,
         c.colliders.max(1),
         super::wgsl::prelude(),
@@ -161,7 +163,8 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
         let mut body = String::new();
         if wet {
             body.push_str(
-                "    var near = 0.0;\n    f += adhesion(x, wet, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n",
+                "    var near = 0.0;\n    f += adhesion(explicit_point(s), wet, &near);\n    \
+                 wet += (1.0 - wet) * P.wet_gain * near;\n",
             );
         }
         if passes.contains(&Pass::Cohesion) {

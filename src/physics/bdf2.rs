@@ -201,6 +201,31 @@ fn coords(v: &L3) -> [&Lane; 3] {
     [&v.x, &v.y, &v.z]
 }
 
+/// Where a BDF2 step takes its explicit forces (eq. 2's adhesion, pass `adhesion`): at
+/// `x₀ + h v₀` (h the substep), which is the step's end to `O(h²)`, not at its start `x₀`.
+///
+/// Why: BDF2 with a force taken at `x₀` is unstable for any oscillation that force drives, at
+/// every step size. A hair point held by a droplet is such an oscillator: for `x'' = -ω² x`
+/// taken at `x₀`, the recurrence's energy grows 6.6x over 30 periods at `ω h = 0.01` and 280x
+/// at 0.03 (docs/METHOD.md §3). On the wet patch BDF2's runs sat 2.7e-5 m from the
+/// references' mean at 512 substeps and 1.7e-5 at 1,024, where implicit Euler's came within
+/// chance (the report's ensemble of each integrator). Taken at `x₀ + h v₀`, the oscillation is
+/// stable up to `ω h ≈ 1.5` and mildly damped (0.3% of its energy over 30 periods at
+/// `ω h = 0.03`, as the solve's own start iterate `x̂ + ĥ v̂` would give), and since the point
+/// is off the step's end by `O(h²)`, the forces stay second order. It needs no history, so
+/// both backends take the same point. Implicit Euler keeps `x₀`: there the explicit forces
+/// enter as in symplectic Euler, stable to `ω h = 2`.
+#[inline(always)]
+pub fn explicit_point(st: &StateRow, h: f32) -> L3 {
+    let mut out = st.x;
+    for (o, v) in [(&mut out.x, &st.v.x), (&mut out.y, &st.v.y), (&mut out.z, &st.v.z)] {
+        for l in 0..W {
+            o[l] += h * v[l];
+        }
+    }
+    out
+}
+
 /// The history follows a push after the solve (the collide pass moved a row from `before` to
 /// `after`): a moved lane's displacement gains the push, less the rounding its old place had,
 /// and its new place is exact; lanes left alone keep theirs.

@@ -1,5 +1,6 @@
 // Pass cohesion (cpu/bridges.rs `gather`; docs/WET_MODEL.md §5), in the hair module: each wet
-// point's pull toward its bridged neighbours at the substep's start, parked in state_out's
+// point's pull toward its bridged neighbours at the substep's start (BDF2: at x + h v,
+// `explicit_point`), parked in state_out's
 // velocity, which the hair kernel (or hair_forces) adds in the CPU's place and then overwrites.
 // Every point is written: zero where no bridge acts.
 
@@ -22,11 +23,11 @@ fn cohesion(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg:
     }
     let at = i * BR_WORDS;
     let mask = bridge[at + BR_MUTUAL];
-    let xi = state_in[i].x.xyz;
+    let xi = explicit_point(state_in[i]);
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < MAX_BRIDGES; k++) {
         if ((mask & (1u << k)) != 0u) {
-            let d = state_in[bridge[at + BR_NEAREST + k]].x.xyz - xi;
+            let d = explicit_point(state_in[bridge[at + BR_NEAREST + k]]) - xi;
             sum += d * bridge_scale(bitcast<f32>(bridge[at + BR_COEF + k]), length(d));
         }
     }
