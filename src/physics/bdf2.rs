@@ -115,7 +115,8 @@ impl Bdf2Clock {
 /// substep's motion of about as much, and the rounding of each new position is lost for good;
 /// the blend feeds both forward every substep, and BDF2's error on the dry patch rose with the
 /// substeps past 32 (2.9e-6 m at 128, where the method's own is below 1e-8 m). Kept from the
-/// f64 solve as below, the error there falls to about 6e-9 m
+/// f64 solve as below, the error there falls to about 6e-9 m; with the velocities' rounding
+/// kept too, to about 2e-9 m from 128 substeps to 1,024
 /// (`tests/integrators.rs` `bdf2_converges_past_the_f32_rounding`).
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(32))]
@@ -128,11 +129,17 @@ pub struct Bdf2Row {
     /// What rounding the solve's f64 positions to the f32 state took off: the start of the
     /// next substep is the state plus this (0 for points a push moved).
     pub rounding: L3,
+    /// What rounding the solve's f64 velocities to the f32 state took off, restored the same
+    /// way (0 for points a push moved). Without it the velocities' roundings walk the strands
+    /// off at random, and BDF2's error on the dry patch rose again past 128 substeps: 6.7e-9,
+    /// 1.9e-8, 2.9e-8 and 3.9e-8 m at 128, 256, 512 and 1,024 (with it 3.0e-9, 2.1e-9, 2.4e-9
+    /// and 2.5e-9 m: the f32 positions' own resolution).
+    pub vrounding: L3,
 }
 
 /// The starts of a block's rows in f64, per DOF (`3 i + c`): `x`, the blended start
 /// `x̂ = x₀ + b Δx` (`x₀` each position with its rounding restored), and `v`,
-/// `v̂ = v₀ + b (v₀ - v₋₁)`. With `b = 0` (a restart) the start is the state as it is,
+/// `v̂ = v₀ + b (v₀ - v₋₁)` (`v₀` each velocity with its rounding restored). With `b = 0` (a restart) the start is the state as it is,
 /// whatever the history holds.
 ///
 /// Taken as `x₀ + b (x₀ - x₋₁)` (`a = 1 + b`): in f32 the rounded `a` and `b` do not differ by
@@ -146,19 +153,33 @@ pub fn start_rows(state: &[StateRow], history: &[Bdf2Row], b: f32, x: &mut [Lane
     let bd = b as f64;
     for (i, (st, h)) in state.iter().zip(history).enumerate() {
         let (now, vel) = (coords(&st.x), coords(&st.v));
-        let (r, dx, vp) = (coords(&h.rounding), coords(&h.dx), coords(&h.v));
+        let (r, dx, vp, vr) = (coords(&h.rounding), coords(&h.dx), coords(&h.v), coords(&h.vrounding));
         for c in 0..3 {
             let k = 3 * i + c;
-            start_coord(&mut x[k], &mut v[k], (now[c], vel[c]), (r[c], dx[c], vp[c]), bd);
+            start_coord(
+                &mut x[k],
+                &mut v[k],
+                (now[c], vel[c]),
+                (r[c], vr[c]),
+                (dx[c], vp[c]),
+                bd,
+            );
         }
     }
 }
 
 /// One coordinate of [`start_rows`] for the `W` lanes of a row (kept history).
 #[inline(always)]
-fn start_coord(x: &mut LaneD, v: &mut LaneD, (now, vel): (&Lane, &Lane), (r, dx, vp): (&Lane, &Lane, &Lane), b: f64) {
+fn start_coord(
+    x: &mut LaneD,
+    v: &mut LaneD,
+    (now, vel): (&Lane, &Lane),
+    (r, vr): (&Lane, &Lane),
+    (dx, vp): (&Lane, &Lane),
+    b: f64,
+) {
     for l in 0..W {
-        let (p, q) = (now[l] as f64 + r[l] as f64, vel[l] as f64);
+        let (p, q) = (now[l] as f64 + r[l] as f64, vel[l] as f64 + vr[l] as f64);
         x[l] = p + b * dx[l] as f64;
         v[l] = q + b * (q - vp[l] as f64);
     }
@@ -181,6 +202,24 @@ pub fn keep_rows(history: &mut [Bdf2Row], state: &[StateRow], b: f32, x1: &[Lane
             .enumerate()
         {
             keep_coord(dx, r, now[c], &x1[3 * i + c], kept);
+        }
+    }
+}
+
+/// Keeps what rounding the solve's velocities to the f32 state took off, once the state holds
+/// them: the solve's velocity is `(x1 - x̂) / ĥ` in f64, `x1` and `start` (`x̂`) its positions.
+#[inline(always)]
+pub fn keep_velocity_rounding(history: &mut [Bdf2Row], state: &[StateRow], x1: &[LaneD], start: &[LaneD], inv_h: f64) {
+    for (i, (h, st)) in history.iter_mut().zip(state).enumerate() {
+        let vr = &mut h.vrounding;
+        for (c, (vr, v)) in [(&mut vr.x, &st.v.x), (&mut vr.y, &st.v.y), (&mut vr.z, &st.v.z)]
+            .into_iter()
+            .enumerate()
+        {
+            let (x1, s) = (&x1[3 * i + c], &start[3 * i + c]);
+            for l in 0..W {
+                vr[l] = ((x1[l] - s[l]) * inv_h - v[l] as f64) as f32;
+            }
         }
     }
 }
@@ -231,18 +270,19 @@ pub fn explicit_point(st: &StateRow, h: f32) -> L3 {
 /// and its new place is exact; lanes left alone keep theirs.
 #[inline(always)]
 pub fn keep_push(history: &mut Bdf2Row, before: &L3, after: &L3) {
-    let (d, r) = (&mut history.dx, &mut history.rounding);
-    for (dx, rx, b, a) in [
-        (&mut d.x, &mut r.x, &before.x, &after.x),
-        (&mut d.y, &mut r.y, &before.y, &after.y),
-        (&mut d.z, &mut r.z, &before.z, &after.z),
+    let (d, r, vr) = (&mut history.dx, &mut history.rounding, &mut history.vrounding);
+    for (dx, rx, vx, b, a) in [
+        (&mut d.x, &mut r.x, &mut vr.x, &before.x, &after.x),
+        (&mut d.y, &mut r.y, &mut vr.y, &before.y, &after.y),
+        (&mut d.z, &mut r.z, &mut vr.z, &before.z, &after.z),
     ] {
         for l in 0..W {
             // Branch-free (every BDF2 row of a scene with colliders passes here each substep):
-            // 1 where the push moved it.
+            // 1 where the push moved it (its velocity changed with it).
             let moved = (a[l] != b[l]) as u32 as f32;
             dx[l] += moved * ((a[l] - b[l]) - rx[l]);
             rx[l] *= 1.0 - moved;
+            vx[l] *= 1.0 - moved;
         }
     }
 }
@@ -284,6 +324,30 @@ mod tests {
         assert!(c.frame(0.27, 1).0.b > 1.0, "growth 81/49 < 2");
         assert_eq!(c.frame(0.81, 1).0, Bdf2Blend::euler(0.81), "growth 2.1 > 2 restarts");
         assert_eq!(c.frame(5.0, 1).0, Bdf2Blend::euler(5.0), "a 6x jump alone passes 2");
+    }
+
+    /// A kept row starts the next substep with the f64 solve's velocity, not the f32 state's.
+    #[test]
+    fn the_history_restores_the_velocities_rounding() {
+        let (start, inv_h) = ([[0.2f64; W]; 3], 3000.0);
+        let x1: [LaneD; 3] = [[0.2 + 1e-4 / 3.0; W], [0.2 - 2e-5 / 7.0; W], [0.2; W]];
+        let v64 = |c: usize| (x1[c][0] - start[c][0]) * inv_h;
+        let mut row = StateRow::default();
+        for l in 0..W {
+            row.v
+                .set(l, glam::Vec3::new(v64(0) as f32, v64(1) as f32, v64(2) as f32));
+        }
+        let state = [row];
+        let mut hist = [Bdf2Row::default()];
+        keep_velocity_rounding(&mut hist, &state, &x1, &start, inv_h);
+        let (mut x, mut v) = ([[0.0; W]; 3], [[0.0; W]; 3]);
+        // With v₋₁ = 0 the blended start is (1 + b) v₀.
+        start_rows(&state, &hist, 0.25, &mut x, &mut v);
+        for c in 0..3 {
+            let v0 = v[c][5] / 1.25;
+            assert!((v0 - v64(c)).abs() < 1e-15, "{c}: {v0} vs {}", v64(c));
+        }
+        assert_ne!(v64(0), (v64(0) as f32) as f64, "the case must round");
     }
 
     /// A kept row starts the next substep where the f64 solve left it, not where the f32 state

@@ -21,7 +21,7 @@
 //! Energies, the matrix and the solve are f64: at stiffness 10^6 times the explicit limit the
 //! system's condition number is ~10^6 and f32 would lose ~10% of the step. State stays f32.
 
-use super::bdf2::{keep_rows, start_rows, Bdf2Row};
+use super::bdf2::{keep_rows, keep_velocity_rounding, start_rows, Bdf2Row};
 use super::lanes::{ParamRow, StateRow, L3, W};
 use super::spring::{SpringLanes, MIN_LENGTH};
 
@@ -458,6 +458,9 @@ pub fn implicit_euler_block<const AXIAL: bool>(
             st.x.y[l] = x1[1] as f32;
             st.x.z[l] = x1[2] as f32;
         }
+    }
+    if let Some((hist, _)) = &mut bdf2 {
+        keep_velocity_rounding(hist, state, &sc.x[..n], &sc.start[..n], inv_h);
     }
 }
 
