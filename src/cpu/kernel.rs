@@ -4,7 +4,7 @@
 
 use super::layout::{Layout, StateRow};
 use crate::params::Integrator;
-use crate::physics::bdf2::{explicit_point, keep_push, Bdf2Blend, Bdf2Row};
+use crate::physics::bdf2::{explicit_lead, explicit_point, keep_push, Bdf2Blend, Bdf2Row};
 use crate::physics::collide::{Colliders, Placed};
 use crate::physics::implicit::{implicit_euler_block, BandScratch};
 use crate::physics::integrate::symplectic_euler_row;
@@ -198,13 +198,13 @@ fn block_substep_impl<const AXIAL: bool>(
             spring::<AXIAL>(&ra.x, &rb.x, &ra.v, &rb.v, &params[i].bend, &mut fa[i], &mut fb[0]);
         }
     }
-    let is_bdf2 = ctx.integrator == Integrator::BDF2;
+    let lead = explicit_lead(ctx.integrator, ctx.h);
     // Pass: adhesion (eq. 2), gathered per hair point; reactions go to this worker's list
     // (summed per particle, in block order, before the particles move). BDF2 takes it at
     // x + h v, the step's end to O(h²) (`bdf2::explicit_point` says why).
     if let Some(w) = &ctx.water {
         for (i, r) in rows.iter().enumerate() {
-            let x = if is_bdf2 { explicit_point(r, ctx.h) } else { r.x };
+            let x = if lead > 0.0 { explicit_point(r, lead) } else { r.x };
             // Which lanes can have a particle within r_max (SIMD prefilter), minus padding.
             let mut lanes = w.grid.may_have_near_lanes(&x, w.r_max) & lay.real_lanes[base + i] as u32;
             if lanes == 0 {
@@ -316,7 +316,7 @@ fn block_substep_impl<const AXIAL: bool>(
             let sc = worker.band.as_mut().expect("band scratch allocated for implicit Euler");
             let iters = ctx.solver_iterations;
             let (mut h, mut bdf2) = (ctx.h, None);
-            if is_bdf2 && !history.is_empty() {
+            if ctx.integrator == Integrator::BDF2 && !history.is_empty() {
                 // BDF2: backward Euler from the blend of this start and the last.
                 let blend = if s == 0 { ctx.bdf2.0 } else { ctx.bdf2.1 };
                 h = blend.h;

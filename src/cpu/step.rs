@@ -421,8 +421,8 @@ impl CpuBackend {
             self.clock.stop(Stage::Volume, t);
         }
         let bridging = self.bridges.as_ref().is_some_and(|b| b.active());
-        // BDF2 takes the explicit forces at x + h v (physics/bdf2.rs `explicit_point`).
-        let ahead = if self.integrator == Integrator::BDF2 { h } else { 0.0 };
+        // BDF2 takes the explicit forces at x + h v (physics/bdf2.rs `explicit_lead`).
+        let ahead = crate::physics::bdf2::explicit_lead(self.integrator, h);
         let mut report = StepReport::default();
         if wet || bridging {
             for s in 0..n_sub {

@@ -139,8 +139,8 @@ pub struct Bdf2Row {
 
 /// The starts of a block's rows in f64, per DOF (`3 i + c`): `x`, the blended start
 /// `x̂ = x₀ + b Δx` (`x₀` each position with its rounding restored), and `v`,
-/// `v̂ = v₀ + b (v₀ - v₋₁)` (`v₀` each velocity with its rounding restored). With `b = 0` (a restart) the start is the state as it is,
-/// whatever the history holds.
+/// `v̂ = v₀ + b (v₀ - v₋₁)` (`v₀` each velocity with its rounding restored). With `b = 0` (a
+/// restart) the start is the state as it is, whatever the history holds.
 ///
 /// Taken as `x₀ + b (x₀ - x₋₁)` (`a = 1 + b`): in f32 the rounded `a` and `b` do not differ by
 /// exactly 1, and `a x₀ - b x₋₁` scaled every position by that error each step (1.4e-5 m after
@@ -256,6 +256,7 @@ fn coords(v: &L3) -> [&Lane; 3] {
 /// enter as in symplectic Euler, stable to `ω h = 2`.
 #[inline(always)]
 pub fn explicit_point(st: &StateRow, h: f32) -> L3 {
+    debug_assert!(h > 0.0, "explicit_point is BDF2's: see explicit_lead");
     let mut out = st.x;
     for (o, v) in [(&mut out.x, &st.v.x), (&mut out.y, &st.v.y), (&mut out.z, &st.v.z)] {
         for l in 0..W {
@@ -263,6 +264,19 @@ pub fn explicit_point(st: &StateRow, h: f32) -> L3 {
         }
     }
     out
+}
+
+/// How far ahead, in seconds, `integrator` takes its explicit forces (adhesion, cohesion) in
+/// a substep of `h`: BDF2 at `x + h v` ([`explicit_point`]), the others at `x` (0). The one
+/// place the CPU decides it; the GPU's `explicit_point` in hair.wgsl reads the same rule from
+/// its `BDF2` constant.
+#[inline(always)]
+pub fn explicit_lead(integrator: crate::params::Integrator, h: f32) -> f32 {
+    if integrator == crate::params::Integrator::BDF2 {
+        h
+    } else {
+        0.0
+    }
 }
 
 /// The history follows a push after the solve (the collide pass moved a row from `before` to
