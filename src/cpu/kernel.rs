@@ -243,6 +243,7 @@ fn block_substep_impl<const AXIAL: bool>(
             let reactions = &mut worker.reactions;
             if let Some(n) = w.grid.runs_in_box(lo - w.r_max, hi + w.r_max, &mut runs) {
                 gather_runs(
+                    ctx.avx2,
                     w,
                     &x,
                     &mask,
@@ -264,6 +265,7 @@ fn block_substep_impl<const AXIAL: bool>(
                         .runs_in_box(p - w.r_max, p + w.r_max, &mut runs)
                         .expect("a point's query spans 3x3 columns");
                     gather_runs(
+                        ctx.avx2,
                         w,
                         &x,
                         &one,
@@ -420,10 +422,12 @@ fn block_substep_impl<const AXIAL: bool>(
 
 /// Eq. 2 between the lanes of `x` in `mask` and the particles of grid `runs` (slices of the
 /// grid-ordered particles): adds the hair's forces to `acc`, marks `near` lanes, and appends
-/// the particles' reactions to `reactions` (this worker's).
+/// the particles' reactions to `reactions` (this worker's). `avx2`: run the gather's AVX2
+/// form (the same bits).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn gather_runs(
+    avx2: bool,
     w: &WaterCtx,
     x: &L3,
     mask: &[f32; W],
@@ -431,16 +435,21 @@ fn gather_runs(
     reactions: &mut Vec<adhesion::Reaction>,
     acc: &mut L3,
     near: &mut [f32; W],
-    mut wet_row: Option<&mut absorb::WetRow>,
+    wet_row: Option<&mut absorb::WetRow>,
 ) {
-    for &(s, e) in runs {
-        let (s0, e) = (s as usize, e as usize);
-        let run = adhesion::Run {
-            x: &w.sorted[0][s0..e],
-            y: &w.sorted[1][s0..e],
-            z: &w.sorted[2][s0..e],
+    let sorted = [&w.sorted[0][..], &w.sorted[1][..], &w.sorted[2][..]];
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: `avx2` comes from `is_x86_feature_detected!("avx2")` at create.
+        unsafe {
+            crate::physics::adhesion_avx2::gather_runs_lanes(
+                x, mask, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
+            )
         };
-        let wet = wet_row.as_deref_mut();
-        adhesion::gather_run_lanes(x, mask, run, s, reactions, acc, near, w.r_min, w.r_max, w.s, wet);
+        return;
     }
+    let _ = avx2;
+    adhesion::gather_runs_lanes(
+        x, mask, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
+    );
 }

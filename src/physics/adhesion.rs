@@ -152,6 +152,46 @@ pub fn gather_run_lanes(
     *near = marks;
 }
 
+/// [`gather_run_lanes`] over each run `(start, end)` of grid slots in `runs`, the particles'
+/// coordinates in grid order in `sorted`: one row's whole gather.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn gather_runs_lanes(
+    x: &L3,
+    mask: &Lane,
+    runs: &[(u32, u32)],
+    sorted: [&[f32]; 3],
+    reactions: &mut Vec<Reaction>,
+    acc: &mut L3,
+    near: &mut Lane,
+    r_min: f32,
+    r_max: f32,
+    s: f32,
+    mut wet: Option<&mut super::absorb::WetRow>,
+) {
+    for &(a, e) in runs {
+        let (a0, e0) = (a as usize, e as usize);
+        let run = Run {
+            x: &sorted[0][a0..e0],
+            y: &sorted[1][a0..e0],
+            z: &sorted[2][a0..e0],
+        };
+        gather_run_lanes(
+            x,
+            mask,
+            run,
+            a,
+            reactions,
+            acc,
+            near,
+            r_min,
+            r_max,
+            s,
+            wet.as_deref_mut(),
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,6 +4,8 @@
 
 pub mod absorb;
 pub mod adhesion;
+#[cfg(target_arch = "x86_64")]
+pub mod adhesion_avx2;
 pub mod bdf2;
 pub mod clumping;
 pub mod collide;
