@@ -206,7 +206,7 @@ fn block_substep_impl<const AXIAL: bool>(
         for (i, r) in rows.iter().enumerate() {
             let x = if lead > 0.0 { explicit_point(r, lead) } else { r.x };
             // Which lanes can have a particle within r_max (SIMD prefilter), minus padding.
-            let mut lanes = w.grid.may_have_near_lanes(&x, w.r_max) & lay.real_lanes[base + i] as u32;
+            let mut lanes = prefilter(ctx.avx2, w, &x) & lay.real_lanes[base + i] as u32;
             if lanes == 0 {
                 continue;
             }
@@ -418,6 +418,19 @@ fn block_substep_impl<const AXIAL: bool>(
     if !check.is_finite() {
         worker.nonfinite = true;
     }
+}
+
+/// The water grid's prefilter for a row: which lanes may have a particle within `r_max`.
+/// `avx2`: its AVX2 form (the same bits).
+#[inline(always)]
+fn prefilter(avx2: bool, w: &WaterCtx, x: &L3) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: `avx2` comes from `is_x86_feature_detected!("avx2")` at create.
+        return unsafe { w.grid.may_have_near_lanes_avx2(x, w.r_max) };
+    }
+    let _ = avx2;
+    w.grid.may_have_near_lanes(x, w.r_max)
 }
 
 /// Eq. 2 between the lanes of `x` in `mask` and the particles of grid `runs` (slices of the

@@ -191,7 +191,10 @@ mod tests {
     /// Every output as bits, one list (lengths first, so outputs of other sizes differ).
     fn bits(o: &Out) -> Vec<u32> {
         let mut v = vec![o.0.len() as u32, o.3.len() as u32];
-        v.extend(o.0.iter().flat_map(|r| [r.slot, r.f[0].to_bits(), r.f[1].to_bits(), r.f[2].to_bits()]));
+        v.extend(
+            o.0.iter()
+                .flat_map(|r| [r.slot, r.f[0].to_bits(), r.f[1].to_bits(), r.f[2].to_bits()]),
+        );
         v.extend([o.1.x, o.1.y, o.1.z, o.2].concat().iter().map(|f| f.to_bits()));
         v.extend(o.3.iter().flat_map(|d| [d.slot, d.point, d.quanta]));
         v

@@ -17,6 +17,9 @@
 //! where one in twenty is near a particle; the fine bits let through one in five.
 
 use super::counting_sort::CountingSort;
+
+#[cfg(target_arch = "x86_64")]
+mod avx2;
 use glam::{IVec3, Vec3};
 
 /// Most cells a grid uses; a larger box gets larger cells instead.
