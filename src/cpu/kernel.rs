@@ -306,12 +306,7 @@ fn block_substep_impl<const AXIAL: bool>(
         if let Some(r) = ctx.roots {
             return Some(r.target(lay.rows, b, i, a));
         }
-        let rest = &lay.rest_local[base + i];
-        let mut t = L3::ZERO;
-        for l in 0..W {
-            t.set(l, head.transform_point3(rest.get(l)));
-        }
-        Some(t)
+        Some(lay.rest_local[base + i].transformed(head))
     };
     match ctx.integrator {
         Integrator::IMPLICIT_EULER | Integrator::BDF2 => {

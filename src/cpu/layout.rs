@@ -132,12 +132,9 @@ impl Layout {
     pub fn rest_state(&self, head: &glam::Affine3A) -> Vec<StateRow> {
         self.rest_local
             .iter()
-            .map(|r| {
-                let mut x = L3::ZERO;
-                for l in 0..W {
-                    x.set(l, head.transform_point3(r.get(l)));
-                }
-                StateRow { x, v: L3::ZERO }
+            .map(|r| StateRow {
+                x: r.transformed(head),
+                v: L3::ZERO,
             })
             .collect()
     }

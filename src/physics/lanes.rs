@@ -49,6 +49,23 @@ impl L3 {
         self.z[l] += v.z;
     }
 
+    /// `m` applied to each lane's point, as `Affine3A::transform_point3` computes it
+    /// (`((x_axis x + y_axis y) + z_axis z) + translation`, no fused multiply-add): the same
+    /// bits, eight lanes per vector operation where the per-lane calls ran one lane at a
+    /// time.
+    #[inline(always)]
+    pub fn transformed(&self, m: &glam::Affine3A) -> L3 {
+        let (a, b, c, t) = (m.matrix3.x_axis, m.matrix3.y_axis, m.matrix3.z_axis, m.translation);
+        let row = |ax: f32, bx: f32, cx: f32, tx: f32| -> Lane {
+            std::array::from_fn(|l| ((ax * self.x[l] + bx * self.y[l]) + cx * self.z[l]) + tx)
+        };
+        L3 {
+            x: row(a.x, b.x, c.x, t.x),
+            y: row(a.y, b.y, c.y, t.y),
+            z: row(a.z, b.z, c.z, t.z),
+        }
+    }
+
     /// `self + a (to - self)`, lane by lane: the output blend between two steps' positions
     /// (`output.wgsl` `toward` is its GPU twin).
     #[inline(always)]
@@ -90,4 +107,34 @@ pub struct ParamRow {
     pub stretch: super::spring::SpringLanes,
     /// Bend spring from point i to i+2.
     pub bend: super::spring::SpringLanes,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{L3, W};
+    use crate::scenes::Lcg;
+    use glam::{Affine3A, Quat, Vec3};
+
+    /// `transformed` gives `Affine3A::transform_point3`'s bits on every lane.
+    #[test]
+    fn transformed_gives_glams_bits() {
+        let mut rng = Lcg(3);
+        let mut v = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5;
+        for _ in 0..500 {
+            let m = Affine3A::from_scale_rotation_translation(
+                v() + 1.0,
+                Quat::from_scaled_axis(v() * 4.0),
+                v() * 3.0,
+            );
+            let mut p = L3::ZERO;
+            for l in 0..W {
+                p.set(l, v() * 0.7);
+            }
+            let t = p.transformed(&m);
+            for l in 0..W {
+                let want = m.transform_point3(p.get(l)).to_array().map(f32::to_bits);
+                assert_eq!(t.get(l).to_array().map(f32::to_bits), want);
+            }
+        }
+    }
 }
