@@ -121,11 +121,7 @@ mod tests {
         let mut rng = Lcg(3);
         let mut v = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5;
         for _ in 0..500 {
-            let m = Affine3A::from_scale_rotation_translation(
-                v() + 1.0,
-                Quat::from_scaled_axis(v() * 4.0),
-                v() * 3.0,
-            );
+            let m = Affine3A::from_scale_rotation_translation(v() + 1.0, Quat::from_scaled_axis(v() * 4.0), v() * 3.0);
             let mut p = L3::ZERO;
             for l in 0..W {
                 p.set(l, v() * 0.7);
