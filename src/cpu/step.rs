@@ -249,7 +249,8 @@ impl CpuBackend {
             out.push(("bridges", b.bytes()));
         }
         if let Some(w) = &self.water {
-            out.push(("water_particles", bytes(&w.pos) + bytes(&w.vel) + bytes(&w.mass)));
+            let moved = bytes(&w.moved.0) + bytes(&w.moved.1) + bytes(&w.moved.2);
+            out.push(("water_particles", bytes(&w.pos) + bytes(&w.vel) + bytes(&w.mass) + moved));
             out.push(("water_grid", w.grid.bytes() + w.sorted.iter().map(bytes).sum::<usize>()));
             out.push((
                 "water_reactions",
