@@ -485,6 +485,7 @@ impl CpuBackend {
                         placed_sdfs: placed_of(&self.placed_sdfs, s, self.params.sdfs.len()),
                     },
                     self.params.friction,
+                    self.pool.as_ref(),
                 );
                 self.clock.stop(Stage::WaterIntegrate, t);
             }

@@ -13,6 +13,10 @@ use crate::physics::wet;
 use crate::plan::{check_new_particles, WaterDomain};
 use glam::{Affine3A, Vec3};
 
+/// Particles a task of `water_integrate` moves (fewer, and the pass runs on the calling
+/// thread alone).
+const PARTICLES_PER_TASK: usize = 16_384;
+
 /// The particles and their grid.
 #[derive(Debug)]
 pub struct Water {
@@ -236,6 +240,7 @@ impl Water {
         h: f32,
         colliders: Colliders,
         friction: f32,
+        pool: Option<&super::pool::Pool>,
     ) {
         let inv_m0 = 1.0 / p.particle_mass;
         self.force.clear();
@@ -254,24 +259,28 @@ impl Water {
         for r in reactions.flatten() {
             self.force[r.slot as usize] += Vec3::from(r.f);
         }
-        for (j, &f) in self.force.iter().enumerate() {
-            // A held-water particle weighs the water it held when the hair's pull on it was
-            // reckoned, at the substep's start (what the hair drank since leaves with the
-            // momentum it had: dividing that pull by the little left flung drained drops out
-            // at kilometres per second); an empty one (removed at the end of the step) only
-            // falls.
-            let inv_m = match self.sorted_mass.get(j) {
-                None => inv_m0,
-                Some(0) => 0.0,
-                Some(&q) => (1.0 / wet::to_kg(q)) as f32,
-            };
-            let v = self.vel[j] + h * (f * inv_m + g);
-            let mut x = self.pos[j] + h * v;
-            let mut v = v;
-            colliders.push_out_point(&mut x, &mut v, friction);
-            self.pos[j] = x;
-            self.vel[j] = v;
-        }
+        // Each particle then moves on its own: in chunks on the pool.
+        let (force, mass) = (&self.force, &self.sorted_mass);
+        let chunk = PARTICLES_PER_TASK;
+        let pool = pool.filter(|_| self.pos.len() > chunk);
+        super::pool::for_chunks2(pool, &mut self.pos, &mut self.vel, chunk, |first, pos, vel| {
+            for (k, (x, v)) in pos.iter_mut().zip(vel.iter_mut()).enumerate() {
+                let j = first + k;
+                // A held-water particle weighs the water it held when the hair's pull on it
+                // was reckoned, at the substep's start (what the hair drank since leaves with
+                // the momentum it had: dividing that pull by the little left flung drained
+                // drops out at kilometres per second); an empty one (removed at the end of
+                // the step) only falls.
+                let inv_m = match mass.get(j) {
+                    None => inv_m0,
+                    Some(0) => 0.0,
+                    Some(&q) => (1.0 / wet::to_kg(q)) as f32,
+                };
+                *v += h * (force[j] * inv_m + g);
+                *x += h * *v;
+                colliders.push_out_point(x, v, friction);
+            }
+        });
     }
 
     /// Removes particles farther than the domain radius from the domain centre placed by
