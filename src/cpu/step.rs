@@ -250,7 +250,10 @@ impl CpuBackend {
         }
         if let Some(w) = &self.water {
             let moved = bytes(&w.moved.0) + bytes(&w.moved.1) + bytes(&w.moved.2);
-            out.push(("water_particles", bytes(&w.pos) + bytes(&w.vel) + bytes(&w.mass) + moved));
+            out.push((
+                "water_particles",
+                bytes(&w.pos) + bytes(&w.vel) + bytes(&w.mass) + moved,
+            ));
             out.push(("water_grid", w.grid.bytes() + w.sorted.iter().map(bytes).sum::<usize>()));
             out.push((
                 "water_reactions",

@@ -80,7 +80,11 @@ impl Water {
             removed: 0,
             mass: Vec::with_capacity(per(cap)),
             sorted_mass: Vec::with_capacity(per(cap)),
-            moved: (Vec::with_capacity(cap), Vec::with_capacity(cap), Vec::with_capacity(per(cap))),
+            moved: (
+                Vec::with_capacity(cap),
+                Vec::with_capacity(cap),
+                Vec::with_capacity(per(cap)),
+            ),
             added: 0,
             left: 0,
             demand: Vec::with_capacity(per(cap)),
