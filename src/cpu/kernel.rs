@@ -18,12 +18,13 @@ use glam::{Affine3A, Vec3};
 /// lane by lane (3 x 3 columns each, as cells are r_max wide).
 const MAX_RUNS: usize = 49;
 
-/// Per-worker scratch, allocated at create (water buffers at the first add).
+/// Scratch of one chunk of blocks (a thread runs several chunks a step), allocated at create
+/// (water buffers at the first add).
 #[derive(Debug, Default)]
 pub struct Worker {
     pub(super) f: Vec<L3>,
-    /// Reactions on particles from this worker's blocks, in block order (then the order the
-    /// kernel found them); summed per particle after every worker is done.
+    /// Reactions on particles from this chunk's blocks, in block order (then the order the
+    /// kernel found them); summed per particle after every chunk is done.
     pub(super) reactions: Vec<adhesion::Reaction>,
     pub(super) max_v2: f32,
     pub(super) nonfinite: bool,
@@ -33,7 +34,7 @@ pub struct Worker {
     pub(super) prev: Vec<L3>,
     /// Constraint multipliers, stretch then bend (XPBD only).
     pub(super) lambda: Vec<Lane>,
-    /// Absorption demands from this worker's blocks, in block order (held water only).
+    /// Absorption demands from this chunk's blocks, in block order (held water only).
     pub(super) demands: Vec<absorb::Demand>,
 }
 

@@ -90,10 +90,10 @@ pub struct CpuBackend {
 }
 
 /// Chunks of blocks per worker thread. With water the work is uneven (the rows near
-/// particles cost several times the others), and one chunk per thread left a thread waiting
-/// on the other for a third of each substep on the paper scene with 1,000 particles; chunks
-/// taken as threads come free even it out. Results do not depend on it: each chunk keeps its
-/// own lists, joined in block order.
+/// particles cost several times the others), so with one chunk per thread one thread waited
+/// on the other; chunks taken as threads come free even it out (the paper scene with 1,000
+/// particles on 2 threads: 3.97 → 3.56 ms a frame). Results do not depend on it: each chunk
+/// keeps its own lists, joined in block order.
 const CHUNKS_PER_THREAD: usize = 8;
 
 impl CpuBackend {
