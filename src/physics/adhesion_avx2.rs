@@ -151,40 +151,41 @@ mod tests {
             h: 1.0 / 240.0,
             out: &mut demands,
         });
-        let (acc_, near_) = (&mut acc, &mut near);
-        if avx2 {
-            // SAFETY: the caller asserted AVX2.
-            unsafe {
-                super::gather_runs_lanes(
-                    x,
-                    mask,
-                    &runs,
-                    sorted,
-                    &mut reactions,
-                    acc_,
-                    near_,
-                    r_min,
-                    r_max,
-                    s,
-                    row.as_mut(),
-                )
-            };
+        // Both forms have one signature: the AVX2 one as an unsafe fn, the lane form coerced.
+        type Gather = unsafe fn(
+            &L3,
+            &Lane,
+            &[(u32, u32)],
+            [&[f32]; 3],
+            &mut Vec<Reaction>,
+            &mut L3,
+            &mut Lane,
+            f32,
+            f32,
+            f32,
+            Option<&mut WetRow>,
+        );
+        let gather: Gather = if avx2 {
+            super::gather_runs_lanes
         } else {
-            adhesion::gather_runs_lanes(
+            adhesion::gather_runs_lanes
+        };
+        // SAFETY: the AVX2 form runs only after the caller asserted AVX2.
+        unsafe {
+            gather(
                 x,
                 mask,
                 &runs,
                 sorted,
                 &mut reactions,
-                acc_,
-                near_,
+                &mut acc,
+                &mut near,
                 r_min,
                 r_max,
                 s,
                 row.as_mut(),
-            );
-        }
-        let _ = row.take(); // ends the borrow of `demands`
+            )
+        };
         (reactions, acc, near, demands)
     }
 
