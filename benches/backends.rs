@@ -130,12 +130,14 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|---|");
     let se = Integrator::SYMPLECTIC_EULER;
     // The large scene dry, with a little water and with the target's 100,000 particles, so
-    // the rows say what the hair costs and what the water adds.
-    // (scene, groom, integrator, particles, held water, frames)
-    let rows: [(&str, &Groom, Integrator, usize, bool, usize); 8] = [
-        ("paper 10000x6", &paper, se, 0, false, paper_frames),
-        ("paper 10000x6", &paper, se, 1000, false, paper_frames),
-        ("paper 10000x6", &paper, se, 1000, true, paper_frames),
+    // the rows say what the hair costs and what the water adds; then the GPU alone from
+    // 10,000 to 1,000,000 particles (the CPU's sweep is `frame -- particles`), so the rows say
+    // how the water's cost grows.
+    // (scene, groom, integrator, particles, held water, frames, with the CPU)
+    let rows: [(&str, &Groom, Integrator, usize, bool, usize, bool); 13] = [
+        ("paper 10000x6", &paper, se, 0, false, paper_frames, true),
+        ("paper 10000x6", &paper, se, 1000, false, paper_frames, true),
+        ("paper 10000x6", &paper, se, 1000, true, paper_frames, true),
         (
             "paper 10000x6",
             &paper,
@@ -143,16 +145,27 @@ fn main() {
             0,
             false,
             paper_frames,
+            true,
         ),
-        ("large 100000x32", &big, se, 0, false, big_frames),
-        ("large 100000x32", &big, se, 1000, false, big_frames),
-        ("large 100000x32", &big, se, 100_000, false, big_frames),
-        ("large 100000x32", &big, se, 100_000, true, big_frames),
+        ("paper 10000x6", &paper, se, 10_000, false, paper_frames, false),
+        ("paper 10000x6", &paper, se, 100_000, false, paper_frames, false),
+        ("large 100000x32", &big, se, 0, false, big_frames, true),
+        ("large 100000x32", &big, se, 1000, false, big_frames, true),
+        ("large 100000x32", &big, se, 10_000, false, big_frames, false),
+        ("large 100000x32", &big, se, 100_000, false, big_frames, true),
+        ("large 100000x32", &big, se, 100_000, true, big_frames, true),
+        ("large 100000x32", &big, se, 1_000_000, false, big_frames, false),
+        ("large 100000x32", &big, se, 1_000_000, true, big_frames, false),
     ];
     let mut splits = Vec::new();
-    for (name, groom, integrator, particles, held, frames) in rows {
+    for (name, groom, integrator, particles, held, frames, with_cpu) in rows {
         let model = if held { "full wet model" } else { "paper" };
-        for backend in [Backend::GPU, Backend::CPU] {
+        let backends: &[Backend] = if with_cpu {
+            &[Backend::GPU, Backend::CPU]
+        } else {
+            &[Backend::GPU]
+        };
+        for &backend in backends {
             let i = format!("{integrator:?}");
             match run(groom, backend, integrator, particles, held, frames) {
                 Ok(m) => {

@@ -219,8 +219,9 @@ pub trait Engine: std::fmt::Debug + Send {
     fn last_step_gpu_ms(&self) -> Option<Result<f64>> {
         None
     }
-    /// A GPU grid built now over the particles: its dims and per-cell counts.
-    fn gpu_grid_counts(&mut self) -> Option<Result<(glam::IVec3, Vec<u32>)>> {
+    /// The GPU's hashed water grid built now over the particles: its cell side and per-bucket
+    /// counts.
+    fn gpu_grid_counts(&mut self) -> Option<Result<(f32, Vec<u32>)>> {
         None
     }
     /// The vertex buffer as the host's Vulkan sees it (host-shared GPU simulations only).

@@ -12,6 +12,15 @@ use super::rounding::floor_i32;
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 
+/// Fewest buckets a table has.
+pub const MIN_BUCKETS: usize = 64;
+
+/// Buckets of the table over `points` points: the next power of two of twice their number, at
+/// least [`MIN_BUCKETS`] (the GPU's water grid sizes its table the same way, `grid.wgsl`).
+pub fn buckets_for(points: usize) -> usize {
+    (2 * points).next_power_of_two().max(MIN_BUCKETS)
+}
+
 /// A hashed grid over a set of points.
 #[derive(Debug, Clone)]
 pub struct HashGrid {
@@ -59,7 +68,7 @@ impl HashGrid {
     /// `parallel`: the per-point work runs as rayon tasks (call it inside the caller's pool);
     /// the grid is the same either way.
     pub fn build(&mut self, points: &[Vec3], parallel: bool) {
-        let buckets = (2 * points.len()).next_power_of_two().max(64);
+        let buckets = buckets_for(points.len());
         self.mask = buckets as u32 - 1;
         let (inv_cell, mask) = (self.inv_cell, self.mask);
         self.coord.resize(points.len(), IVec3::ZERO);
@@ -105,6 +114,11 @@ impl HashGrid {
                 .zip(sorted)
                 .for_each(gather);
         }
+    }
+
+    /// Number of points per bucket (GPU parity: the GPU's water grid is this grid).
+    pub fn bucket_counts(&self) -> Vec<u32> {
+        self.order.start.windows(2).map(|w| w[1] - w[0]).collect()
     }
 
     /// Calls `f(j, d2)` with every point `j` within `r <= cell` of `p` (squared distance `d2 <

@@ -957,9 +957,10 @@ impl Simulation {
         self.engine.last_step_gpu_ms()
     }
 
-    /// Builds a GPU grid over the particles held now and returns its dims and per-cell counts
-    /// (tests compare them with the CPU grid's). `None` on the CPU backend or without water.
-    pub fn gpu_grid_counts(&mut self) -> Option<Result<(glam::IVec3, Vec<u32>)>> {
+    /// Builds the GPU's hashed water grid over the particles held now and returns its cell side
+    /// and per-bucket counts (tests compare them with the CPU's `HashGrid`). `None` on the CPU
+    /// backend or without water.
+    pub fn gpu_grid_counts(&mut self) -> Option<Result<(f32, Vec<u32>)>> {
         self.engine.gpu_grid_counts()
     }
 }

@@ -10,7 +10,7 @@ use crate::error::Result;
 use crate::params::{Integrator, Readback, VertexAttributes};
 use crate::physics::bdf2::Bdf2Blend;
 use crate::physics::collide::Placed;
-use crate::physics::grid::MAX_CELLS;
+use crate::physics::hash_grid::buckets_for;
 use crate::timers::Stage;
 use glam::Affine3A;
 use std::sync::atomic::Ordering;
@@ -49,7 +49,7 @@ impl GpuBackend {
             tan_off: off(VertexAttributes::TANGENT),
             wet_off: off(VertexAttributes::WETNESS),
             incoming,
-            max_cells: MAX_CELLS as u32,
+            max_buckets: buckets_for(p.water.capacity as usize) as u32,
             domain_r2: self.domain.radius * self.domain.radius,
             domain_center: c.extend(0.0).to_array(),
             wind: self.wind.extend(0.0).to_array(),

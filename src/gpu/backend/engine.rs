@@ -178,7 +178,7 @@ impl Engine for GpuBackend {
         GpuBackend::last_step_gpu_ms(self)
     }
 
-    fn gpu_grid_counts(&mut self) -> Option<Result<(glam::IVec3, Vec<u32>)>> {
+    fn gpu_grid_counts(&mut self) -> Option<Result<(f32, Vec<u32>)>> {
         Some(self.read_grid_counts())
     }
 

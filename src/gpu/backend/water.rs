@@ -9,7 +9,7 @@ use super::super::pipelines::{self as pl, Slot};
 use super::kernels::HairKernels;
 use super::GpuBackend;
 use crate::error::{Error, Result};
-use crate::physics::grid::MAX_CELLS;
+use crate::physics::hash_grid::buckets_for;
 use crate::plan::{check_new_particles, pass_list};
 use glam::Vec3;
 
@@ -175,18 +175,17 @@ impl GpuBackend {
             b::buffer(d, "particles_b", cap * 32, STORAGE),
         ];
         let force = b::buffer(d, "water_force", cap * 4 * WATER_FORCE_WORDS as u64, STORAGE);
-        let grid_count = b::buffer(
-            d,
-            "grid_count",
-            (GRID_COUNT_HEADER as u64 + MAX_CELLS as u64) * 4,
-            STORAGE,
-        );
-        // Header, start[0..=cells], and the prefix sum's per-block totals (one per SCAN_BLOCK cells).
-        let block_sums = MAX_CELLS.div_ceil(SCAN_BLOCK as usize) as u64;
+        // The hashed grid's table for the capacity (a step's table, sized by the particles it
+        // holds, is at most this).
+        let max_buckets = buckets_for(cap as usize) as u64;
+        let grid_count = b::buffer(d, "grid_count", (GRID_COUNT_HEADER as u64 + max_buckets) * 4, STORAGE);
+        // Header, start[0..=buckets], and the prefix sum's per-block totals (one per SCAN_BLOCK
+        // buckets).
+        let block_sums = max_buckets.div_ceil(SCAN_BLOCK as u64);
         let grid = b::buffer(
             d,
             "grid",
-            (gh::START as u64 + MAX_CELLS as u64 + 1 + block_sums) * 4,
+            (gh::START as u64 + max_buckets + 1 + block_sums) * 4,
             STORAGE,
         );
         let state = b::buffer(d, "water_state", b::water_state::WORDS as u64 * 4, STORAGE);
@@ -310,9 +309,9 @@ impl GpuBackend {
         Ok(recs)
     }
 
-    /// Per-cell particle counts of a grid built now over the held particles, with its dims
-    /// (tests compare them with the CPU grid's).
-    pub fn read_grid_counts(&mut self) -> Result<(glam::IVec3, Vec<u32>)> {
+    /// Per-bucket particle counts of the hashed grid built now over the held particles, with
+    /// its cell side (tests compare them with the CPU's `HashGrid`).
+    pub fn read_grid_counts(&mut self) -> Result<(f32, Vec<u32>)> {
         let Some(w) = &self.water else {
             return Err(Error::InvalidArgument("no water".into()));
         };
@@ -325,18 +324,16 @@ impl GpuBackend {
         let bytes = self.read_buffers(&[(&w.grid, w.grid.size())], None)?;
         let g: &[u32] = bytemuck::cast_slice(&bytes);
         let word = |at: u32| g[at as usize];
-        let dims = glam::IVec3::new(
-            word(gh::DIMS) as i32,
-            word(gh::DIMS + 1) as i32,
-            word(gh::DIMS + 2) as i32,
-        );
-        let start = |c: usize| g[gh::START as usize + c];
-        let counts = (0..word(gh::CELLS) as usize).map(|c| start(c + 1) - start(c)).collect();
+        let cell = f32::from_bits(word(gh::CELL));
+        let start = |b: usize| g[gh::START as usize + b];
+        let counts = (0..word(gh::BUCKETS) as usize)
+            .map(|b| start(b + 1) - start(b))
+            .collect();
         // Without the scatter the counts stay: clear them for the next build.
         let mut enc = self.dev.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&w.grid_count, 0, None);
         self.dev.submit(enc.finish(), false);
         self.dev.wait()?;
-        Ok((dims, counts))
+        Ok((cell, counts))
     }
 }

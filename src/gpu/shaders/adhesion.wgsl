@@ -1,5 +1,5 @@
 // Eq. 2 on the GPU (physics/adhesion.rs): each hair point gathers the particles of the grid
-// cells within r_max; the opposite force goes to the particle by an integer atomic add. Both
+// cells within r_max (grid.wgsl); the opposite force goes to the particle by an integer atomic add. Both
 // sides sum in 64-bit fixed point (FIXED_SCALE units per adhesion strength), so a sum is the
 // same whatever order the particles of a cell, or the points that pull one particle, come in:
 // a step gives the same bits run after run, and hair and water exchange exactly equal and
@@ -93,39 +93,39 @@ fn adhesion(x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f32> {
     if (!near_span(x, r, &span)) {
         return vec3<f32>(0.0);
     }
-    for (var cx = span.c0.x; cx <= span.c1.x; cx++) {
-        for (var cy = span.c0.y; cy <= span.c1.y; cy++) {
-            let run = span_row(span, cx, cy);
-            for (var k = run.x; k < run.y; k++) {
-                let d = sorted[k].x.xyz - x;
-                let d2 = dot(d, d);
-                if (d2 > r * r) {
-                    continue;
+    for (var j = 0; j < span_cells(span); j++) {
+        let c = span_cell(span, j);
+        let run = cell_run(c);
+        for (var k = run.x; k < run.y; k++) {
+            let y = sorted[k].x.xyz;
+            let d = y - x;
+            let d2 = dot(d, d);
+            if (d2 > r * r || !in_cell(y, c)) {
+                continue;
+            }
+            *near = 1.0;
+            var s = P.adhesion;
+            if (P.absorbs != 0u) {
+                let q = sorted[k].mass;
+                s = f32(q) * P.strength_per_quantum;
+                let demand = absorb_demand(q, d2, sat);
+                if (demand > 0u) {
+                    ask(k, demand);
                 }
-                *near = 1.0;
-                var s = P.adhesion;
-                if (P.absorbs != 0u) {
-                    let q = sorted[k].mass;
-                    s = f32(q) * P.strength_per_quantum;
-                    let demand = absorb_demand(q, d2, sat);
-                    if (demand > 0u) {
-                        ask(k, demand);
-                    }
-                }
-                let m = force_scale(d2, s);
-                if (m == 0.0) {
-                    continue;
-                }
-                let g = m * d;
-                // A non-finite pull has no fixed-point form: it is flagged, and the point's
-                // force is made non-finite below, so the kernel reports it as before.
-                bad = bad || non_finite(dot(g, g));
-                let at = WATER_FORCE_WORDS * k;
-                for (var c = 0u; c < 3u; c++) {
-                    let f = to_fixed(g[c]);
-                    acc[c] = fixed_add(acc[c], f);
-                    atomic_add_fixed(at + 2u * c, fixed_neg(f));
-                }
+            }
+            let m = force_scale(d2, s);
+            if (m == 0.0) {
+                continue;
+            }
+            let g = m * d;
+            // A non-finite pull has no fixed-point form: it is flagged, and the point's
+            // force is made non-finite below, so the kernel reports it as before.
+            bad = bad || non_finite(dot(g, g));
+            let at = WATER_FORCE_WORDS * k;
+            for (var a = 0u; a < 3u; a++) {
+                let f = to_fixed(g[a]);
+                acc[a] = fixed_add(acc[a], f);
+                atomic_add_fixed(at + 2u * a, fixed_neg(f));
             }
         }
     }

@@ -40,13 +40,9 @@ fn bridge_cell(x: vec3<f32>) -> vec3<i32> {
     return vec3<i32>(floor(x * (1.0 / P.bridge_length)));
 }
 
-// HashGrid::bucket_of: the cell's coordinates mixed by odd multipliers and a finaliser.
+// HashGrid::bucket_of over the bridges' table.
 fn bucket_of(c: vec3<i32>) -> u32 {
-    var h = (bitcast<u32>(c.x) * 0x9e3779b1u) ^ (bitcast<u32>(c.y) * 0x85ebca77u) ^ (bitcast<u32>(c.z) * 0xc2b2ae3du);
-    h ^= h >> 15u;
-    h *= 0x2c1b3c6du;
-    h ^= h >> 12u;
-    return h & (BRIDGE_BUCKETS - 1u);
+    return hash_cell(c) & (BRIDGE_BUCKETS - 1u);
 }
 
 // Pass hair_grid, part 1: wet points per bucket; a point that is not wet forgets its nearest.

@@ -1,56 +1,66 @@
-// The dense grid's header and eqs. 4-5 with clamping (physics/grid.rs `cell_of`, `index`),
-// shared by the water module (which builds the grid) and the wet hair module (which queries
-// it). Both bind the grid's words as `grid`; the G_* offsets come from the prelude.
+// The water's hashed grid (physics/hash_grid.rs `HashGrid`): cells of side WATER_CELL_R r_max
+// anywhere in space, their particles counted into a table of `G_BUCKETS` buckets (about two a
+// particle), shared by the water module (which builds it) and the wet hair modules (which
+// query it). A query walks cells as small as its reach however far the particles spread: the
+// dense grid this replaces bounded its cells by the particles' box, and particles flung a
+// metre off a head grew its cells to 8 r_max, where a hair point read 26 times the
+// candidates it needs. Both bind the grid's words as `grid`; the G_* offsets come from the
+// prelude.
 
-fn grid_lo() -> vec3<f32> {
-    return vec3<f32>(bitcast<f32>(grid[G_LO]), bitcast<f32>(grid[G_LO + 1u]), bitcast<f32>(grid[G_LO + 2u]));
+// HashGrid::coord_of: the cell holding x (floor; beyond i32 saturates).
+fn water_cell(x: vec3<f32>) -> vec3<i32> {
+    return vec3<i32>(floor(x * bitcast<f32>(grid[G_INV])));
 }
 
-fn grid_dims() -> vec3<i32> {
-    return vec3<i32>(i32(grid[G_DIMS]), i32(grid[G_DIMS + 1u]), i32(grid[G_DIMS + 2u]));
+// HashGrid::bucket_of: the bucket listing cell c's particles (and those of cells that hash
+// alike).
+fn water_bucket(c: vec3<i32>) -> u32 {
+    return hash_cell(c) & (grid[G_BUCKETS] - 1u);
 }
 
-// Eq. 4 with clamping: the cell holding p (any p: outside points clamp to the boundary cells).
-fn cell_of(p: vec3<f32>, lo: vec3<f32>, inv_cell: f32, dims: vec3<i32>) -> vec3<i32> {
-    let c = clamp((p - lo) * inv_cell, vec3<f32>(0.0), vec3<f32>(dims - vec3<i32>(1)));
-    return min(max(vec3<i32>(c), vec3<i32>(0)), dims - vec3<i32>(1));
+// The slots [start, end) of the bucket of cell c.
+fn cell_run(c: vec3<i32>) -> vec2<u32> {
+    let b = water_bucket(c);
+    return vec2<u32>(grid[G_START + b], grid[G_START + b + 1u]);
 }
 
-// The cells a query of radius r at x covers, as the CPU's `Grid::may_have_near` and query
-// clamp them: false when no particle can be within r (the particles' box grown by r misses
-// x; without this test clamping would send every far point to scan the boundary cells).
+// The cells a query of radius r at x covers (r <= the cell's half side: at most 2 a side,
+// 8 in all): false when no particle can be within r (the particles' box grown by r misses x),
+// so points far from all water read no bucket.
 struct Span {
     c0: vec3<i32>,
     c1: vec3<i32>,
-    dims: vec3<i32>,
 }
 
 fn near_span(x: vec3<f32>, r: f32, span: ptr<function, Span>) -> bool {
     if (grid[G_COUNT] == 0u) {
         return false;
     }
-    let lo = grid_lo();
-    let inv = bitcast<f32>(grid[G_INV]);
-    let dims = grid_dims();
-    let hi = lo + vec3<f32>(dims) * bitcast<f32>(grid[G_CELL]);
+    let lo = vec3<f32>(bitcast<f32>(grid[G_LO]), bitcast<f32>(grid[G_LO + 1u]), bitcast<f32>(grid[G_LO + 2u]));
+    let hi = vec3<f32>(bitcast<f32>(grid[G_HI]), bitcast<f32>(grid[G_HI + 1u]), bitcast<f32>(grid[G_HI + 2u]));
     if (any(x < lo - vec3<f32>(r)) || any(x > hi + vec3<f32>(r))) {
         return false;
     }
-    (*span).c0 = cell_of(x - vec3<f32>(r), lo, inv, dims);
-    (*span).c1 = cell_of(x + vec3<f32>(r), lo, inv, dims);
-    (*span).dims = dims;
+    (*span).c0 = water_cell(x - vec3<f32>(r));
+    (*span).c1 = water_cell(x + vec3<f32>(r));
     return true;
 }
 
-// The slots [start, end) of the span's row (cx, cy): its cells c0.z..=c1.z are contiguous.
-fn span_row(span: Span, cx: i32, cy: i32) -> vec2<u32> {
-    let row = (cx * span.dims.y + cy) * span.dims.z;
-    return vec2<u32>(grid[G_START + u32(row + span.c0.z)], grid[G_START + u32(row + span.c1.z) + 1u]);
+// The span's cells, and its j-th (x slowest, as the CPU's queries nest).
+fn span_cells(span: Span) -> i32 {
+    let n = span.c1 - span.c0 + vec3<i32>(1);
+    return n.x * n.y * n.z;
 }
 
-// Eq. 5: the linear index of the cell holding p.
-fn cell_index(p: vec3<f32>) -> u32 {
-    let dims = grid_dims();
-    let ci = cell_of(p, grid_lo(), bitcast<f32>(grid[G_INV]), dims);
-    return u32((ci.x * dims.y + ci.y) * dims.z + ci.z);
+fn span_cell(span: Span, j: i32) -> vec3<i32> {
+    let n = span.c1 - span.c0 + vec3<i32>(1);
+    return span.c0 + vec3<i32>(j / (n.y * n.z), (j / n.z) % n.y, j % n.z);
+}
+
+// Whether the particle at y, found through cell c's bucket, lies in c: a bucket also lists
+// the particles of other cells that hash alike, and two cells of one span may share a
+// bucket, so a particle within reach counts only through its own cell (as
+// HashGrid::for_each_near compares coordinates).
+fn in_cell(y: vec3<f32>, c: vec3<i32>) -> bool {
+    return all(water_cell(y) == c);
 }

@@ -409,33 +409,33 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
     // Only this invocation adds to held[i] during the pass (remainders come after).
     let held0 = atomicLoad(&held[i]);
     var got = 0u;
-    for (var cx = span.c0.x; cx <= span.c1.x; cx++) {
-        for (var cy = span.c0.y; cy <= span.c1.y; cy++) {
-            let run = span_row(span, cx, cy);
-            for (var k = run.x; k < run.y; k++) {
-                let d = sorted[k].x.xyz - x;
-                let d2 = dot(d, d);
-                if (d2 > r2) {
-                    continue;
-                }
-                let q = sorted[k].mass;
-                let demand = absorb_demand(q, d2, sat);
-                if (demand == 0u) {
-                    continue;
-                }
-                let at = k * ABS_WORDS;
-                let lo = atomicLoad(&absorb_scratch[at + ABS_TOTAL]);
-                let hi = atomicLoad(&absorb_scratch[at + ABS_TOTAL + 1u]);
-                var g = demand;
-                if (hi != 0u || lo > q) {
-                    let total = f32(hi) * 4294967296.0 + f32(lo);
-                    g = u32(floor(f32(demand) * (f32(q) / total) * (1.0 - 4.0e-7)));
-                }
-                g = min(g, HELD_LIMIT - min(held0 + got, HELD_LIMIT));
-                got += take_from(k, q, g);
-                if (demand == atomicLoad(&absorb_scratch[at + ABS_BEST])) {
-                    atomicMax(&absorb_scratch[at + ABS_POINT], ~i);
-                }
+    for (var j = 0; j < span_cells(span); j++) {
+        let c = span_cell(span, j);
+        let run = cell_run(c);
+        for (var k = run.x; k < run.y; k++) {
+            let y = sorted[k].x.xyz;
+            let d = y - x;
+            let d2 = dot(d, d);
+            if (d2 > r2 || !in_cell(y, c)) {
+                continue;
+            }
+            let q = sorted[k].mass;
+            let demand = absorb_demand(q, d2, sat);
+            if (demand == 0u) {
+                continue;
+            }
+            let at = k * ABS_WORDS;
+            let lo = atomicLoad(&absorb_scratch[at + ABS_TOTAL]);
+            let hi = atomicLoad(&absorb_scratch[at + ABS_TOTAL + 1u]);
+            var g = demand;
+            if (hi != 0u || lo > q) {
+                let total = f32(hi) * 4294967296.0 + f32(lo);
+                g = u32(floor(f32(demand) * (f32(q) / total) * (1.0 - 4.0e-7)));
+            }
+            g = min(g, HELD_LIMIT - min(held0 + got, HELD_LIMIT));
+            got += take_from(k, q, g);
+            if (demand == atomicLoad(&absorb_scratch[at + ABS_BEST])) {
+                atomicMax(&absorb_scratch[at + ABS_POINT], ~i);
             }
         }
     }

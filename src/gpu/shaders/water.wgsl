@@ -1,5 +1,5 @@
-// The water passes (cpu/water.rs and physics/grid.rs): append new particles, rebuild the
-// dense clamped grid by counting sort (bounds, setup, count, prefix sum, scatter into grid
+// The water passes (cpu/water.rs and physics/hash_grid.rs): append new particles, rebuild the
+// hashed grid by counting sort (bounds, setup, count, prefix sum, scatter into bucket
 // order), and remove particles that left the domain. The scatter writes the particles in grid
 // order into the other buffer, which the hair substep then reads and water_integrate updates.
 
@@ -7,7 +7,7 @@
 @group(0) @binding(1) var<storage, read_write> cur: array<Particle>;
 @group(0) @binding(2) var<storage, read_write> other: array<Particle>;
 @group(0) @binding(3) var<storage, read_write> water_force: array<u32>;
-// [0..3) max of ~key(lo), [3..6) max of key(hi), [GRID_COUNT_HEADER + c] particles in cell c.
+// [0..3) max of ~key(lo), [3..6) max of key(hi), [GRID_COUNT_HEADER + b] particles in bucket b.
 @group(0) @binding(4) var<storage, read_write> grid_count: array<atomic<u32>>;
 @group(0) @binding(5) var<storage, read_write> grid: array<u32>;
 // [WATER_HELD] particles, [WATER_KEPT] kept by the cull, [WATER_REMOVED] removed since reset,
@@ -72,8 +72,9 @@ fn grid_bounds(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
     }
 }
 
-// Pass water_grid, part 2 (one invocation): box, cell size and dims as `Grid::build` chooses
-// them; the prefix sum's indirect dispatch size; bounds cleared for the next build.
+// Pass water_grid, part 2 (one invocation): the box (for the queries' early out), the cell
+// side and the table of `HashGrid::build` (hash_grid::buckets_for); the prefix sum's indirect
+// dispatch size; bounds cleared for the next build.
 @compute @workgroup_size(1)
 fn grid_setup() {
     let n = atomicLoad(&water_state[WATER_HELD]);
@@ -85,34 +86,30 @@ fn grid_setup() {
             hi[a] = order_value(atomicLoad(&grid_count[3u + a]));
         }
     }
-    let extent = hi - lo;
-    var cell = P.r_max;
-    var dims = max(vec3<i32>(extent / cell), vec3<i32>(0)) + vec3<i32>(1);
-    let max_cells = f32(clamp(64u * n, 4096u, P.max_cells));
-    for (var round = 0; round < 1024; round++) {
-        if (f32(dims.x) * f32(dims.y) * f32(dims.z) <= max_cells) {
-            break;
-        }
-        cell *= 1.26;
-        dims = max(vec3<i32>(extent / cell), vec3<i32>(0)) + vec3<i32>(1);
-    }
-    let cells = u32(dims.x * dims.y * dims.z);
+    // The next power of two of 2n, at least MIN_BUCKETS (n <= capacity: within max_buckets).
+    let buckets = max(MIN_BUCKETS, 1u << (32u - countLeadingZeros(max(2u * n, 2u) - 1u)));
+    let cell = WATER_CELL_R * P.r_max;
     for (var a = 0u; a < 3u; a++) {
         grid[G_LO + a] = bitcast<u32>(lo[a]);
-        grid[G_DIMS + a] = u32(dims[a]);
+        grid[G_HI + a] = bitcast<u32>(hi[a]);
         atomicStore(&grid_count[a], 0u);
         atomicStore(&grid_count[3u + a], 0u);
     }
     grid[G_CELL] = bitcast<u32>(cell);
     grid[G_INV] = bitcast<u32>(1.0 / cell);
-    grid[G_CELLS] = cells;
+    grid[G_BUCKETS] = buckets;
     grid[G_COUNT] = n;
-    grid_dispatch[0] = (cells + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    grid_dispatch[0] = (buckets + SCAN_BLOCK - 1u) / SCAN_BLOCK;
     grid_dispatch[1] = 1u;
     grid_dispatch[2] = 1u;
 }
 
-// Pass water_grid, part 3: particles per cell.
+// The bucket of the particle at x.
+fn bucket_at(x: vec3<f32>) -> u32 {
+    return water_bucket(water_cell(x));
+}
+
+// Pass water_grid, part 3: particles per bucket.
 @compute @workgroup_size(WG)
 fn grid_count_cells(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                     @builtin(local_invocation_index) lid: u32) {
@@ -120,18 +117,19 @@ fn grid_count_cells(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgrou
     if (i >= grid[G_COUNT]) {
         return;
     }
-    atomicAdd(&grid_count[GRID_COUNT_HEADER + cell_index(cur[i].x.xyz)], 1u);
+    atomicAdd(&grid_count[GRID_COUNT_HEADER + bucket_at(cur[i].x.xyz)], 1u);
 }
 
-// Pass water_grid, part 4a: exclusive prefix sum of the counts within blocks of 1,024 cells.
+// Pass water_grid, part 4a: exclusive prefix sum of the counts within blocks of 1,024
+// buckets.
 @compute @workgroup_size(256)
 fn grid_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let cells = grid[G_CELLS];
+    let buckets = grid[G_BUCKETS];
     let base = wid.x * SCAN_BLOCK + lid * 4u;
     var c = array<u32, 4>(0u, 0u, 0u, 0u);
     var sum = 0u;
     for (var k = 0u; k < 4u; k++) {
-        if (base + k < cells) {
+        if (base + k < buckets) {
             c[k] = atomicLoad(&grid_count[GRID_COUNT_HEADER + base + k]);
         }
         sum += c[k];
@@ -139,48 +137,55 @@ fn grid_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invoca
     scan_inclusive(lid, sum);
     var run = scan[lid] - sum;
     for (var k = 0u; k < 4u; k++) {
-        if (base + k < cells) {
+        if (base + k < buckets) {
             grid[G_START + base + k] = run;
         }
         run += c[k];
     }
     if (lid == 255u) {
-        grid[G_START + P.max_cells + 1u + wid.x] = scan[255];
+        grid[G_START + P.max_buckets + 1u + wid.x] = scan[255];
     }
 }
 
-// Pass water_grid, part 4b (one workgroup): exclusive prefix sum of the block sums.
+// Pass water_grid, part 4b (one workgroup): exclusive prefix sum of the block sums, each
+// invocation over a run of blocks; the total closes the starts.
 @compute @workgroup_size(256)
 fn grid_scan_sums(@builtin(local_invocation_index) lid: u32) {
-    let blocks = (grid[G_CELLS] + SCAN_BLOCK - 1u) / SCAN_BLOCK;
-    let at = G_START + P.max_cells + 1u;
-    var own = 0u;
-    if (lid < blocks) {
-        own = grid[at + lid];
+    let blocks = (grid[G_BUCKETS] + SCAN_BLOCK - 1u) / SCAN_BLOCK;
+    let at = G_START + P.max_buckets + 1u;
+    let chunk = (blocks + 255u) / 256u;
+    let a = min(lid * chunk, blocks);
+    let b = min(a + chunk, blocks);
+    var sum = 0u;
+    for (var k = a; k < b; k++) {
+        sum += grid[at + k];
     }
-    scan_inclusive(lid, own);
-    if (lid < blocks) {
-        grid[at + lid] = scan[lid] - own;
+    scan_inclusive(lid, sum);
+    var run = scan[lid] - sum;
+    for (var k = a; k < b; k++) {
+        let t = grid[at + k];
+        grid[at + k] = run;
+        run += t;
     }
     if (lid == 255u) {
-        grid[G_START + grid[G_CELLS]] = scan[255];
+        grid[G_START + grid[G_BUCKETS]] = scan[255];
     }
 }
 
-// Pass water_grid, part 4c: block offsets added to every cell's start.
+// Pass water_grid, part 4c: block offsets added to every bucket's start.
 @compute @workgroup_size(256)
 fn grid_scan_add(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let cells = grid[G_CELLS];
-    let add = grid[G_START + P.max_cells + 1u + wid.x];
+    let buckets = grid[G_BUCKETS];
+    let add = grid[G_START + P.max_buckets + 1u + wid.x];
     let base = wid.x * SCAN_BLOCK + lid * 4u;
     for (var k = 0u; k < 4u; k++) {
-        if (base + k < cells) {
+        if (base + k < buckets) {
             grid[G_START + base + k] += add;
         }
     }
 }
 
-// Pass water_grid, part 5: each particle to its slot in grid order (counts drop back to 0,
+// Pass water_grid, part 5: each particle to its slot in bucket order (counts drop back to 0,
 // ready for the next build); its reaction-force sum starts at 0.
 @compute @workgroup_size(WG)
 fn grid_scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
@@ -190,7 +195,7 @@ fn grid_scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
         return;
     }
     let p = cur[i];
-    let c = cell_index(p.x.xyz);
+    let c = bucket_at(p.x.xyz);
     let slot = grid[G_START + c] + atomicSub(&grid_count[GRID_COUNT_HEADER + c], 1u) - 1u;
     other[slot] = p;
     for (var w = 0u; w < WATER_FORCE_WORDS; w++) {
