@@ -12,7 +12,9 @@
 //! timestamps after each stage where the adapter writes them inside a pass, wall time on the
 //! CPU), under the same stage names on both backends.
 //!
-//! Run: `cargo bench --bench backends` (`-- --quick` for fewer frames). Without a GPU adapter
+//! Run: `cargo bench --bench backends` (`-- --quick` for fewer frames, `-- --only "large
+//! 100000 "` for the rows whose scene, particle count and model read so, `-- --gpu` for the
+//! GPU rows alone). Without a GPU adapter
 //! the GPU rows say so.
 
 use std::time::Instant;
@@ -116,6 +118,15 @@ fn run(
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
+    // `--gpu`: the GPU rows alone.
+    let gpu_only = std::env::args().any(|a| a == "--gpu");
+    // `--only TEXT`: the rows whose "scene particles model" contains TEXT.
+    let args: Vec<String> = std::env::args().collect();
+    let only = args
+        .iter()
+        .position(|a| a == "--only")
+        .and_then(|i| args.get(i + 1))
+        .cloned();
     let (paper_frames, big_frames) = if quick { (20, 2) } else { (100, 5) };
     let paper = paper_scene(10_000, 6).expect("paper scene");
     let big = paper_scene(100_000, 32).expect("large scene");
@@ -160,7 +171,13 @@ fn main() {
     let mut splits = Vec::new();
     for (name, groom, integrator, particles, held, frames, with_cpu) in rows {
         let model = if held { "full wet model" } else { "paper" };
-        let backends: &[Backend] = if with_cpu {
+        if only
+            .as_ref()
+            .is_some_and(|o| !format!("{name} {particles} {model}").contains(o.as_str()))
+        {
+            continue;
+        }
+        let backends: &[Backend] = if with_cpu && !gpu_only {
             &[Backend::GPU, Backend::CPU]
         } else {
             &[Backend::GPU]

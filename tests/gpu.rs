@@ -1395,6 +1395,74 @@ fn process_footprint() -> (usize, usize, u64) {
     (count("/proc/self/fd"), count("/proc/self/task"), rss_kb * 1024)
 }
 
+/// Set in the child process of [`both_reaction_forms_give_the_same_bits`]: its device adds the
+/// particles' reactions as word pairs.
+const WORD_PAIRS_CHILD: &str = "WETHAIR_GPU_WORD_PAIRS_CHILD";
+
+/// A hash of the vertex buffer and the particles after 60 wet frames of a 1,000-strand paper
+/// scene with 1,500 particles, with the paper's model and with the full wet model.
+fn wet_hash() -> Option<u64> {
+    let groom = paper_scene(1_000, 8).unwrap();
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |b: u32| h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
+    for held in [wethair::HeldWater::OFF, wethair::HeldWater::ON] {
+        let params = SimParams {
+            held_water: held,
+            ..SimParams::paper_scene_with_head()
+        };
+        let mut g = gpu(&groom, params)?;
+        g.add_water(&on_hair(groom.positions(), 1_500, &mut Lcg(77)), &[])
+            .unwrap();
+        for _ in 0..60 {
+            g.step(1.0 / 60.0).unwrap();
+        }
+        let mut v = vec![0.0f32; g.vertex_count() * 7];
+        g.write_vertices(&mut v).unwrap();
+        v.iter().for_each(|x| eat(x.to_bits()));
+        let w = g.water_positions().unwrap();
+        assert!(!w.is_empty() || held == wethair::HeldWater::ON);
+        w.iter()
+            .for_each(|p| p.to_array().iter().for_each(|x| eat(x.to_bits())));
+    }
+    Some(h)
+}
+
+/// The particles' reaction sums are 64-bit integers, added with one 64-bit atomic a component
+/// where the device has them (lavapipe and NVIDIA do) and as two 32-bit words with a carry
+/// elsewhere. Both give the exact sum, so the same bits: a child process of this test binary
+/// runs the wet scenes with `WETHAIR_GPU_NO_ATOMIC64` set and prints its hash.
+#[test]
+fn both_reaction_forms_give_the_same_bits() {
+    if std::env::var_os(WORD_PAIRS_CHILD).is_some() {
+        if let Some(h) = wet_hash() {
+            eprintln!("word-pair hash {h:016x}");
+        }
+        return;
+    }
+    let _serial = serial();
+    let Some(wide) = wet_hash() else {
+        return;
+    };
+    let out = std::process::Command::new(std::env::current_exe().expect("test binary"))
+        .args([
+            "gpu::both_reaction_forms_give_the_same_bits",
+            "--exact",
+            "--test-threads=1",
+            "--nocapture",
+        ])
+        .env(WORD_PAIRS_CHILD, "1")
+        .env("WETHAIR_GPU_NO_ATOMIC64", "1")
+        .output()
+        .expect("the test binary runs again");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "the word-pair run failed:\n{text}");
+    let pairs = text
+        .lines()
+        .find_map(|l| l.strip_prefix("word-pair hash "))
+        .unwrap_or_else(|| panic!("the word-pair run printed no hash:\n{text}"));
+    assert_eq!(pairs, format!("{wide:016x}"), "64-bit adds and word pairs differ");
+}
+
 /// An engine creates and destroys simulations as levels load; each GPU simulation opens its
 /// own device, so a device that outlived its simulation would pile up driver handles, threads
 /// and memory (on an H100 the adapter stopped appearing after twenty to thirty devices in one

@@ -61,7 +61,7 @@ fn output_modules_validate() {
         ] {
             let module =
                 naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
-            naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+            naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities(&src))
                 .validate(&module)
                 .unwrap_or_else(|e| panic!("{name}: {e:?}"));
             assert!(
@@ -69,6 +69,17 @@ fn output_modules_validate() {
                 "{name} has no {entry}"
             );
         }
+    }
+}
+
+/// What a module may use beyond core WGSL: 64-bit integers and their atomics in the modules
+/// that add the particles' reactions that way (reaction64.wgsl, chosen only where the device
+/// offers both), nothing elsewhere.
+fn capabilities(src: &str) -> naga::valid::Capabilities {
+    if src.contains("atomic<u64>") {
+        naga::valid::Capabilities::SHADER_INT64 | naga::valid::Capabilities::SHADER_INT64_ATOMIC_ALL_OPS
+    } else {
+        naga::valid::Capabilities::empty()
     }
 }
 
@@ -82,6 +93,8 @@ fn consts(bend: bool, colliders: u32) -> wethair::gpu::pipelines::SceneConsts {
         iterations: 2,
         bdf2: false,
         roots: bend,
+        // Each reaction form: word pairs without bend springs, 64-bit adds with them.
+        atomic64: bend,
     }
 }
 
@@ -169,7 +182,7 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
     for (name, src) in all_modules() {
         let module =
             naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
-        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities(&src))
             .validate(&module)
             .unwrap_or_else(|e| panic!("{name}: {e:?}"));
         let find = |ty: &str| {

@@ -23,6 +23,9 @@ pub struct GpuDevice {
     pub timestamps: bool,
     /// Whether timestamps may also be written inside a compute pass (per-stage timing).
     pub pass_timestamps: bool,
+    /// Whether shaders may add to 64-bit integers atomically (the particles' reaction sums
+    /// then take one add a component, with no carry to read back; adhesion.wgsl).
+    pub atomic64: bool,
     failure: Arc<Mutex<Option<String>>>,
     /// The semaphores shared with the host when the device is the host's (feature `vulkan`).
     #[cfg(feature = "vulkan")]
@@ -76,6 +79,7 @@ impl GpuDevice {
     ) -> GpuDevice {
         let timestamps = features.contains(wgpu::Features::TIMESTAMP_QUERY);
         let pass_timestamps = timestamps && features.contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
+        let atomic64 = features.contains(ATOMIC64);
         let failure: Arc<Mutex<Option<String>>> = Arc::default();
         let sink = failure.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| record(&sink, &e.to_string())));
@@ -88,6 +92,7 @@ impl GpuDevice {
             limits,
             timestamps,
             pass_timestamps,
+            atomic64,
             failure,
             #[cfg(feature = "vulkan")]
             shared: None,
@@ -147,9 +152,13 @@ impl GpuDevice {
     }
 }
 
+/// 64-bit integers with every atomic operation on them.
+const ATOMIC64: wgpu::Features = wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_ALL_OPS);
+
 /// The features and limits wethair asks of an adapter: timestamps where offered (also inside
-/// passes, for per-stage timing), and storage bindings as large as the adapter allows (large
-/// grooms need them).
+/// passes, for per-stage timing), 64-bit atomics where offered (unless
+/// `WETHAIR_GPU_NO_ATOMIC64` is set: tests run the 32-bit form that way), and storage
+/// bindings as large as the adapter allows (large grooms need them).
 pub(crate) fn wanted(have: wgpu::Features, have_limits: &wgpu::Limits) -> (wgpu::Features, wgpu::Limits) {
     let limits = wgpu::Limits {
         max_storage_buffer_binding_size: have_limits.max_storage_buffer_binding_size,
@@ -157,7 +166,11 @@ pub(crate) fn wanted(have: wgpu::Features, have_limits: &wgpu::Limits) -> (wgpu:
         ..wgpu::Limits::default()
     };
     let timestamps = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
-    (have & timestamps, limits)
+    let mut features = have & timestamps;
+    if have.contains(ATOMIC64) && std::env::var_os("WETHAIR_GPU_NO_ATOMIC64").is_none() {
+        features |= ATOMIC64;
+    }
+    (features, limits)
 }
 
 /// The device descriptor for [`wanted`]'s features and limits.

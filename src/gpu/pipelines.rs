@@ -9,6 +9,8 @@ const COMMON: &str = include_str!("shaders/common.wgsl");
 const GRID: &str = include_str!("shaders/grid.wgsl");
 const HAIR: &str = include_str!("shaders/hair.wgsl");
 const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
+const REACTION32: &str = include_str!("shaders/reaction32.wgsl");
+const REACTION64: &str = include_str!("shaders/reaction64.wgsl");
 const WATER: &str = include_str!("shaders/water.wgsl");
 const OUTPUT: &str = include_str!("shaders/output.wgsl");
 const VERTEX: &str = include_str!("shaders/vertex.wgsl");
@@ -53,6 +55,8 @@ pub struct SceneConsts {
     pub bdf2: bool,
     /// Skinned roots: pinned points read their target from their record (`roots.wgsl`).
     pub roots: bool,
+    /// The device adds 64-bit integers atomically (`reaction64.wgsl`, else `reaction32.wgsl`).
+    pub atomic64: bool,
 }
 
 /// The scene's constants, the generated prelude (shared constants and structs), and the
@@ -132,14 +136,16 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
          \x20   var x = s.x.xyz;\n    var v = s.v.xyz;\n    var wet = s.x.w;\n    var f = vec3<f32>(0.0);\n\
          {body}    check(i, x, v);\n    state_out[i] = State(vec4<f32>(x, wet), vec4<f32>(v, 0.0));\n}}\n",
         prelude(c),
-        if wet { adhesion() } else { String::new() },
+        if wet { adhesion(c) } else { String::new() },
         cohesion(passes),
     )
 }
 
-/// Eq. 2, absorption's demand, and the grid queries they make (wet scenes only).
-fn adhesion() -> String {
-    format!("{GRID}\n{ABSORB}\n{ADHESION}")
+/// Eq. 2, absorption's demand, and the grid queries they make (wet scenes only), with the
+/// particles' reaction sums in the device's widest atomic integers.
+fn adhesion(c: SceneConsts) -> String {
+    let reaction = if c.atomic64 { REACTION64 } else { REACTION32 };
+    format!("{GRID}\n{ABSORB}\n{reaction}\n{ADHESION}")
 }
 
 /// Implicit Euler's (and BDF2's) hair module: `hair_forces` (adhesion, wetting, cohesion; per
@@ -152,7 +158,7 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
         "{}{HAIR}\n{}{}\n{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
          const COLLIDE: bool = {};\n{IMPLICIT}\n",
         prelude(c),
-        if wet { adhesion() } else { String::new() },
+        if wet { adhesion(c) } else { String::new() },
         cohesion(passes),
         if c.bdf2 { BDF2 } else { EULER_START },
         c.max_points.max(2),

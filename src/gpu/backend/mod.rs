@@ -280,6 +280,7 @@ impl GpuBackend {
             iterations: params.solver_iterations,
             bdf2: integrator == Integrator::BDF2,
             roots: params.skinned_roots,
+            atomic64: dev.atomic64,
         };
         let n_sub = params.substeps as usize;
         let align = dev.limits.min_uniform_buffer_offset_alignment as u64;

@@ -6,7 +6,8 @@
 // opposite forces up to the one rounding back to f32.
 
 @group(1) @binding(0) var<storage, read_write> sorted: array<Particle>;
-@group(1) @binding(1) var<storage, read_write> water_force: array<atomic<u32>>;
+// Binding 1, the particles' reaction sums, and their adds come from reaction32.wgsl or
+// reaction64.wgsl.
 @group(1) @binding(2) var<storage, read> grid: array<u32>;
 // Absorption's per-particle scratch (buffers::absorb_words; a placeholder without absorption).
 @group(1) @binding(3) var<storage, read_write> absorb_scratch: array<atomic<u32>>;
@@ -52,23 +53,9 @@ fn from_fixed(a: vec2<u32>) -> f32 {
     return select(v, -v, neg);
 }
 
-// Adds to a particle's reaction word pair `at`: the carry out of the low word goes into the
-// high one, so the pair ends as the exact sum in any order. Adding 0 changes nothing, so it is
-// skipped: one pull is at most about 2^32 units, so the high word to add is mostly 0 (a
-// positive pull without a carry, or a negative one's all-ones word cancelled by its carry).
-fn atomic_add_fixed(at: u32, v: vec2<u32>) {
-    let old = atomicAdd(&water_force[at], v.x);
-    let hi = carried_high(old, v);
-    if (hi != 0u) {
-        atomicAdd(&water_force[at + 1u], hi);
-    }
-}
-
+// Particle k's reaction in newtons.
 fn reaction(k: u32) -> vec3<f32> {
-    let at = WATER_FORCE_WORDS * k;
-    return vec3<f32>(from_fixed(vec2<u32>(atomicLoad(&water_force[at]), atomicLoad(&water_force[at + 1u]))),
-                     from_fixed(vec2<u32>(atomicLoad(&water_force[at + 2u]), atomicLoad(&water_force[at + 3u]))),
-                     from_fixed(vec2<u32>(atomicLoad(&water_force[at + 4u]), atomicLoad(&water_force[at + 5u]))));
+    return vec3<f32>(from_fixed(reaction_sum(k, 0u)), from_fixed(reaction_sum(k, 1u)), from_fixed(reaction_sum(k, 2u)));
 }
 
 // Absorption's ask (physics/absorb.rs `WetRow::demand`): the demand joins the particle's sum
@@ -121,11 +108,10 @@ fn adhesion(x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f32> {
             // A non-finite pull has no fixed-point form: it is flagged, and the point's
             // force is made non-finite below, so the kernel reports it as before.
             bad = bad || non_finite(dot(g, g));
-            let at = WATER_FORCE_WORDS * k;
             for (var a = 0u; a < 3u; a++) {
                 let f = to_fixed(g[a]);
                 acc[a] = fixed_add(acc[a], f);
-                atomic_add_fixed(at + 2u * a, fixed_neg(f));
+                add_reaction(k, a, fixed_neg(f));
             }
         }
     }

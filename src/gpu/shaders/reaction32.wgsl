@@ -1,0 +1,25 @@
+// The particles' reaction sums as word pairs (adhesion.wgsl), for devices without 64-bit
+// atomics: component a of particle k is the 64-bit two's-complement pair at
+// WATER_FORCE_WORDS k + 2a (low word first).
+
+@group(1) @binding(1) var<storage, read_write> water_force: array<atomic<u32>>;
+
+// Adds v to component a of particle k: the carry out of the low word goes into the high one,
+// so the pair ends as the exact sum in any order. The low add must read back the old word
+// for the carry, so each waits for the memory's answer. Adding 0 changes nothing, so it is
+// skipped: one pull is at most about 2^32 units, so the high word to add is mostly 0 (a
+// positive pull without a carry, or a negative one's all-ones word cancelled by its carry).
+fn add_reaction(k: u32, a: u32, v: vec2<u32>) {
+    let at = WATER_FORCE_WORDS * k + 2u * a;
+    let old = atomicAdd(&water_force[at], v.x);
+    let hi = carried_high(old, v);
+    if (hi != 0u) {
+        atomicAdd(&water_force[at + 1u], hi);
+    }
+}
+
+// Component a of particle k's sum as (low word, high word).
+fn reaction_sum(k: u32, a: u32) -> vec2<u32> {
+    let at = WATER_FORCE_WORDS * k + 2u * a;
+    return vec2<u32>(atomicLoad(&water_force[at]), atomicLoad(&water_force[at + 1u]));
+}
