@@ -3,8 +3,9 @@
 //! `cargo run --release --example device_cycles -- <mode> [cycles]`, where mode is
 //! `instance` (a wgpu instance and its adapter list), `device` (`GpuDevice::open`, an
 //! instance of its own each time), `shared` (devices opened on one instance's adapter) or
-//! `sim` (a GPU simulation created, stepped, read and dropped). It stops at the first cycle
-//! that finds no adapter and says which. Linux only (it reads /proc).
+//! `sim` (a GPU simulation created, stepped, read and dropped). `-- <mode> <cycles> thread`
+//! runs the cycles on a spawned thread, as a test harness runs a test. It stops at the first
+//! cycle that finds no adapter and says which. Linux only (it reads /proc).
 use wethair::gpu::device::{block_on, GpuDevice};
 use wethair::{groom::paper_scene, Backend, SimParams, Simulation};
 
@@ -22,6 +23,14 @@ fn footprint() -> (usize, usize, u64) {
 }
 
 fn main() {
+    if std::env::args().nth(3).as_deref() == Some("thread") {
+        std::thread::spawn(cycles).join().expect("the cycles' thread");
+    } else {
+        cycles();
+    }
+}
+
+fn cycles() {
     let mode = std::env::args().nth(1).unwrap_or_else(|| "sim".into());
     let cycles: usize = std::env::args().nth(2).and_then(|s| s.parse().ok()).unwrap_or(60);
     let groom = paper_scene(64, 6).expect("groom");
