@@ -1,9 +1,10 @@
 // Eq. 2 on the GPU (physics/adhesion.rs): each hair point gathers the particles of the grid
-// cells within r_max (grid.wgsl); the opposite force goes to the particle by an integer atomic add. Both
-// sides sum in 64-bit fixed point (FIXED_SCALE units per adhesion strength), so a sum is the
-// same whatever order the particles of a cell, or the points that pull one particle, come in:
-// a step gives the same bits run after run, and hair and water exchange exactly equal and
-// opposite forces up to the one rounding back to f32.
+// cells within r_max (grid.wgsl); the opposite force goes to the particle by integer atomic
+// adds (reaction64.wgsl or reaction32.wgsl). Both sides sum in 64-bit fixed point
+// (FIXED_SCALE units per adhesion strength), so a sum is the same whatever order the
+// particles of a cell, or the points that pull one particle, come in: a step gives the same
+// bits run after run, and hair and water exchange exactly equal and opposite forces up to the
+// one rounding back to f32.
 
 @group(1) @binding(0) var<storage, read_write> sorted: array<Particle>;
 // Binding 1, the particles' reaction sums, and their adds come from reaction32.wgsl or
