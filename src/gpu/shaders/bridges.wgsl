@@ -83,26 +83,22 @@ fn bridge_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invo
     }
 }
 
-// Pass hair_grid, part 2b (one workgroup): exclusive prefix sum of the block sums, each
-// invocation over a run of blocks; the total closes the starts.
+// The scan's block sums (scan.wgsl `scan_block_sums`).
+fn block_sum(k: u32) -> u32 {
+    return bucket[B_SUMS + k];
+}
+
+fn set_block_sum(k: u32, v: u32) {
+    bucket[B_SUMS + k] = v;
+}
+
+// Pass hair_grid, part 2b (one workgroup): exclusive prefix sum of the block sums; the total
+// closes the starts.
 @compute @workgroup_size(256)
 fn bridge_scan_sums(@builtin(local_invocation_index) lid: u32) {
-    let chunk = (BRIDGE_BLOCKS + 255u) / 256u;
-    let a = min(lid * chunk, BRIDGE_BLOCKS);
-    let b = min(a + chunk, BRIDGE_BLOCKS);
-    var sum = 0u;
-    for (var k = a; k < b; k++) {
-        sum += bucket[B_SUMS + k];
-    }
-    scan_inclusive(lid, sum);
-    var run = scan[lid] - sum;
-    for (var k = a; k < b; k++) {
-        let t = bucket[B_SUMS + k];
-        bucket[B_SUMS + k] = run;
-        run += t;
-    }
+    let total = scan_block_sums(lid, BRIDGE_BLOCKS);
     if (lid == 255u) {
-        bucket[BRIDGE_BUCKETS] = scan[255];
+        bucket[BRIDGE_BUCKETS] = total;
     }
 }
 

@@ -1,5 +1,6 @@
-// A workgroup's inclusive prefix sum, shared by the modules that sort by counting (the water
-// grid and the liquid bridges' hashed grid).
+// A workgroup's inclusive prefix sum, and the exclusive one of a counting sort's block sums,
+// shared by the modules that sort by counting (the water grid and the liquid bridges' hashed
+// grid). Each of them defines `block_sum(k)` and `set_block_sum(k, v)` over its own buffer.
 
 var<workgroup> scan: array<u32, 256>;
 
@@ -17,4 +18,24 @@ fn scan_inclusive(lid: u32, v: u32) {
         scan[lid] += add;
         workgroupBarrier();
     }
+}
+
+// Exclusive prefix sum of `blocks` block sums in place, by one workgroup of 256, each
+// invocation over a run of blocks; returns the total. Every invocation must call it.
+fn scan_block_sums(lid: u32, blocks: u32) -> u32 {
+    let chunk = (blocks + 255u) / 256u;
+    let a = min(lid * chunk, blocks);
+    let b = min(a + chunk, blocks);
+    var sum = 0u;
+    for (var k = a; k < b; k++) {
+        sum += block_sum(k);
+    }
+    scan_inclusive(lid, sum);
+    var run = scan[lid] - sum;
+    for (var k = a; k < b; k++) {
+        let t = block_sum(k);
+        set_block_sum(k, run);
+        run += t;
+    }
+    return scan[255];
 }

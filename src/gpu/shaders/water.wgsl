@@ -147,28 +147,22 @@ fn grid_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invoca
     }
 }
 
-// Pass water_grid, part 4b (one workgroup): exclusive prefix sum of the block sums, each
-// invocation over a run of blocks; the total closes the starts.
+// The scan's block sums, after start[0..=max_buckets] (scan.wgsl `scan_block_sums`).
+fn block_sum(k: u32) -> u32 {
+    return grid[G_START + P.max_buckets + 1u + k];
+}
+
+fn set_block_sum(k: u32, v: u32) {
+    grid[G_START + P.max_buckets + 1u + k] = v;
+}
+
+// Pass water_grid, part 4b (one workgroup): exclusive prefix sum of the block sums; the
+// total closes the starts.
 @compute @workgroup_size(256)
 fn grid_scan_sums(@builtin(local_invocation_index) lid: u32) {
-    let blocks = (grid[G_BUCKETS] + SCAN_BLOCK - 1u) / SCAN_BLOCK;
-    let at = G_START + P.max_buckets + 1u;
-    let chunk = (blocks + 255u) / 256u;
-    let a = min(lid * chunk, blocks);
-    let b = min(a + chunk, blocks);
-    var sum = 0u;
-    for (var k = a; k < b; k++) {
-        sum += grid[at + k];
-    }
-    scan_inclusive(lid, sum);
-    var run = scan[lid] - sum;
-    for (var k = a; k < b; k++) {
-        let t = grid[at + k];
-        grid[at + k] = run;
-        run += t;
-    }
+    let total = scan_block_sums(lid, (grid[G_BUCKETS] + SCAN_BLOCK - 1u) / SCAN_BLOCK);
     if (lid == 255u) {
-        grid[G_START + grid[G_BUCKETS]] = scan[255];
+        grid[G_START + grid[G_BUCKETS]] = total;
     }
 }
 
