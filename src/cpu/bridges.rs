@@ -40,6 +40,9 @@ pub struct Bridges {
     /// Per point index: its nearest wet points of other strands as of its last search, and
     /// its place in `point` this step (one cache line, read together by the mutual test).
     near: Vec<Near>,
+    /// Per wet point (by place in `point`): whether it searches this step (its turn, or it
+    /// has no neighbour), marked by the listing, which reads its record anyway.
+    searches: Vec<bool>,
     /// This step's searches: places in `point`, and what each found.
     turn: Vec<u32>,
     found: Vec<([u32; MAX_BRIDGES], u8)>,
@@ -98,6 +101,7 @@ impl Bridges {
             strand: Vec::new(),
             sat_len: Vec::new(),
             near: vec![Near::NONE; n_rows * W],
+            searches: Vec::new(),
             turn: Vec::new(),
             found: Vec::new(),
             pairs: Vec::new(),
@@ -138,6 +142,7 @@ impl Bridges {
         self.pos.clear();
         self.strand.clear();
         self.sat_len.clear();
+        self.searches.clear();
         self.pairs.clear();
         self.n_pairs = 0;
     }
@@ -151,7 +156,9 @@ impl Bridges {
     /// held water, and last step's points), then fill each run's own part of the lists from
     /// its marked rows. `near` (32 bytes a point of the whole groom) is touched only at points
     /// listed now or last step: sweeping all of it twice was a quarter of the pass on a big
-    /// groom.
+    /// groom. The fill also marks which points search in step `turn` (their records are in
+    /// hand: a separate serial sweep reading them again cost the big groom 1.8 ms a step).
+    #[allow(clippy::too_many_arguments)]
     fn list_wet(
         &mut self,
         lay: &Layout,
@@ -159,6 +166,7 @@ impl Bridges {
         held: &[[u32; W]],
         capacity: &[[u32; W]],
         inv_mass: &(impl Fn(usize, usize) -> f32 + Sync),
+        turn: u32,
         pool: Option<&Pool>,
     ) {
         let is_wet = |r: usize, l: usize| {
@@ -219,12 +227,25 @@ impl Bridges {
         self.pos.resize(total, Vec3::ZERO);
         self.strand.resize(total, 0);
         self.sat_len.resize(total, (0.0, 0.0));
+        self.searches.resize(total, false);
         self.pairs.clear();
         self.n_pairs = 0;
         // Pass 2: each run fills its own part of the lists from its marked rows.
-        type Part<'a> = (&'a mut [u32], &'a mut [Vec3], &'a mut [u32], &'a mut [(f32, f32)]);
+        type Part<'a> = (
+            &'a mut [u32],
+            &'a mut [Vec3],
+            &'a mut [u32],
+            &'a mut [(f32, f32)],
+            &'a mut [bool],
+        );
         let mut parts: Vec<Part> = Vec::with_capacity(runs);
-        let mut rest: Part = (&mut self.point, &mut self.pos, &mut self.strand, &mut self.sat_len);
+        let mut rest: Part = (
+            &mut self.point,
+            &mut self.pos,
+            &mut self.strand,
+            &mut self.sat_len,
+            &mut self.searches,
+        );
         for c in 0..runs {
             let end = self.run_start.get(c + 1).map_or(total, |&e| e as usize);
             let len = end - self.run_start[c] as usize;
@@ -232,12 +253,13 @@ impl Bridges {
             let (a1, b1) = std::mem::take(&mut rest.1).split_at_mut(len);
             let (a2, b2) = std::mem::take(&mut rest.2).split_at_mut(len);
             let (a3, b3) = std::mem::take(&mut rest.3).split_at_mut(len);
-            parts.push((a0, a1, a2, a3));
-            rest = (b0, b1, b2, b3);
+            let (a4, b4) = std::mem::take(&mut rest.4).split_at_mut(len);
+            parts.push((a0, a1, a2, a3, a4));
+            rest = (b0, b1, b2, b3, b4);
         }
-        let (length, start, marks) = (&self.length, &self.run_start, &self.wet_rows);
+        let (length, start, marks, host) = (&self.length, &self.run_start, &self.wet_rows, &self.host);
         let fill = |c: usize, near: &mut [Near], part: Part| {
-            let (point, pos, strand, sat_len) = part;
+            let (point, pos, strand, sat_len, searches) = part;
             if point.is_empty() {
                 return;
             }
@@ -249,7 +271,9 @@ impl Bridges {
                 while m != 0 {
                     let l = m.trailing_zeros() as usize;
                     m &= m - 1;
-                    near[k * W + l].local = start[c] + i as u32;
+                    let me = &mut near[k * W + l];
+                    me.local = start[c] + i as u32;
+                    searches[i] = wet::bridge_search_turn(host[r * W + l], turn) || me.n == 0;
                     point[i] = (r * W + l) as u32;
                     pos[i] = state[r].x.get(l);
                     strand[i] = ((r / lay.rows) * W + l) as u32;
@@ -299,8 +323,8 @@ impl Bridges {
             self.step = self.step.wrapping_add(1);
             return;
         }
-        self.list_wet(lay, state, held, capacity, &inv_mass, pool);
         let turn = self.step % SEARCH_TURNS;
+        self.list_wet(lay, state, held, capacity, &inv_mass, turn, pool);
         self.step = self.step.wrapping_add(1);
         if self.point.len() < 2 {
             return;
@@ -311,11 +335,8 @@ impl Bridges {
             None => grid.build(pos, false),
         }
         self.turn.clear();
-        for (i, &p) in self.point.iter().enumerate() {
-            if wet::bridge_search_turn(self.host[p as usize], turn) || self.near[p as usize].n == 0 {
-                self.turn.push(i as u32);
-            }
-        }
+        let searching = self.searches.iter().enumerate().filter(|&(_, &s)| s);
+        self.turn.extend(searching.map(|(i, _)| i as u32));
         self.found.clear();
         self.found.resize(self.turn.len(), ([0; MAX_BRIDGES], 0));
         let (grid, point, strand, pos, turns) = (&self.grid, &self.point, &self.strand, &self.pos, &self.turn);
@@ -426,6 +447,7 @@ impl Bridges {
         self.grid.bytes()
             + 4 * (self.point.capacity() + self.last_point.capacity() + self.strand.capacity())
             + 4 * (self.turn.capacity() + self.room.capacity())
+            + self.searches.capacity()
             + self.wet_rows.capacity()
             + std::mem::size_of::<Near>() * self.near.capacity()
             + std::mem::size_of::<Pairs>() * self.pairs.capacity()
