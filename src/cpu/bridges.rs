@@ -31,6 +31,10 @@ pub struct Bridges {
     last_point: Vec<u32>,
     /// Scratch of the listing: per row, a bit per lane that takes part this step.
     wet_rows: Vec<u8>,
+    /// Per row, a bit per lane that is a free point of a strand (not padding, not pinned):
+    /// the listing reads this byte, not the lane's inverse mass in the row's parameters (a
+    /// cache line a row).
+    free_lanes: Vec<u8>,
     /// Their positions at the step's start (the grid's input).
     pos: Vec<Vec3>,
     /// Their strands (block times `W` plus lane: one number per strand).
@@ -89,6 +93,12 @@ impl Bridges {
                 length[r1][l] += 0.5 * seg;
             }
         }
+        let free_lanes = lay
+            .params
+            .iter()
+            .zip(&lay.real_lanes)
+            .map(|(row, &real)| (0..W).fold(0u8, |m, l| m | (((row.inv_mass[l] > 0.0) as u8) << l)) & real)
+            .collect();
         Bridges {
             // Cells of twice the reach: a query then visits 2 x 2 x 2 cells (about 7 bucket
             // lookups, each a likely cache miss) instead of up to 27 with cells of `d_b`
@@ -97,6 +107,7 @@ impl Bridges {
             point: Vec::new(),
             last_point: Vec::new(),
             wet_rows: vec![0; n_rows],
+            free_lanes,
             pos: Vec::new(),
             strand: Vec::new(),
             sat_len: Vec::new(),
@@ -158,20 +169,17 @@ impl Bridges {
     /// listed now or last step: sweeping all of it twice was a quarter of the pass on a big
     /// groom. The fill also marks which points search in step `turn` (their records are in
     /// hand: a separate serial sweep reading them again cost the big groom 1.8 ms a step).
-    #[allow(clippy::too_many_arguments)]
     fn list_wet(
         &mut self,
         lay: &Layout,
         state: &[StateRow],
         held: &[[u32; W]],
         capacity: &[[u32; W]],
-        inv_mass: &(impl Fn(usize, usize) -> f32 + Sync),
         turn: u32,
         pool: Option<&Pool>,
     ) {
-        let is_wet = |r: usize, l: usize| {
-            wet::can_bridge(held[r][l], capacity[r][l]) && lay.real_lanes[r] & (1 << l) != 0 && inv_mass(r, l) > 0.0
-        };
+        let free = &self.free_lanes;
+        let is_wet = |r: usize, l: usize| wet::can_bridge(held[r][l], capacity[r][l]) && free[r] & (1 << l) != 0;
         std::mem::swap(&mut self.point, &mut self.last_point);
         let last = &self.last_point[..];
         let slots = ROWS_PER_TASK * W;
@@ -324,7 +332,7 @@ impl Bridges {
             return;
         }
         let turn = self.step % SEARCH_TURNS;
-        self.list_wet(lay, state, held, capacity, &inv_mass, turn, pool);
+        self.list_wet(lay, state, held, capacity, turn, pool);
         self.step = self.step.wrapping_add(1);
         if self.point.len() < 2 {
             return;
@@ -449,6 +457,7 @@ impl Bridges {
             + 4 * (self.turn.capacity() + self.room.capacity())
             + self.searches.capacity()
             + self.wet_rows.capacity()
+            + self.free_lanes.capacity()
             + std::mem::size_of::<Near>() * self.near.capacity()
             + std::mem::size_of::<Pairs>() * self.pairs.capacity()
             + (4 * MAX_BRIDGES + 1) * self.found.capacity()
