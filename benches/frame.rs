@@ -450,7 +450,7 @@ fn print_pass_split(rows: &[(&str, &str, usize, Vec<PassTime>)]) {
         }
     }
     println!();
-    println!("Where the time goes (the step's own pass timers, ms per frame, mean; `blocks` is the block kernel: drag, springs, adhesion, integrate, collide):");
+    println!("Where the time goes (the step's own pass timers, ms per frame, mean; `blocks` is the block kernel: drag, springs, adhesion, integrate, collide, and on the CPU the bridges' pulls):");
     println!();
     println!("| scene | model | {} | sum |", names.join(" | "));
     println!("|---|---|{}---|", "---|".repeat(names.len()));

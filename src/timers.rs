@@ -24,9 +24,11 @@ pub enum Stage {
     Volume,
     /// Pass `water_grid`.
     WaterGrid,
-    /// Pass `cohesion`: the bridges' forces.
+    /// Pass `cohesion`: the bridges' pulls. On the CPU this stage is the wet points'
+    /// positions packed once a step; the block kernel pulls each substep (in `blocks`).
     Cohesion,
-    /// The block kernel (drag, springs, adhesion, integrate, collide).
+    /// The block kernel (drag, springs, adhesion, cohesion's pulls on the CPU, integrate,
+    /// collide).
     Blocks,
     /// Pass `absorb`.
     Absorb,

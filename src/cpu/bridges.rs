@@ -1,8 +1,11 @@
 //! Liquid bridges on the CPU (docs/WET_MODEL.md §5): a hashed grid over the wet hair points
 //! finds each point's nearest wet points of other strands (pass `hair_grid`, once per step,
 //! each point searched in turn); every substep each mutual pair pulls its two points together
-//! (pass `cohesion`), gathered per point into a force per row that the block kernel adds.
-//! Exists only when bridges are on.
+//! (pass `cohesion`). The pass packs the wet points' positions before the step's first
+//! substep; the block kernel gathers each of its wet points' pulls from them and, after its
+//! substep, writes its wet points' new positions for the next (`Cohesion`), so the positions
+//! are read from the state once a step instead of once a substep, and no force per row is
+//! written and read back. Exists only when bridges are on.
 
 use super::cohesion::{self, Pairs};
 use super::layout::{Layout, StateRow};
@@ -27,7 +30,7 @@ pub struct Bridges {
     grid: HashGrid,
     /// The wet free points (row index times `W` plus lane), in index order.
     point: Vec<u32>,
-    /// Last step's `point` (the points whose places and forces the listing clears).
+    /// Last step's `point` (the points whose places the listing clears).
     last_point: Vec<u32>,
     /// Scratch of the listing: per row, a bit per lane that takes part this step.
     wet_rows: Vec<u8>,
@@ -57,14 +60,17 @@ pub struct Bridges {
     n_pairs: usize,
     /// Scratch of the listing: each run of rows' first place among the wet points.
     run_start: Vec<u32>,
-    /// Scratch: what stiffness each wet point may still take, and its position at the
-    /// substep's start.
+    /// Scratch: what stiffness each wet point may still take.
     room: Vec<f32>,
+    /// The wet points' positions at the substep's start (by place in `point`), and where the
+    /// blocks write them at the substep's end for the next.
     xs: Vec<Vec3>,
+    xs_next: Vec<Vec3>,
+    /// Per block, its first wet point's place (its wet points are a run of `point`, which is
+    /// in index order); one more entry ends the last block's run.
+    block_start: Vec<u32>,
     /// Steps since the last reset (whose turn it is).
     step: u32,
-    /// Force per row, N (zero where no bridge acts).
-    pub force: Vec<L3>,
     /// Each point's length of hair, m, per row (half of each adjacent segment).
     length: Vec<[f32; W]>,
     /// Per point index: its host point index (the search turn and the nearest's tie-break,
@@ -120,8 +126,9 @@ impl Bridges {
             run_start: Vec::new(),
             room: Vec::new(),
             xs: Vec::new(),
+            xs_next: Vec::new(),
+            block_start: vec![0; lay.blocks + 1],
             step: 0,
-            force: vec![L3::ZERO; n_rows],
             length,
             host,
             kappa,
@@ -141,11 +148,10 @@ impl Bridges {
         self.step = 0;
     }
 
-    /// Drops the last step's wet points and pairs: their forces are zeroed and their places
-    /// unmapped (each point's nearest are kept for the search turns).
+    /// Drops the last step's wet points and pairs: their places are unmapped (each point's
+    /// nearest are kept for the search turns).
     fn forget_points(&mut self) {
         for &p in &self.point {
-            self.force[p as usize / W] = L3::ZERO;
             self.near[p as usize].local = u32::MAX;
         }
         self.point.clear();
@@ -154,6 +160,7 @@ impl Bridges {
         self.strand.clear();
         self.sat_len.clear();
         self.searches.clear();
+        self.block_start.iter_mut().for_each(|s| *s = 0);
         self.pairs.clear();
         self.n_pairs = 0;
     }
@@ -161,7 +168,7 @@ impl Bridges {
     /// Lists this step's wet free points (those holding water enough to bridge,
     /// [`wet::can_bridge`]) in index order with their positions, strands, saturations and
     /// lengths, and their places in `near`; a point listed last step forgets its place and
-    /// force, and its nearest too if it is no longer wet. Pinned points (roots) take no part:
+    /// place, and its nearest too if it is no longer wet. Pinned points (roots) take no part:
     /// a bridge cannot move them, and the scalp is where hair is densest. In two passes over
     /// runs of rows on the pool: mark each row's wet lanes and count them (reading only the
     /// held water, and last step's points), then fill each run's own part of the lists from
@@ -184,7 +191,7 @@ impl Bridges {
         let last = &self.last_point[..];
         let slots = ROWS_PER_TASK * W;
         // Pass 1: each row's wet lanes and each run's count; last step's points forget.
-        let mark = |c: usize, near: &mut [Near], force: &mut [L3], rows: &mut [u8], count: &mut u32| {
+        let mark = |c: usize, near: &mut [Near], rows: &mut [u8], count: &mut u32| {
             let r0 = c * ROWS_PER_TASK;
             *count = 0;
             for (k, m) in rows.iter_mut().enumerate() {
@@ -198,7 +205,6 @@ impl Bridges {
             let hi = lo + last[lo..].partition_point(|&p| (p as usize) < (r0 + rows.len()) * W);
             for &p in &last[lo..hi] {
                 let (k, l) = (p as usize - r0 * W, p as usize % W);
-                force[k / W].set(l, Vec3::ZERO);
                 near[k].local = u32::MAX;
                 if rows[k / W] & (1 << l) == 0 {
                     near[k].n = 0;
@@ -208,28 +214,33 @@ impl Bridges {
         let runs = self.near.len().div_ceil(slots);
         self.run_start.clear();
         self.run_start.resize(runs, 0);
-        let (near, force, rows, counts) = (&mut self.near, &mut self.force, &mut self.wet_rows, &mut self.run_start);
+        let (near, rows, counts) = (&mut self.near, &mut self.wet_rows, &mut self.run_start);
         match pool {
             Some(pool) => pool.install(|| {
                 near.par_chunks_mut(slots)
-                    .zip(force.par_chunks_mut(ROWS_PER_TASK))
                     .zip(rows.par_chunks_mut(ROWS_PER_TASK))
                     .zip(counts.par_iter_mut())
                     .enumerate()
-                    .for_each(|(c, (((n, f), m), k))| mark(c, n, f, m, k))
+                    .for_each(|(c, ((n, m), k))| mark(c, n, m, k))
             }),
             None => near
                 .chunks_mut(slots)
-                .zip(force.chunks_mut(ROWS_PER_TASK))
                 .zip(rows.chunks_mut(ROWS_PER_TASK))
                 .zip(counts.iter_mut())
                 .enumerate()
-                .for_each(|(c, (((n, f), m), k))| mark(c, n, f, m, k)),
+                .for_each(|(c, ((n, m), k))| mark(c, n, m, k)),
         }
         let mut total = 0;
         for c in self.run_start.iter_mut() {
             (*c, total) = (total, total + *c);
         }
+        // Each block's first wet point (a byte per row: fast next to the passes above).
+        let mut first = 0u32;
+        for (b, rows) in self.wet_rows.chunks(lay.rows).enumerate() {
+            self.block_start[b] = first;
+            first += rows.iter().map(|m| m.count_ones()).sum::<u32>();
+        }
+        self.block_start[lay.blocks] = first;
         let total = total as usize;
         self.point.resize(total, 0);
         self.pos.resize(total, Vec3::ZERO);
@@ -414,40 +425,55 @@ impl Bridges {
         for_chunks(pool, &mut self.pairs, CHUNK, coef);
     }
 
-    /// Pass `cohesion`: each wet point's pull toward its bridged neighbours at the substep's
-    /// start, `c (1 - r / d_b) (x_j - x_i)` for `r < d_b`, summed in neighbour order (point by
-    /// point in parallel) into the row force. Each pair's two forces are exact negatives.
-    /// With `ahead` > 0 (BDF2: the substep) the points are taken at `x + ahead v`
-    /// (physics/bdf2.rs `explicit_point` says why).
-    pub fn gather(&mut self, state: &[StateRow], ahead: f32, pool: Option<&Pool>, avx2: bool) {
-        // The wet points' positions, packed: the pairs then read neighbours from cache.
+    /// Pass `cohesion`, its part before the substeps: packs the wet points' positions at the
+    /// step's start (with `ahead` > 0, BDF2's, at `x + ahead v`: physics/bdf2.rs
+    /// `explicit_point` says why), read by the block kernel's pulls ([`Cohesion`]). The
+    /// kernel writes the later substeps' positions itself.
+    pub fn pack(&mut self, state: &[StateRow], ahead: f32, pool: Option<&Pool>) {
         self.xs.clear();
         self.xs.resize(self.point.len(), Vec3::ZERO);
         let point = &self.point;
         let pack = |i0: usize, out: &mut [Vec3]| {
             for (k, x) in out.iter_mut().enumerate() {
                 let p = point[i0 + k] as usize;
-                let r = &state[p / W];
-                *x = if ahead == 0.0 {
-                    r.x.get(p % W)
-                } else {
-                    r.x.get(p % W) + ahead * r.v.get(p % W)
-                };
+                *x = position_ahead(&state[p / W], p % W, ahead);
             }
         };
         for_chunks(pool, &mut self.xs, 4 * CHUNK, pack);
-        // Row by row in parallel: each task writes the forces of its rows' wet points (the
-        // wet points are in index order, so a run of rows holds a run of them).
-        let (xs, pairs, d_b) = (&self.xs, &self.pairs, self.d_b);
-        let pull = |r0: usize, rows: &mut [L3]| {
-            let lo = point.partition_point(|&p| (p as usize) < r0 * W);
-            let hi = lo + point[lo..].partition_point(|&p| (p as usize) < (r0 + rows.len()) * W);
-            cohesion::pull_range(lo..hi, xs, pairs, d_b, avx2, |i, f| {
-                let p = point[i] as usize;
-                rows[p / W - r0].set(p % W, f);
-            });
+        // The blocks a step leaves out (guides beyond a lowered simulated fraction) do not
+        // move, so both buffers hold their positions from here on.
+        self.xs_next.clear();
+        self.xs_next.extend_from_slice(&self.xs);
+    }
+
+    /// What the block kernel reads to pull its wet points this substep, and where it writes
+    /// their positions for the next: `next` cut into each chunk's run (`chunk_blocks` blocks a
+    /// chunk).
+    pub fn cohesion(&mut self, ahead: f32, chunk_blocks: usize) -> (Cohesion<'_>, Vec<&mut [Vec3]>) {
+        let starts = &self.block_start;
+        let blocks = starts.len() - 1;
+        let mut next = Vec::with_capacity(blocks.div_ceil(chunk_blocks.max(1)));
+        let mut rest = &mut self.xs_next[..];
+        for b0 in (0..blocks).step_by(chunk_blocks.max(1)) {
+            let b1 = (b0 + chunk_blocks).min(blocks);
+            let (part, tail) = std::mem::take(&mut rest).split_at_mut((starts[b1] - starts[b0]) as usize);
+            next.push(part);
+            rest = tail;
+        }
+        let c = Cohesion {
+            xs: &self.xs,
+            pairs: &self.pairs,
+            point: &self.point,
+            block_start: starts,
+            d_b: self.d_b,
+            ahead,
         };
-        for_chunks(pool, &mut self.force, ROWS_PER_TASK, pull);
+        (c, next)
+    }
+
+    /// The positions the blocks wrote become the next substep's.
+    pub fn next_substep(&mut self) {
+        std::mem::swap(&mut self.xs, &mut self.xs_next);
     }
 
     /// Bytes held.
@@ -461,11 +487,72 @@ impl Bridges {
             + std::mem::size_of::<Near>() * self.near.capacity()
             + std::mem::size_of::<Pairs>() * self.pairs.capacity()
             + (4 * MAX_BRIDGES + 1) * self.found.capacity()
-            + 12 * (self.pos.capacity() + self.xs.capacity())
+            + 12 * (self.pos.capacity() + self.xs.capacity() + self.xs_next.capacity())
+            + 4 * self.block_start.capacity()
             + 8 * self.sat_len.capacity()
-            + std::mem::size_of::<L3>() * self.force.capacity()
             + 4 * W * self.length.capacity()
             + 4 * self.host.capacity()
+    }
+}
+
+/// Lane `l` of a row's position, `ahead` of it along its velocity when `ahead` > 0.
+#[inline(always)]
+fn position_ahead(r: &StateRow, l: usize, ahead: f32) -> Vec3 {
+    if ahead == 0.0 {
+        r.x.get(l)
+    } else {
+        r.x.get(l) + ahead * r.v.get(l)
+    }
+}
+
+/// The bridges as the block kernel reads them in a substep: the wet points' positions at its
+/// start, their pairs, their point indices, each block's run of them.
+pub struct Cohesion<'a> {
+    xs: &'a [Vec3],
+    pairs: &'a [Pairs],
+    point: &'a [u32],
+    block_start: &'a [u32],
+    d_b: f32,
+    ahead: f32,
+}
+
+impl Cohesion<'_> {
+    /// Places of block `b`'s wet points.
+    #[inline]
+    pub fn block(&self, b: usize) -> std::ops::Range<usize> {
+        self.block_start[b] as usize..self.block_start[b + 1] as usize
+    }
+
+    /// Adds to `f` (block `b`'s rows, from row `base`) the pull on each of its wet points:
+    /// `c (1 - r / d_b) (x_j - x_i)` for `r < d_b`, summed in neighbour order (each pair's two
+    /// pulls exact negatives), eight points at a time. Not inlined: in the block kernel it
+    /// pushed the implicit solver's inner closures out of line, and out of its AVX2 build.
+    #[inline(never)]
+    pub fn pull_block(&self, b: usize, base: usize, avx2: bool, f: &mut [L3]) {
+        let point = self.point;
+        cohesion::pull_range(self.block(b), self.xs, self.pairs, self.d_b, avx2, |i, pull| {
+            let p = point[i] as usize;
+            let (r, l) = (p / W - base, p % W);
+            f[r].x[l] += pull.x;
+            f[r].y[l] += pull.y;
+            f[r].z[l] += pull.z;
+        });
+    }
+
+    /// Writes block `b`'s wet points' positions (after its substep) into `next`, this chunk's
+    /// run starting at the place `first`.
+    #[inline(always)]
+    pub fn write_next(&self, b: usize, rows: &[StateRow], base: usize, first: usize, next: &mut [Vec3]) {
+        for i in self.block(b) {
+            let p = self.point[i] as usize;
+            next[i - first] = position_ahead(&rows[p / W - base], p % W, self.ahead);
+        }
+    }
+
+    /// The place of the first wet point of block `b` (a chunk's run of `next` starts there).
+    #[inline]
+    pub fn first_of(&self, b: usize) -> usize {
+        self.block_start[b] as usize
     }
 }
 
@@ -561,4 +648,90 @@ fn nearest_of(grid: &HashGrid, x: Vec3, c: &Candidates, own: u32, reach: f32, ou
     out[..n].copy_from_slice(&best.1[..n]);
     out[..n].sort_unstable();
     n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::{HeldWater, SimParams};
+
+    /// The positions the blocks write after a substep are the next substep's, and a block
+    /// that does not run (a guide beyond a lowered simulated fraction) keeps the step's: every
+    /// block's pulls then equal those packed afresh from the moved state, bit for bit.
+    #[test]
+    fn positions_written_by_the_blocks_are_the_next_substeps() {
+        // Dense enough that soaked points of different strands lie within the bridge length.
+        let groom = crate::groom::paper_scene(10_000, 6).unwrap();
+        let params = SimParams {
+            held_water: HeldWater::ON,
+            ..SimParams::paper()
+        };
+        let lay = Layout::new(&groom, &params);
+        let mut held = super::super::held::Held::new(&lay, params.held_water);
+        held.soak(1.0);
+        let start = lay.rest_state(&glam::Affine3A::IDENTITY);
+        let hw = &params.held_water;
+        let d_b = hw.bridge_length_for(&params.water);
+        let inv_mass = |r: usize, l: usize| lay.params[r].inv_mass[l];
+        let found = || {
+            let mut b = Bridges::new(&lay, hw.bridge_tension, d_b);
+            b.find_pairs(
+                &lay,
+                &start,
+                &held.water,
+                &held.capacity,
+                inv_mass,
+                1.0 / 240.0,
+                true,
+                None,
+            );
+            b
+        };
+        let (mut blocks_wrote, mut truth) = (found(), found());
+        assert!(blocks_wrote.active(), "the soaked scene bridges");
+        // One substep: every block but the last chunk's moves and writes its positions.
+        let (rows, chunk) = (lay.rows, 7);
+        let active = lay.blocks - lay.blocks % chunk - chunk;
+        let mut moved = start.clone();
+        for (r, row) in moved.iter_mut().enumerate().take(active * rows) {
+            for l in 0..W {
+                row.x.x[l] += 1.0e-4 * ((r + l) % 7) as f32;
+                row.x.z[l] -= 2.0e-4 * ((r * 3 + l) % 5) as f32;
+            }
+        }
+        blocks_wrote.pack(&start, 0.0, None);
+        {
+            let (c, mut next) = blocks_wrote.cohesion(0.0, chunk);
+            for (k, part) in next.iter_mut().enumerate().take(active / chunk) {
+                let first = k * chunk;
+                for b in first..first + chunk {
+                    c.write_next(b, &moved[b * rows..(b + 1) * rows], b * rows, c.first_of(first), part);
+                }
+            }
+        }
+        blocks_wrote.next_substep();
+        truth.pack(&moved, 0.0, None);
+        let (c, _) = blocks_wrote.cohesion(0.0, chunk);
+        let (t, _) = truth.cohesion(0.0, chunk);
+        let mut pulled = 0;
+        for b in 0..lay.blocks {
+            let (mut got, mut want) = (vec![L3::ZERO; rows], vec![L3::ZERO; rows]);
+            c.pull_block(b, b * rows, false, &mut got);
+            t.pull_block(b, b * rows, false, &mut want);
+            let bits = |f: &[L3]| {
+                f.iter()
+                    .flat_map(|r| [r.x, r.y, r.z])
+                    .flatten()
+                    .map(f32::to_bits)
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&got), bits(&want), "block {b}");
+            pulled += got.iter().any(|r| *r != L3::ZERO) as usize;
+        }
+        assert!(
+            pulled > lay.blocks / 2,
+            "most blocks are pulled ({pulled} of {})",
+            lay.blocks
+        );
+    }
 }

@@ -68,8 +68,8 @@ pub(super) struct Ctx<'a> {
     pub(super) drag: f32,
     /// The wind this step, m/s (drag pulls hair toward it).
     pub(super) wind: [f32; 3],
-    /// Liquid-bridge force per row (held water with bridges, some point wet).
-    pub(super) cohesion: Option<&'a [L3]>,
+    /// The liquid bridges (held water with bridges, some pair found).
+    pub(super) cohesion: Option<&'a super::bridges::Cohesion<'a>>,
     pub(super) bend: bool,
     pub(super) heads: &'a [Affine3A],
     pub(super) placed: &'a [Placed],
@@ -287,15 +287,10 @@ fn block_substep_impl<const AXIAL: bool>(
             }
         }
     }
-    // Pass: cohesion (liquid bridges, gathered per point before the blocks ran).
+    // Pass: cohesion (liquid bridges: each wet point's pull from its neighbours' positions at
+    // the substep's start).
     if let Some(c) = ctx.cohesion {
-        for (fi, ci) in f.iter_mut().zip(&c[base..base + p]) {
-            for l in 0..W {
-                fi.x[l] += ci.x[l];
-                fi.y[l] += ci.y[l];
-                fi.z[l] += ci.z[l];
-            }
-        }
+        c.pull_block(b, base, ctx.avx2, f);
     }
     // Pass: integrate; pinned points take the head's target (or their root frame's).
     let head = &ctx.heads[s];

@@ -449,18 +449,18 @@ impl CpuBackend {
                     self.water.as_mut().expect("wet").grid_build(); // pass water_grid
                     self.clock.stop(Stage::WaterGrid, t);
                 }
-                if bridging {
+                if bridging && s == 0 {
                     let t = self.clock.start();
                     let pool = self.pool.as_ref();
-                    self.bridges
-                        .as_mut()
-                        .expect("bridging")
-                        .gather(&self.state, ahead, pool, self.avx2);
-                    self.clock.stop(Stage::Cohesion, t); // pass cohesion
+                    self.bridges.as_mut().expect("bridging").pack(&self.state, ahead, pool);
+                    self.clock.stop(Stage::Cohesion, t); // pass cohesion (the blocks pull)
                 }
                 let t = self.clock.start();
                 self.run_blocks(s..s + 1, h, wet, bridging, axial);
                 self.clock.stop(Stage::Blocks, t);
+                if bridging {
+                    self.bridges.as_mut().expect("bridging").next_substep();
+                }
                 if !wet {
                     continue;
                 }
@@ -547,6 +547,18 @@ impl CpuBackend {
         let p = &self.params;
         let water = if wet { self.water.as_ref() } else { None };
         let held = self.held.as_ref();
+        let rows = self.lay.rows;
+        let per_chunk = self.active_blocks.div_ceil(self.workers.len()).max(1);
+        // The bridges' positions at the substep's start, and each chunk's run of where its
+        // blocks write theirs for the next.
+        let ahead = crate::physics::bdf2::explicit_lead(self.integrator, h);
+        let (cohesion, next) = match self.bridges.as_mut().filter(|_| bridging) {
+            Some(b) => {
+                let (c, n) = b.cohesion(ahead, per_chunk);
+                (Some(c), n)
+            }
+            None => (None, Vec::new()),
+        };
         let ctx = Ctx {
             integrator: self.integrator,
             solver_iterations: p.solver_iterations,
@@ -558,11 +570,7 @@ impl CpuBackend {
             g: p.gravity.to_array(),
             drag: p.air_drag,
             wind: self.wind.to_array(),
-            cohesion: if bridging {
-                self.bridges.as_ref().map(|b| &b.force[..])
-            } else {
-                None
-            },
+            cohesion: cohesion.as_ref(),
             bend: has_bend(p, self.lay.rows),
             heads: &self.heads,
             placed: &self.placed,
@@ -593,9 +601,12 @@ impl CpuBackend {
                 }),
             }),
         };
-        let rows = self.lay.rows;
-        let per_chunk = self.active_blocks.div_ceil(self.workers.len()).max(1);
-        let run = |k: usize, state: &mut [StateRow], wet: &mut [Lane], history: &mut [Bdf2Row], worker: &mut Worker| {
+        let run = |k: usize,
+                   state: &mut [StateRow],
+                   wet: &mut [Lane],
+                   history: &mut [Bdf2Row],
+                   worker: &mut Worker,
+                   next: &mut [Vec3]| {
             worker.reactions.clear();
             worker.demands.clear();
             let first = k * per_chunk;
@@ -617,6 +628,11 @@ impl CpuBackend {
                         block_substep::<false>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
                     }
                 }
+                // The bridges' positions for the next substep (bridges run in lock step: one
+                // substep here); this chunk's run of them starts at its first block's.
+                if let Some(c) = ctx.cohesion {
+                    c.write_next(first + j, rows_b, (first + j) * rows, c.first_of(first), next);
+                }
             }
         };
         let chunk_rows = per_chunk * rows;
@@ -633,15 +649,16 @@ impl CpuBackend {
             &mut self.history[..n_hist],
             &mut self.workers,
         );
-        let mut body = || {
+        let body = || {
             let n = state.len().div_ceil(chunk_rows);
             state
                 .par_chunks_mut(chunk_rows)
                 .zip(chunks_or_empty(wet_rows, chunk_rows, n))
                 .zip(chunks_or_empty(history, chunk_rows, n))
                 .zip(workers.par_iter_mut())
+                .zip(parts_or_empty(next, n))
                 .enumerate()
-                .for_each(|(k, (((s, wt), hs), w))| run(k, s, wt, hs, w));
+                .for_each(|(k, ((((s, wt), hs), w), x))| run(k, s, wt, hs, w, x));
         };
         match &self.pool {
             Some(pool) => pool.install(body),
@@ -752,6 +769,15 @@ fn chunks_or_empty<T: Send>(v: &mut [T], size: usize, n: usize) -> impl IndexedP
         rayon::iter::Either::Right((0..n).into_par_iter().map(|_| <&mut [T]>::default()))
     } else {
         rayon::iter::Either::Left(v.par_chunks_mut(size))
+    }
+}
+
+/// `parts` (one per chunk), or `n` empty slices when there are none (no bridges this substep).
+fn parts_or_empty<T: Send>(parts: Vec<&mut [T]>, n: usize) -> impl IndexedParallelIterator<Item = &mut [T]> {
+    if parts.is_empty() {
+        rayon::iter::Either::Right((0..n).into_par_iter().map(|_| <&mut [T]>::default()))
+    } else {
+        rayon::iter::Either::Left(parts.into_par_iter())
     }
 }
 

@@ -62,9 +62,12 @@ pub struct BandScratch {
 }
 
 /// `f` of each lane: a line of lane arithmetic written once, which the compiler runs as one
-/// vector operation. (Generic over `f` instead, it came out 10% slower on the implicit step.)
+/// vector operation. Generic over `f`: taking `&dyn Fn` (once measured 10% faster) relied on
+/// the compiler seeing through each call, and a change elsewhere in the block kernel made it
+/// stop: every lane became an indirect call, out of the kernel's AVX2 build (BDF2 on the wet
+/// paper scene 16 -> 25 ms of blocks a frame). Generic, the dry implicit step measured the same.
 #[inline(always)]
-fn lanes(f: &dyn Fn(usize) -> f64) -> LaneD {
+fn lanes(f: &impl Fn(usize) -> f64) -> LaneD {
     std::array::from_fn(f)
 }
 
