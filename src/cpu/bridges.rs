@@ -69,6 +69,8 @@ pub struct Bridges {
     /// Per block, its first wet point's place (its wet points are a run of `point`, which is
     /// in index order); one more entry ends the last block's run.
     block_start: Vec<u32>,
+    /// How far along its velocity a point is taken this step (BDF2's substep, else 0).
+    ahead: f32,
     /// Steps since the last reset (whose turn it is).
     step: u32,
     /// Each point's length of hair, m, per row (half of each adjacent segment).
@@ -128,6 +130,7 @@ impl Bridges {
             xs: Vec::new(),
             xs_next: Vec::new(),
             block_start: vec![0; lay.blocks + 1],
+            ahead: 0.0,
             step: 0,
             length,
             host,
@@ -430,6 +433,7 @@ impl Bridges {
     /// `explicit_point` says why), read by the block kernel's pulls ([`Cohesion`]). The
     /// kernel writes the later substeps' positions itself.
     pub fn pack(&mut self, state: &[StateRow], ahead: f32, pool: Option<&Pool>) {
+        self.ahead = ahead;
         self.xs.clear();
         self.xs.resize(self.point.len(), Vec3::ZERO);
         let point = &self.point;
@@ -449,7 +453,7 @@ impl Bridges {
     /// What the block kernel reads to pull its wet points this substep, and where it writes
     /// their positions for the next: `next` cut into each chunk's run (`chunk_blocks` blocks a
     /// chunk).
-    pub fn cohesion(&mut self, ahead: f32, chunk_blocks: usize) -> (Cohesion<'_>, Vec<&mut [Vec3]>) {
+    pub fn cohesion(&mut self, chunk_blocks: usize) -> (Cohesion<'_>, Vec<&mut [Vec3]>) {
         let starts = &self.block_start;
         let blocks = starts.len() - 1;
         let mut next = Vec::with_capacity(blocks.div_ceil(chunk_blocks.max(1)));
@@ -466,7 +470,7 @@ impl Bridges {
             point: &self.point,
             block_start: starts,
             d_b: self.d_b,
-            ahead,
+            ahead: self.ahead,
         };
         (c, next)
     }
@@ -701,7 +705,7 @@ mod tests {
         }
         blocks_wrote.pack(&start, 0.0, None);
         {
-            let (c, mut next) = blocks_wrote.cohesion(0.0, chunk);
+            let (c, mut next) = blocks_wrote.cohesion(chunk);
             for (k, part) in next.iter_mut().enumerate().take(active / chunk) {
                 let first = k * chunk;
                 for b in first..first + chunk {
@@ -711,8 +715,8 @@ mod tests {
         }
         blocks_wrote.next_substep();
         truth.pack(&moved, 0.0, None);
-        let (c, _) = blocks_wrote.cohesion(0.0, chunk);
-        let (t, _) = truth.cohesion(0.0, chunk);
+        let (c, _) = blocks_wrote.cohesion(chunk);
+        let (t, _) = truth.cohesion(chunk);
         let mut pulled = 0;
         for b in 0..lay.blocks {
             let (mut got, mut want) = (vec![L3::ZERO; rows], vec![L3::ZERO; rows]);

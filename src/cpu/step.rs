@@ -551,10 +551,9 @@ impl CpuBackend {
         let per_chunk = self.active_blocks.div_ceil(self.workers.len()).max(1);
         // The bridges' positions at the substep's start, and each chunk's run of where its
         // blocks write theirs for the next.
-        let ahead = crate::physics::bdf2::explicit_lead(self.integrator, h);
         let (cohesion, next) = match self.bridges.as_mut().filter(|_| bridging) {
             Some(b) => {
-                let (c, n) = b.cohesion(ahead, per_chunk);
+                let (c, n) = b.cohesion(per_chunk);
                 (Some(c), n)
             }
             None => (None, Vec::new()),
