@@ -4,7 +4,7 @@
 //! room for n particles; `PREFILTER=1`: the water grid's prefilter and candidate counts at the end;
 //! `GUIDES=n`: every n-th strand a guide; `VOLUME=1`: hair-hair volume; `WRITE=1`: also copy
 //! the vertices to the host each frame, timed apart; `INTEGRATOR=n`: the integrator by number,
-//! with `ITERATIONS=n` Newton iterations; `HASH=1`: a hash of the positions at the end).
+//! with `ITERATIONS=n` Newton iterations; `HASH=1`: a hash of the positions at the end; `CLUMP=1`: the clumping measures at the end).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -137,6 +137,14 @@ fn main() {
                 (h ^ v.to_bits() as u64).wrapping_mul(0x0100_0000_01b3)
             });
         println!("positions hash {h:016x}");
+    }
+    // CLUMP=1: the clumping measures at the end (tips, and along the strands), m.
+    if std::env::var_os("CLUMP").is_some() {
+        let st = sim.stats();
+        println!(
+            "clumping {:.6} m at the tips, {:.6} m along the strands",
+            st.clumping, st.clumping_along
+        );
     }
     println!("{:.3} ms/frame, {} particles held", ms, sim.stats().particles);
 }

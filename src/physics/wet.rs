@@ -133,11 +133,13 @@ pub fn bridge_stiffness(kappa: f32, len: f32, s_i: f32, s_j: f32, d_b: f32) -> f
 }
 
 /// A point takes part in liquid bridges only while it holds at least one part in this many of
-/// its capacity (1 %): less is a film too thin to span the gap to another fibre (its pull
-/// would be at most 1 % of a soaked pair's). Flow leaves such traces along every strand the
-/// water ran down; on the paper scene 200 frames after a soaking they are four wet points in
-/// five, so leaving them out is most of what the bridges' search and bookkeeping cost.
-pub const BRIDGE_MIN_PARTS: u32 = 100;
+/// its capacity (5 %): less is a film too thin to span the gap to another fibre (its pull
+/// would be at most 5 % of a soaked pair's). Flow and light rain leave such films along every
+/// strand the water ran down: on the paper scene 200 frames after a soaking four wet points in
+/// five hold under 1 %, and on a 100,000-strand groom after 100 frames of rain seven bridging
+/// points in eight held under 5 %, so leaving them out is most of what the bridges' search
+/// and bookkeeping cost (docs/WET_MODEL.md §5 has the figures).
+pub const BRIDGE_MIN_PARTS: u32 = 20;
 
 /// Whether a point holding `held` of its `capacity` quanta takes part in liquid bridges:
 /// any water, and at least `capacity / BRIDGE_MIN_PARTS` rounded up (integers, so both
@@ -503,14 +505,15 @@ mod tests {
         }
     }
 
-    /// At least one part in a hundred of the capacity, rounded up, and never a dry point.
+    /// At least one part in twenty of the capacity, rounded up, and never a dry point.
     #[test]
-    fn a_point_bridges_from_one_per_cent_of_its_capacity() {
-        assert!(!can_bridge(0, 1000) && !can_bridge(9, 1000) && can_bridge(10, 1000));
-        assert!(!can_bridge(1, 101) && can_bridge(2, 101));
-        assert!(can_bridge(1, 100) && can_bridge(1, 1) && can_bridge(1, 0) && !can_bridge(0, 0));
+    fn a_point_bridges_from_five_per_cent_of_its_capacity() {
+        assert_eq!(BRIDGE_MIN_PARTS, 20);
+        assert!(!can_bridge(0, 1000) && !can_bridge(49, 1000) && can_bridge(50, 1000));
+        assert!(!can_bridge(5, 101) && can_bridge(6, 101));
+        assert!(can_bridge(1, 20) && can_bridge(1, 1) && can_bridge(1, 0) && !can_bridge(0, 0));
         let big = 1u32 << 31;
-        assert!(!can_bridge(big / 100, big) && can_bridge(big / 100 + 1, big));
+        assert!(!can_bridge(big / 20, big) && can_bridge(big / 20 + 1, big));
     }
 
     /// The series agrees with `exp_m1` to a few units in the last place, and the quanta it
