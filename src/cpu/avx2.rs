@@ -40,3 +40,24 @@ macro_rules! avx2_or_base {
     };
 }
 pub(crate) use avx2_or_base;
+
+/// Runs `f` compiled for AVX2 when `avx2` (a flag taken from [`cpu_has_avx2`]), else as it
+/// is: for a pass's per-task closure, which the pool would otherwise run compiled for the
+/// baseline. Mark the closure `#[inline(always)]`: inlined into the wrapper it takes the
+/// wrapper's features (left out of line, as LLVM leaves a closure called from both builds,
+/// it stays a baseline function). Both builds give the same bits: neither contracts a multiply and
+/// an add.
+#[inline(always)]
+pub(crate) fn run_avx2_or_base<R>(avx2: bool, f: impl FnOnce() -> R) -> R {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        #[target_feature(enable = "avx2")]
+        unsafe fn run<R>(f: impl FnOnce() -> R) -> R {
+            f()
+        }
+        // SAFETY: `avx2` comes from `cpu_has_avx2` (`is_x86_feature_detected!("avx2")`).
+        return unsafe { run(f) };
+    }
+    let _ = avx2;
+    f()
+}

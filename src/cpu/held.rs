@@ -3,6 +3,7 @@
 //! dry mass plus its water, the drying pass, and the ledger. Exists only when the scene has
 //! held water switched on.
 
+use super::avx2::{cpu_has_avx2, run_avx2_or_base};
 use super::layout::{Layout, ParamRow, StateRow};
 use super::pool::{for_chunks, for_chunks2, Pool};
 use super::water::Water;
@@ -51,6 +52,9 @@ pub struct Held {
     may_hold: bool,
     /// Whether some row's parameters may differ from the layout's (a refresh that saw water).
     params_wet_any: bool,
+    /// Whether the per-point passes run compiled for AVX2 ([`cpu_has_avx2`]): their lanes
+    /// (the rates' square roots, the divides, the series in f64) then run eight or four wide.
+    avx2: bool,
 }
 
 /// What one task of the flow pass works in: one block's positions and accelerations.
@@ -98,6 +102,7 @@ impl Held {
             drip_lanes: if cfg.drips() { vec![0; lay.blocks] } else { Vec::new() },
             may_hold: false,
             params_wet_any: false,
+            avx2: cpu_has_avx2(),
         }
     }
 
@@ -112,34 +117,40 @@ impl Held {
         self.params_wet_any = self.may_hold;
         let limp = self.cfg.limp();
         let (water, capacity, dry_mass) = (&self.water, &self.capacity, &self.dry_mass);
-        let (rows, ratio) = (lay.rows, self.cfg.wet_bend_ratio);
+        let (rows, ratio, avx2) = (lay.rows, self.cfg.wet_bend_ratio, self.avx2);
         let refresh = |r0: usize, out: &mut [ParamRow], was_wet: &mut [bool]| {
-            for (k, (row, was_wet)) in out.iter_mut().zip(was_wet).enumerate() {
-                let (r, i) = (r0 + k, (r0 + k) % rows);
-                let holds = |r: usize| water[r] != [0; W];
-                let wet = holds(r) || (limp && i + 2 < rows && holds(r + 2));
-                if !wet && !*was_wet {
-                    continue; // still the layout's values
-                }
-                *was_wet = wet;
-                // Each lane computed, then chosen: branch-free, so the eight lanes' divides
-                // run as vectors (a divide per point was most of the pass).
-                for l in 0..W {
-                    let dry_inv = lay.params[r].inv_mass[l];
-                    let q = water[r][l];
-                    let wet_inv = (1.0 / (dry_mass[r][l] as f64 + wet::to_kg(q))) as f32;
-                    row.inv_mass[l] = if dry_inv == 0.0 || q == 0 { dry_inv } else { wet_inv };
-                }
-                if limp && i + 2 < rows {
-                    for l in 0..W {
-                        let s_a = wet::saturation(water[r][l], capacity[r][l]);
-                        let s_b = wet::saturation(water[r + 2][l], capacity[r + 2][l]);
-                        let k = lay.params[r].bend.k[l];
-                        let wet_k = k * wet::bend_scale(0.5 * (s_a + s_b), ratio);
-                        row.bend.k[l] = if s_a + s_b == 0.0 { k } else { wet_k };
+            run_avx2_or_base(
+                avx2,
+                #[inline(always)]
+                || {
+                    for (k, (row, was_wet)) in out.iter_mut().zip(was_wet).enumerate() {
+                        let (r, i) = (r0 + k, (r0 + k) % rows);
+                        let holds = |r: usize| water[r] != [0; W];
+                        let wet = holds(r) || (limp && i + 2 < rows && holds(r + 2));
+                        if !wet && !*was_wet {
+                            continue; // still the layout's values
+                        }
+                        *was_wet = wet;
+                        // Each lane computed, then chosen: branch-free, so the eight lanes' divides
+                        // run as vectors (a divide per point was most of the pass).
+                        for l in 0..W {
+                            let dry_inv = lay.params[r].inv_mass[l];
+                            let q = water[r][l];
+                            let wet_inv = (1.0 / (dry_mass[r][l] as f64 + wet::to_kg(q))) as f32;
+                            row.inv_mass[l] = if dry_inv == 0.0 || q == 0 { dry_inv } else { wet_inv };
+                        }
+                        if limp && i + 2 < rows {
+                            for l in 0..W {
+                                let s_a = wet::saturation(water[r][l], capacity[r][l]);
+                                let s_b = wet::saturation(water[r + 2][l], capacity[r + 2][l]);
+                                let k = lay.params[r].bend.k[l];
+                                let wet_k = k * wet::bend_scale(0.5 * (s_a + s_b), ratio);
+                                row.bend.k[l] = if s_a + s_b == 0.0 { k } else { wet_k };
+                            }
+                        }
                     }
-                }
-            }
+                },
+            )
         };
         let size = rows * BLOCKS_PER_TASK;
         for_chunks2(pool, &mut self.params, &mut self.params_wet, size, refresh);
@@ -179,36 +190,42 @@ impl Held {
         if self.v0.is_empty() || !self.may_hold {
             return;
         }
-        let (v0, mob, rows) = (&self.v0, self.cfg.flow_mobility, lay.rows);
+        let (v0, mob, rows, avx2) = (&self.v0, self.cfg.flow_mobility, lay.rows, self.avx2);
         // One task per run of blocks; each block's eight strands flow at once.
         let run = |r0: usize, water: &mut [[u32; W]], t: &mut FlowTask| {
-            for (b, water) in water.chunks_mut(rows).enumerate() {
-                if water.iter().all(|w| w.iter().all(|&q| q == 0)) {
-                    continue;
-                }
-                let rb = r0 + b * rows;
-                let mut n = [0usize; W];
-                for (l, n) in n.iter_mut().enumerate() {
-                    let s = lay.strand_of_slot[(rb / rows) * W + l] as usize;
-                    if s < lay.strands {
-                        *n = lay.strand_points(s);
+            run_avx2_or_base(
+                avx2,
+                #[inline(always)]
+                || {
+                    for (b, water) in water.chunks_mut(rows).enumerate() {
+                        if water.iter().all(|w| w.iter().all(|&q| q == 0)) {
+                            continue;
+                        }
+                        let rb = r0 + b * rows;
+                        let mut n = [0usize; W];
+                        for (l, n) in n.iter_mut().enumerate() {
+                            let s = lay.strand_of_slot[(rb / rows) * W + l] as usize;
+                            if s < lay.strands {
+                                *n = lay.strand_points(s);
+                            }
+                        }
+                        t.x.clear();
+                        t.a.clear();
+                        for (r, s) in state[rb..rb + rows].iter().enumerate() {
+                            t.x.push(s.x);
+                            let v0 = &v0[rb + r];
+                            let mut a = L3::ZERO;
+                            for l in 0..W {
+                                a.x[l] = (s.v.x[l] - v0.x[l]) / dt;
+                                a.y[l] = (s.v.y[l] - v0.y[l]) / dt;
+                                a.z[l] = (s.v.z[l] - v0.z[l]) / dt;
+                            }
+                            t.a.push(a);
+                        }
+                        wet::flow_lanes(water, &t.x, &t.a, &n, g, mob, dt, &mut t.scratch);
                     }
-                }
-                t.x.clear();
-                t.a.clear();
-                for (r, s) in state[rb..rb + rows].iter().enumerate() {
-                    t.x.push(s.x);
-                    let v0 = &v0[rb + r];
-                    let mut a = L3::ZERO;
-                    for l in 0..W {
-                        a.x[l] = (s.v.x[l] - v0.x[l]) / dt;
-                        a.y[l] = (s.v.y[l] - v0.y[l]) / dt;
-                        a.z[l] = (s.v.z[l] - v0.z[l]) / dt;
-                    }
-                    t.a.push(a);
-                }
-                wet::flow_lanes(water, &t.x, &t.a, &n, g, mob, dt, &mut t.scratch);
-            }
+                },
+            )
         };
         let size = rows * BLOCKS_PER_TASK;
         let (water, tasks) = (&mut self.water, &mut self.flow_tasks);
@@ -308,29 +325,35 @@ impl Held {
         if self.cfg.dry_time <= 0.0 || !self.may_hold {
             return;
         }
-        let (tau, u_ref) = (self.cfg.dry_time, self.cfg.dry_air_speed);
+        let (tau, u_ref, avx2) = (self.cfg.dry_time, self.cfg.dry_air_speed, self.avx2);
         // What a run of rows loses (a sum of integers: the same in any order).
         let dry = |r0: usize, water: &mut [[u32; W]]| -> u64 {
-            let mut lost = 0;
-            for (w, r) in water.iter_mut().zip(&state[r0..]) {
-                if w.iter().all(|&q| q == 0) {
-                    continue;
-                }
-                // The row's rates as one vector: `(wind - v).length()` component by
-                // component as glam computes it, so the bits are the same.
-                let mut k = [0.0f32; W];
-                for (l, k) in k.iter_mut().enumerate() {
-                    let (ux, uy, uz) = (wind.x - r.v.x[l], wind.y - r.v.y[l], wind.z - r.v.z[l]);
-                    let u = ((ux * ux) + (uy * uy) + (uz * uz)).sqrt();
-                    *k = wet::evaporation_rate(u, tau, u_ref);
-                }
-                let e = wet::evaporate_lanes(w, &k, dt);
-                for l in 0..W {
-                    w[l] -= e[l];
-                    lost += e[l] as u64;
-                }
-            }
-            lost
+            run_avx2_or_base(
+                avx2,
+                #[inline(always)]
+                || {
+                    let mut lost = 0;
+                    for (w, r) in water.iter_mut().zip(&state[r0..]) {
+                        if w.iter().all(|&q| q == 0) {
+                            continue;
+                        }
+                        // The row's rates as one vector: `(wind - v).length()` component by
+                        // component as glam computes it, so the bits are the same.
+                        let mut k = [0.0f32; W];
+                        for (l, k) in k.iter_mut().enumerate() {
+                            let (ux, uy, uz) = (wind.x - r.v.x[l], wind.y - r.v.y[l], wind.z - r.v.z[l]);
+                            let u = ((ux * ux) + (uy * uy) + (uz * uz)).sqrt();
+                            *k = wet::evaporation_rate(u, tau, u_ref);
+                        }
+                        let e = wet::evaporate_lanes(w, &k, dt);
+                        for l in 0..W {
+                            w[l] -= e[l];
+                            lost += e[l] as u64;
+                        }
+                    }
+                    lost
+                },
+            )
         };
         const ROWS: usize = 1024;
         let water = &mut self.water;

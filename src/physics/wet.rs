@@ -334,7 +334,9 @@ pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: 
 /// it are left alone). Each lane gets the same bits as the strand alone would: the same
 /// operations in the same order, lane by lane (the f32 part then runs as vectors: one square
 /// root and three divides per segment were most of the pass when it went strand by strand).
+/// Inlined, so the CPU's pass compiles it for AVX2 where it runs there.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub fn flow_lanes(
     held: &mut [[u32; W]],
     x: &[L3],
