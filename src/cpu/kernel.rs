@@ -100,7 +100,9 @@ pub(super) struct AbsorbCtx<'a> {
     /// Particles' water in grid order, quanta.
     pub(super) mass: &'a [u32],
     pub(super) strength_per_quantum: f64,
-    pub(super) rate: f32,
+    /// The fraction of a particle a point within `r_min` takes in a substep
+    /// (`wet::absorb_take`, once per substep, not once per pair).
+    pub(super) take: f32,
     /// Held water and capacity per row, quanta (saturation at the substep's start).
     pub(super) held: &'a [[u32; W]],
     pub(super) capacity: &'a [[u32; W]],
@@ -236,8 +238,7 @@ fn block_substep_impl<const AXIAL: bool>(
                     strength_per_quantum: a.strength_per_quantum,
                     sat,
                     first_point: ((base + i) * W) as u32,
-                    rate: a.rate,
-                    h: ctx.h,
+                    take: a.take,
                     out: &mut worker.demands,
                 }
             });

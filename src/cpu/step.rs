@@ -594,7 +594,7 @@ impl CpuBackend {
                     mass: &w.sorted_mass,
                     strength_per_quantum: p.water.adhesion as f64
                         / (p.water.particle_mass as f64 / crate::physics::wet::WATER_QUANTUM),
-                    rate: p.held_water.absorb_rate,
+                    take: crate::physics::wet::absorb_take(p.held_water.absorb_rate, h),
                     held: &hd.water,
                     capacity: &hd.capacity,
                 }),

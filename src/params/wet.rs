@@ -12,8 +12,8 @@ use glam::Vec3;
 /// bridges, lets water run down the strand and drip from where it exceeds capacity, and dries
 /// at a first-order rate that grows with the air speed past it. Water is counted in whole
 /// quanta ([`wet::WATER_QUANTUM`]) so the ledger balances exactly. Off (`enabled: false`), a
-/// simulation runs the paper's model: particles only pull (eq. 2). The GPU backend runs all of it
-/// but the liquid bridges: with `bridge_tension` above 0 it refuses (AUTO: CPU).
+/// simulation runs the paper's model: particles only pull (eq. 2). Both backends run all of
+/// it (the GPU's liquid bridges take grooms of up to a device-dependent number of points).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HeldWater {
     /// Whether points hold water (off: no buffer, no pass).

@@ -29,10 +29,9 @@ pub struct WetRow<'a> {
     pub sat: Lane,
     /// The row's first point index (`row * W`).
     pub first_point: u32,
-    /// Absorption rate, 1/s.
-    pub rate: f32,
-    /// Substep, s.
-    pub h: f32,
+    /// The fraction of a particle a point within `r_min` takes this substep
+    /// ([`wet::absorb_take`] of the rate and the substep).
+    pub take: f32,
     /// This worker's demands, in the order found.
     pub out: &'a mut Vec<Demand>,
 }
@@ -57,7 +56,7 @@ impl WetRow<'_> {
                 continue;
             }
             let w = wet::absorb_weight(d2s[l].sqrt(), r_min, r_max);
-            let quanta = wet::absorb_demand(q, w, self.sat[l], self.rate, self.h);
+            let quanta = wet::absorb_demand_taking(q, w, self.sat[l], self.take);
             if quanta > 0 {
                 self.out.push(Demand {
                     slot,

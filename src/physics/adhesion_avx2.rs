@@ -147,8 +147,7 @@ mod tests {
             strength_per_quantum: 1.0e-6,
             sat,
             first_point: 48,
-            rate: 30.0,
-            h: 1.0 / 240.0,
+            take: crate::physics::wet::absorb_take(30.0, 1.0 / 240.0),
             out: &mut demands,
         });
         // Both forms have one signature: the AVX2 one as an unsafe fn, the lane form coerced.

@@ -101,7 +101,20 @@ pub fn absorb_weight(d: f32, r_min: f32, r_max: f32) -> f32 {
 /// distance weight `weight` (1 at `r_min`, 0 at `r_max`) and the point's free share `1 - s`.
 #[inline]
 pub fn absorb_demand(particle: u32, weight: f32, s: f32, rate: f32, h: f32) -> u32 {
-    let take = -(-rate * h).exp_m1();
+    absorb_demand_taking(particle, weight, s, absorb_take(rate, h))
+}
+
+/// The fraction of a particle's water a point within `r_min` would take in a substep `h` at
+/// rate `rate`: `1 - e^(-rate h)` (one value per substep: the passes work it out once, not
+/// once per pair).
+#[inline]
+pub fn absorb_take(rate: f32, h: f32) -> f32 {
+    -(-rate * h).exp_m1()
+}
+
+/// [`absorb_demand`] with the substep's fraction `take` ([`absorb_take`]) worked out.
+#[inline(always)]
+pub fn absorb_demand_taking(particle: u32, weight: f32, s: f32, take: f32) -> u32 {
     let d = take as f64 * particle as f64 * weight.clamp(0.0, 1.0) as f64 * (1.0 - s).max(0.0) as f64;
     d.floor() as u32
 }

@@ -67,7 +67,7 @@ impl GpuBackend {
             },
             min_drop: crate::physics::wet::to_quanta(p.held_water.drip_mass as f64).max(1),
             absorbs: p.held_water.absorbs() as u32,
-            absorb_take: -(-p.held_water.absorb_rate * h).exp_m1(), // as wet::absorb_demand
+            absorb_take: crate::physics::wet::absorb_take(p.held_water.absorb_rate, h),
             strength_per_quantum: (p.water.adhesion as f64 * crate::physics::wet::WATER_QUANTUM
                 / p.water.particle_mass as f64) as f32,
             absorb_last: (crate::physics::wet::to_quanta(p.water.particle_mass as f64) as f64
