@@ -1,10 +1,10 @@
 //! Running a CPU pass compiled for AVX2 where the machine has it. Code is compiled for the
 //! target features of the function it is inlined into, and a closure run on the worker pool
 //! is compiled for the baseline (SSE2), where eight-lane loops run four lanes at a time or
-//! one. So each hot pass has an `#[inline(always)]` body, and [`avx2_or_base!`] makes the
-//! function the pool calls: the body through a wrapper compiled for AVX2 when the
-//! simulation found AVX2 at create ([`cpu_has_avx2`]), else the body as it is. Both builds
-//! give the same bits: neither contracts a multiply and an add.
+//! one. So each hot pass runs its `#[inline(always)]` body through [`run_avx2_or_base`] (or
+//! a pool entry made by [`avx2_or_base!`], which calls it): through a wrapper compiled for
+//! AVX2 when the simulation found AVX2 at create ([`cpu_has_avx2`]), else as it is. Both
+//! builds give the same bits: neither contracts a multiply and an add.
 
 /// Whether this CPU runs AVX2 (checked once per simulation).
 pub(crate) fn cpu_has_avx2() -> bool {
@@ -20,22 +20,17 @@ pub(crate) fn cpu_has_avx2() -> bool {
 
 /// `avx2_or_base!(/// docs\n fn best(job: &Job, range: Range<usize>) => body);` defines `best`,
 /// which runs `body(job, range)` compiled for AVX2 when `job.avx2` is set (a flag taken from
-/// [`cpu_has_avx2`]), else compiled for the baseline.
+/// [`cpu_has_avx2`]), else compiled for the baseline: [`run_avx2_or_base`] for a named pool
+/// entry. Used from modules of `cpu/`.
 macro_rules! avx2_or_base {
     ($(#[$doc:meta])* fn $best:ident($job:ident: &$Job:ty, $range:ident: $Range:ty) => $body:ident) => {
         $(#[$doc])*
         fn $best($job: &$Job, $range: $Range) {
-            #[cfg(target_arch = "x86_64")]
-            if $job.avx2 {
-                #[target_feature(enable = "avx2")]
-                unsafe fn avx2($job: &$Job, $range: $Range) {
-                    $body($job, $range)
-                }
-                // SAFETY: `avx2` comes from `cpu_has_avx2` (`is_x86_feature_detected!("avx2")`).
-                unsafe { avx2($job, $range) };
-                return;
-            }
-            $body($job, $range)
+            super::avx2::run_avx2_or_base(
+                $job.avx2,
+                #[inline(always)]
+                || $body($job, $range),
+            )
         }
     };
 }

@@ -211,8 +211,9 @@ pub fn evaporate(held: u32, k: f32, h: f32) -> u32 {
 
 /// [`evaporate`] on a row of eight points at rates `k`: the same bits lane by lane, with the
 /// series of `1 - e^(-x)` run as vectors when every lane is below its limit (as a step's
-/// drying is), and the rest lane by lane.
-#[inline]
+/// drying is), and the rest lane by lane. Always inlined, so the CPU's pass compiles it for
+/// AVX2 where it runs there (left to the inliner, it was sometimes called out of line).
+#[inline(always)]
 pub fn evaporate_lanes(held: &[u32; W], k: &Lane, h: f32) -> [u32; W] {
     let mut x = [0.0f64; W];
     for l in 0..W {
