@@ -20,7 +20,7 @@ pub(crate) fn cpu_has_avx2() -> bool {
 
 /// `avx2_or_base!(/// docs\n fn best(job: &Job, range: Range<usize>) => body);` defines `best`,
 /// which runs `body(job, range)` compiled for AVX2 when `job.avx2` is set (a flag taken from
-/// [`cpu_has_avx2`]), else compiled for the baseline: [`run_avx2_or_base`] for a named pool
+/// [`cpu_has_avx2`]), else compiled for the baseline: [`run_avx2_or_base`] as a named pool
 /// entry. Used from modules of `cpu/`.
 macro_rules! avx2_or_base {
     ($(#[$doc:meta])* fn $best:ident($job:ident: &$Job:ty, $range:ident: $Range:ty) => $body:ident) => {
@@ -40,8 +40,8 @@ pub(crate) use avx2_or_base;
 /// is: for a pass's per-task closure, which the pool would otherwise run compiled for the
 /// baseline. Mark the closure `#[inline(always)]`: inlined into the wrapper it takes the
 /// wrapper's features (left out of line, as LLVM leaves a closure called from both builds,
-/// it stays a baseline function). Both builds give the same bits: neither contracts a multiply and
-/// an add.
+/// it stays a baseline function). Both builds give the same bits: neither contracts a
+/// multiply and an add.
 #[inline(always)]
 pub(crate) fn run_avx2_or_base<R>(avx2: bool, f: impl FnOnce() -> R) -> R {
     #[cfg(target_arch = "x86_64")]

@@ -21,7 +21,7 @@ pub use crate::physics::wet::{BRIDGE_SEARCH_TURNS as SEARCH_TURNS, MAX_BRIDGES};
 /// Points searched per parallel task.
 const CHUNK: usize = 512;
 
-/// Rows per parallel task of the cohesion pass.
+/// Rows per parallel task of the listing (its marking and filling passes).
 const ROWS_PER_TASK: usize = 256;
 
 /// Pairs found this step and the force they give.
