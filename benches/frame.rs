@@ -8,7 +8,8 @@
 //!
 //! Run: `cargo bench --bench frame` (full, about a minute), or `-- --quick` (fewer frames).
 //! Name sections to run only those: `-- --quick wet copy` (sections: `frames`, `integrators`,
-//! `wet`, `particles`, `copy`, `estimate`, `auto`).
+//! `wet`, `particles`, `copy`, `estimate`, `auto`). `-- wet --gpu` adds the GPU backend's rows
+//! to the wet model's table (left out by default: slow on a software adapter).
 //!
 //! `particles` (run only when named: `-- --quick particles`, about seven minutes here) times the
 //! water's cost against the particle count (0 to 1,000,000) on the paper scene and a
@@ -320,30 +321,45 @@ fn frame_rows(cores: u32, frames: usize, warmup: usize, quick: bool) {
 /// 100,000 x 16 groom under rain, each dry, with the paper's model (adhesion only) and with
 /// the full model (held water: absorption, weight, limpness, bridges, flow, drip, drying).
 fn wet_model_costs(cores: u32, quick: bool) {
-    use wethair::HeldWater;
+    use wethair::{Backend, HeldWater};
+    // GPU rows only when asked: on a software adapter (lavapipe) the large groom's 300 frames
+    // would take most of an hour.
+    let gpu = std::env::args().any(|a| a == "--gpu");
+    let backends: &[Backend] = if gpu {
+        &[Backend::CPU, Backend::GPU]
+    } else {
+        &[Backend::CPU]
+    };
     println!();
-    println!("Wet model, CPU backend, {cores} threads (median ms/frame; full / paper is the model's cost over the paper's wet step):");
+    println!("Wet model, {cores} CPU threads (median ms/frame; full / paper is the model's cost over the paper's wet step; a GPU frame is throughput: the frames' steps and one blocking read at the end, over the frame count):");
     println!();
-    println!("| scene | dry | paper model | full model | full / paper | particles at end (paper, full) |");
-    println!("|---|---|---|---|---|---|");
+    println!("| scene | backend | dry | paper model | full model | full / paper | particles at end (paper, full) |");
+    println!("|---|---|---|---|---|---|---|");
     let frames = if quick { 40 } else { 200 };
     let time = |groom: &Groom,
+                backend: Backend,
                 wet: Option<bool>,
                 water: &dyn Fn(&mut Simulation),
                 frames: usize|
-     -> (f64, u32, Vec<PassTime>) {
+     -> Result<(f64, u32, Vec<PassTime>, String), String> {
         let mut p = SimParams {
             threads: cores,
+            backend,
             ..SimParams::paper_scene_with_head()
         };
         if wet == Some(true) {
             p.held_water = HeldWater::ON;
         }
-        let mut sim = Simulation::new(groom, p).expect("sim");
+        let mut sim = Simulation::new(groom, p).map_err(|e| e.to_string())?;
         if wet.is_some() {
             water(&mut sim);
         }
-        timed_frames(&mut sim, 5, frames)
+        if backend == Backend::CPU {
+            let (ms, particles, t) = timed_frames(&mut sim, 5, frames);
+            return Ok((ms, particles, t, "CPU".into()));
+        }
+        let (ms, particles, t) = gpu_frames(&mut sim, 5, frames);
+        Ok((ms, particles, t, format!("GPU, {}", sim.backend_info().device)))
     };
     let paper = paper_scene(10_000, 6).expect("paper scene");
     let on_hair_1000 = |s: &mut Simulation| {
@@ -356,27 +372,71 @@ fn wet_model_costs(cores: u32, quick: bool) {
     };
     let big_frames = if quick { 20 } else { 100 };
     let mut split = Vec::new();
-    for (name, groom, water, n) in [
-        (
-            "paper 10000x6, 1000 particles on hair",
-            &paper,
-            &on_hair_1000 as &dyn Fn(&mut Simulation),
-            frames,
-        ),
-        ("100000x16 under rain (100 drops a frame)", &big, &rain, big_frames),
-    ] {
-        let (dry, _, t_dry) = time(groom, None, water, n);
-        let (paper_ms, pp, t_paper) = time(groom, Some(false), water, n);
-        let (full_ms, pf, t_full) = time(groom, Some(true), water, n);
-        println!(
-            "| {name} | {dry:.2} | {paper_ms:.2} | {full_ms:.2} | {:.2} | {pp}, {pf} |",
-            full_ms / paper_ms
-        );
-        for (model, t) in [("dry", t_dry), ("paper", t_paper), ("full", t_full)] {
-            split.push((name, model, n, t));
+    for &backend in backends {
+        for (name, groom, water, n) in [
+            (
+                "paper 10000x6, 1000 particles on hair",
+                &paper,
+                &on_hair_1000 as &dyn Fn(&mut Simulation),
+                frames,
+            ),
+            ("100000x16 under rain (100 drops a frame)", &big, &rain, big_frames),
+        ] {
+            let rows = (|| -> Result<_, String> {
+                Ok((
+                    time(groom, backend, None, water, n)?,
+                    time(groom, backend, Some(false), water, n)?,
+                    time(groom, backend, Some(true), water, n)?,
+                ))
+            })();
+            let ((dry, _, t_dry, device), (paper_ms, pp, t_paper, _), (full_ms, pf, t_full, _)) = match rows {
+                Ok(r) => r,
+                Err(e) => {
+                    println!("| {name} | {backend:?} | no row: {e} | | | | |");
+                    continue;
+                }
+            };
+            println!(
+                "| {name} | {device} | {dry:.2} | {paper_ms:.2} | {full_ms:.2} | {:.2} | {pp}, {pf} |",
+                full_ms / paper_ms
+            );
+            let split_frames = if backend == Backend::CPU { n } else { GPU_SPLIT_FRAMES };
+            for (model, t) in [("dry", t_dry), ("paper", t_paper), ("full", t_full)] {
+                split.push((name, model, split_frames, t));
+            }
         }
     }
     print_pass_split(&split);
+}
+
+/// Steps a GPU timestamps the stage split over, after its throughput frames.
+const GPU_SPLIT_FRAMES: usize = 20;
+
+/// A GPU simulation's frames: `warmup`, then `frames` timed as throughput (their steps and one
+/// blocking read, over `frames`), then [`GPU_SPLIT_FRAMES`] more with the stage timestamps on
+/// (each of those waits for its stamps, so they are not in the ms/frame). The stage split is
+/// empty where the adapter cannot write timestamps inside a pass.
+fn gpu_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> (f64, u32, Vec<PassTime>) {
+    for _ in 0..warmup {
+        sim.step(1.0 / 60.0).expect("step");
+    }
+    let _ = sim.positions();
+    let t0 = Instant::now();
+    for _ in 0..frames {
+        sim.step(1.0 / 60.0).expect("step");
+    }
+    let _ = sim.positions();
+    let ms = t0.elapsed().as_secs_f64() * 1e3 / frames as f64;
+    let particles = sim.stats().particles;
+    let mut split = Vec::new();
+    if sim.time_passes(true) {
+        for _ in 0..GPU_SPLIT_FRAMES {
+            sim.step(1.0 / 60.0).expect("step");
+        }
+        split = sim.pass_times();
+        sim.time_passes(false);
+    }
+    (ms, particles, split)
 }
 
 /// How the water's cost grows with the particles (issue 15): the paper scene and a 100,000 x 16

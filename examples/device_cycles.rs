@@ -1,9 +1,9 @@
 //! Opens and drops GPU devices in a loop and prints the process's footprint (file
 //! descriptors, threads, resident memory) as it goes, to find what a driver keeps of each:
 //! `cargo run --release --example device_cycles -- <mode> [cycles]`, where mode is
-//! `instance` (a wgpu instance and its adapter list), `device` (`GpuDevice::open`, an
-//! instance of its own each time), `shared` (devices opened on one instance's adapter) or
-//! `sim` (a GPU simulation created, stepped, read and dropped). `-- <mode> <cycles> thread`
+//! `instance` (a wgpu instance of its own and its adapter list, the instance dropped each
+//! cycle), `device` (`GpuDevice::open`, on the process's one instance), `shared` (devices
+//! opened on one adapter) or `sim` (a GPU simulation created, stepped, read and dropped). `-- <mode> <cycles> thread`
 //! runs the cycles on a spawned thread, as a test harness runs a test. It stops at the first
 //! cycle that finds no adapter and says which. Linux only (it reads /proc).
 use wethair::gpu::device::{block_on, GpuDevice};
@@ -34,9 +34,10 @@ fn cycles() {
     let mode = std::env::args().nth(1).unwrap_or_else(|| "sim".into());
     let cycles: usize = std::env::args().nth(2).and_then(|s| s.parse().ok()).unwrap_or(60);
     let groom = paper_scene(64, 6).expect("groom");
-    let shared = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
-    let shared_adapter = (mode == "shared")
-        .then(|| block_on(shared.request_adapter(&wgpu::RequestAdapterOptions::default())).expect("adapter"));
+    let shared_adapter = (mode == "shared").then(|| {
+        block_on(wethair::gpu::device::instance().request_adapter(&wgpu::RequestAdapterOptions::default()))
+            .expect("adapter")
+    });
     println!("mode {mode}: before {:?}", footprint());
     for c in 0..cycles {
         let ok = match mode.as_str() {

@@ -1465,9 +1465,9 @@ fn both_reaction_forms_give_the_same_bits() {
 
 /// An engine creates and destroys simulations as levels load; each GPU simulation opens its
 /// own device, so a device that outlived its simulation would pile up driver handles, threads
-/// and memory (on an H100 the adapter stopped appearing after twenty to thirty devices in one
-/// process; this shows whether ours are released). Thirty cycles of create, step, read, drop
-/// must leave the process's descriptors and threads where they were, and its resident memory
+/// and memory; and a driver loaded again for each would run out of static TLS (NVIDIA's did,
+/// at the 31st, before devices shared the process's one instance: `gpu::device::instance`).
+/// Thirty cycles of create, step, read, drop must leave the process's descriptors and threads where they were, and its resident memory
 /// within 16 MiB. The counts see every thread of the process, so the check runs in a child
 /// process of this test binary with only this test selected.
 #[test]

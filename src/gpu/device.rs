@@ -53,8 +53,7 @@ impl GpuDevice {
     /// `allow_software` false, a CPU adapter (lavapipe, WARP) is refused before a device is
     /// opened on it.
     pub fn open(allow_software: bool) -> Result<GpuDevice> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
-        let adapter = pick_adapter(&instance)?;
+        let adapter = pick_adapter(instance())?;
         let info = adapter.get_info();
         if !allow_software && info.device_type == wgpu::DeviceType::Cpu {
             return Err(Error::Unsupported(format!(
@@ -187,6 +186,22 @@ fn record(sink: &Mutex<Option<String>>, msg: &str) {
     if let Ok(mut f) = sink.lock() {
         f.get_or_insert_with(|| msg.to_string());
     }
+}
+
+/// The process's one wgpu instance, made on the first device's opening (reading `WGPU_BACKEND`
+/// then) and kept until the process ends.
+///
+/// Why not one per device: dropping a device's own instance destroys the process's last
+/// Vulkan instance, on which the Vulkan loader unloads the driver, and the next device loads it
+/// again. NVIDIA's driver cannot be loaded that often: each load takes static TLS that its
+/// unload does not give back, and on an H200 (driver 580.159) the 31st instance in one process
+/// found no driver (the loader: "libnvidia-tls.so.580.159.04: cannot allocate memory in static
+/// TLS block"; `device_cycles instance 40`). An H100 lost its adapter after as many (not
+/// rerun there since; the same symptom, most likely the same cause). One instance is also what
+/// wgpu expects of an application; devices opened on it still close with their simulations.
+pub fn instance() -> &'static wgpu::Instance {
+    static INSTANCE: std::sync::OnceLock<wgpu::Instance> = std::sync::OnceLock::new();
+    INSTANCE.get_or_init(|| wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env()))
 }
 
 /// The adapter named by `WGPU_ADAPTER_NAME`, else the one wgpu prefers for performance.
