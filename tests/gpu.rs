@@ -848,7 +848,15 @@ fn held_water_flows_and_drips_as_on_the_cpu() {
         return;
     };
     let dispatched = g.gpu_dispatches();
-    for k in ["flow", "drip_count", "drip_scan", "drip_emit", "dry", "saturation_out"] {
+    for k in [
+        "flow_send",
+        "flow_take",
+        "drip_count",
+        "drip_scan",
+        "drip_emit",
+        "dry",
+        "saturation_out",
+    ] {
         assert!(dispatched.contains(&k), "{k} missing from {dispatched:?}");
     }
     let mut c = cpu(&groom, params.clone());

@@ -195,11 +195,7 @@ pub fn water_source(c: SceneConsts) -> String {
 
 /// The held-water module (scenes with held water only).
 pub fn held_source(c: SceneConsts) -> String {
-    format!(
-        "{}const P_MAX: u32 = {}u;\n{HELD}\n{GRID}\n{ABSORB}",
-        prelude(c),
-        c.max_points.max(2)
-    )
+    format!("{}{SCAN}\n{HELD}\n{GRID}\n{ABSORB}", prelude(c))
 }
 
 /// The liquid bridges' module (pass hair_grid; scenes with bridges only) over a hashed grid of

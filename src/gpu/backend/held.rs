@@ -15,8 +15,12 @@ use crate::timers::Stage;
 
 /// The held-water kernels, by entry point (group 0 only).
 pub(super) const HELD_ENTRIES: [&str; 4] = ["wet_params", "soak", "dry", "saturation_out"];
-/// Pass drip's kernels (groups 0 and 1: they append particles).
+/// Pass flow's kernels (groups 0 and 2: each point's sends, then each point's take).
+pub(super) const FLOW_ENTRIES: [&str; 2] = ["flow_send", "flow_take"];
+/// Pass drip's kernels (groups 0 and 2: they append particles).
 pub(super) const DRIP_ENTRIES: [&str; 3] = ["drip_count", "drip_scan", "drip_emit"];
+/// Points per workgroup of drip_count and drip_emit (held.wgsl `DRIP_WG`).
+const DRIP_WG: u32 = 256;
 /// Pass absorb's kernels (groups 0 and 3), per substep.
 pub(super) const ABSORB_ENTRIES: [&str; 2] = ["absorb", "absorb_finish"];
 const WET_PARAMS: usize = 0;
@@ -44,7 +48,8 @@ pub(super) struct HeldGpu {
     soak_target: wgpu::Buffer,
     /// The state at the step's start (drip only; its size only with flow).
     state0: Option<wgpu::Buffer>,
-    /// Drip's per-point drops, then per-workgroup offsets (drip only).
+    /// Flow's two sends a point, then drip's per-point drops and per-workgroup offsets (drip
+    /// only; [`drip_scratch_words`]).
     drip_scratch: Option<wgpu::Buffer>,
     layouts: [wgpu::BindGroupLayout; 4],
     /// Group 0 over state A and state B; group 1; group 2 over particle buffer A and B.
@@ -55,8 +60,8 @@ pub(super) struct HeldGpu {
     bg3: Option<[[wgpu::BindGroup; 2]; 2]>,
     absorb_pipes: Vec<wgpu::ComputePipeline>,
     pipes: Vec<wgpu::ComputePipeline>,
-    /// flow (when water flows) and drip's kernels (when it drips).
-    flow_pipe: Option<wgpu::ComputePipeline>,
+    /// Flow's kernels (when water flows) and drip's (when it drips).
+    flow_pipes: Vec<wgpu::ComputePipeline>,
     drip_pipes: Vec<wgpu::ComputePipeline>,
     cfg: HeldWater,
 }
@@ -90,9 +95,11 @@ impl HeldGpu {
         let own = [Some(&layouts[0]), Some(&layouts[1])];
         let pipes = pl::pipelines_sparse(d, &module, &own, &HELD_ENTRIES);
         let moving = [Some(&layouts[0]), None, Some(&layouts[2])];
-        let flow_pipe = cfg
-            .flows()
-            .then(|| pl::pipelines_sparse(d, &module, &moving, &["flow"]).remove(0));
+        let flow_pipes = if cfg.flows() {
+            pl::pipelines_sparse(d, &module, &moving, &FLOW_ENTRIES)
+        } else {
+            Vec::new()
+        };
         let drip_pipes = if cfg.drips() {
             pl::pipelines_sparse(d, &module, &moving, &DRIP_ENTRIES)
         } else {
@@ -104,7 +111,6 @@ impl HeldGpu {
         } else {
             Vec::new()
         };
-        let (gx, gy) = groups(n as u32);
         HeldGpu {
             points_wet,
             water: b::buffer(d, "held_water", n * 4, STORAGE),
@@ -122,7 +128,7 @@ impl HeldGpu {
             }),
             drip_scratch: cfg
                 .drips()
-                .then(|| b::buffer(d, "held_drip", (n + gx as u64 * gy as u64) * 4, STORAGE)),
+                .then(|| b::buffer(d, "held_drip", drip_scratch_words(n as u32, cfg.flows()) * 4, STORAGE)),
             layouts,
             bg0: None,
             bg1: None,
@@ -130,7 +136,7 @@ impl HeldGpu {
             bg3: None,
             absorb_pipes,
             pipes,
-            flow_pipe,
+            flow_pipes,
             drip_pipes,
             cfg,
         }
@@ -288,17 +294,20 @@ impl HeldGpu {
         if let Some(bg2) = &self.bg2 {
             pass.set_bind_group(0, &self.bg0.as_ref().expect("bound at create")[cur], &[]);
             pass.set_bind_group(2, &bg2[particles], &[]);
-            if let Some(p) = &self.flow_pipe {
+            for p in &self.flow_pipes {
                 pass.set_pipeline(p);
                 pass.dispatch_workgroups(gx, gy, 1);
+            }
+            if !self.flow_pipes.is_empty() {
                 close(stamps, pass, Stage::Flow);
             }
+            let (dx, dy) = drip_groups(points);
             for (k, p) in self.drip_pipes.iter().enumerate() {
                 pass.set_pipeline(p);
                 if k == 1 {
                     pass.dispatch_workgroups(1, 1, 1); // drip_scan: one workgroup
                 } else {
-                    pass.dispatch_workgroups(gx, gy, 1);
+                    pass.dispatch_workgroups(dx, dy, 1);
                 }
             }
             if !self.drip_pipes.is_empty() {
@@ -325,7 +334,7 @@ impl HeldGpu {
     pub(super) fn dispatches(&self) -> (Vec<&'static str>, Vec<&'static str>) {
         let mut after = Vec::new();
         if self.cfg.flows() {
-            after.push("flow");
+            after.extend_from_slice(&FLOW_ENTRIES);
         }
         if self.cfg.drips() {
             after.extend_from_slice(&DRIP_ENTRIES);
@@ -402,6 +411,25 @@ impl HeldGpu {
         .chain(&self.drip_scratch)
         .map(|b| b.size() as usize)
         .sum()
+    }
+}
+
+/// Workgroups (x, y) of drip_count and drip_emit over `points`: [`DRIP_WG`] points each.
+fn drip_groups(points: u32) -> (u32, u32) {
+    // `groups` counts workgroups of WG invocations.
+    groups(points.div_ceil(DRIP_WG / b::WG))
+}
+
+/// Words of the flow and drip scratch over `points`: flow's two sends a point (when water
+/// flows), or drip's drop a point and its count, then first slot, per workgroup (drip runs
+/// after flow and writes over its sends).
+fn drip_scratch_words(points: u32, flows: bool) -> u64 {
+    let (gx, gy) = drip_groups(points);
+    let drip = points as u64 + gx as u64 * gy as u64;
+    if flows {
+        drip.max(2 * points as u64)
+    } else {
+        drip
     }
 }
 

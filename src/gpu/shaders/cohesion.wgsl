@@ -23,6 +23,11 @@ fn cohesion(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg:
     }
     let at = i * BR_WORDS;
     let mask = bridge[at + BR_MUTUAL];
+    if (mask == 0u) {
+        // Most points, under light rain: no read of the state.
+        state_out[i].v = vec4<f32>(0.0);
+        return;
+    }
     let xi = explicit_point(state_in[i]);
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < MAX_BRIDGES; k++) {

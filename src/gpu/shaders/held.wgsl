@@ -185,69 +185,85 @@ fn unit_or_zero(d: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-// Pass flow (wet::flow_strand), once per step: one invocation per strand (its first point's)
-// moves the strand's water along its segments toward where the effective gravity points:
-// each end of a segment sends floor(dt mobility held along) across it, computed from the
-// water at the step's start; a point asked for more than it holds sends all of it, shared in
-// proportion. Every transfer is one integer from one point to its neighbour.
-@compute @workgroup_size(WG)
-fn flow(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
-        @builtin(local_invocation_index) lid: u32) {
-    let first = linear_id(wid, nwg, lid);
-    if (first >= P.points || points[first].first != first) {
-        return;
+// Pass flow (wet::flow_strand), once per step, in two kernels over the points (one
+// invocation per point, so a warp reads neighbouring points: one per strand left fifteen of
+// sixteen lanes idle and read the strands' points scattered). Each end of a segment sends
+// floor(dt mobility held along) across it, computed from the water at the step's start; a
+// point asked for more than it holds sends all of it, shared in proportion. Every transfer is
+// one integer from one point to its neighbour.
+
+// What point i sends to its previous (x) and next (y) neighbour, before the inflow bound.
+fn flow_sends(i: u32, pt: Point, q: u32, g_len: f32) -> vec2<u32> {
+    if (q == 0u) {
+        return vec2<u32>(0u);
     }
-    let last = points[first].last;
-    let g_len = length(P.g.xyz);
-    if (last == first || g_len <= 0.0) {
-        return;
-    }
-    let n = last - first + 1u;
-    // to_next[k]: point first+k to first+k+1; to_prev[k]: point first+k to first+k-1.
-    var to_next: array<u32, P_MAX>;
-    var to_prev: array<u32, P_MAX>;
     let rate = P.dt * P.flow_mobility;
-    to_prev[0] = 0u;
-    to_next[n - 1u] = 0u;
-    var any = atomicLoad(&held[first]);
-    for (var k = 0u; k + 1u < n; k++) {
-        let i = first + k;
-        let qa = atomicLoad(&held[i]);
-        let qb = atomicLoad(&held[i + 1u]);
-        any = any | qb;
-        let t = unit_or_zero(state[i + 1u].x.xyz - state[i].x.xyz);
-        to_next[k] = min(u32(floor(rate * along(g_eff(i), t, g_len) * f32(qa))), qa);
-        to_prev[k + 1u] = min(u32(floor(rate * along(g_eff(i + 1u), -t, g_len) * f32(qb))), qb);
+    let ge = g_eff(i);
+    let x = state[i].x.xyz;
+    var to_prev = 0u;
+    var to_next = 0u;
+    if (i > pt.first) {
+        let t = unit_or_zero(x - state[i - 1u].x.xyz);
+        to_prev = min(u32(floor(rate * along(ge, -t, g_len) * f32(q))), q);
     }
-    if (any == 0u) {
+    if (i < pt.last) {
+        let t = unit_or_zero(state[i + 1u].x.xyz - x);
+        to_next = min(u32(floor(rate * along(ge, t, g_len) * f32(q))), q);
+    }
+    let out = f32(to_prev) + f32(to_next);
+    if (out > f32(q)) {
+        let share = f32(q) / out;
+        to_prev = min(u32(floor(f32(to_prev) * share)), q);
+        to_next = min(u32(floor(f32(to_next) * share)), q - to_prev);
+    }
+    return vec2<u32>(to_prev, to_next);
+}
+
+// Pass flow, part 1: what each point sends each way, into drip's scratch (two words a point;
+// drip comes after and writes over them). wet::flow_inflow_bound: each neighbour gives a
+// point at most half its room below the count's end, so its count cannot wrap.
+@compute @workgroup_size(WG)
+fn flow_send(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+             @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    if (i >= P.points) {
         return;
     }
-    for (var k = 0u; k < n; k++) {
-        let start = atomicLoad(&held[first + k]);
-        let out = f32(to_prev[k]) + f32(to_next[k]);
-        if (out > f32(start)) {
-            let share = f32(start) / out;
-            to_prev[k] = min(u32(floor(f32(to_prev[k]) * share)), start);
-            to_next[k] = min(u32(floor(f32(to_next[k]) * share)), start - to_prev[k]);
-        }
+    let pt = points[i];
+    let g_len = length(P.g.xyz);
+    var send = vec2<u32>(0u);
+    if (g_len > 0.0) {
+        send = flow_sends(i, pt, atomicLoad(&held[i]), g_len);
     }
-    // wet::flow_inflow_bound: each neighbour gives a point at most half its room below the
-    // count's end, so its count cannot wrap.
-    for (var k = 0u; k + 1u < n; k++) {
-        let room_next = (0xffffffffu - atomicLoad(&held[first + k + 1u])) / 2u;
-        let room_here = (0xffffffffu - atomicLoad(&held[first + k])) / 2u;
-        to_next[k] = min(to_next[k], room_next);
-        to_prev[k + 1u] = min(to_prev[k + 1u], room_here);
+    if (send.x != 0u) {
+        send.x = min(send.x, (0xffffffffu - atomicLoad(&held[i - 1u])) / 2u);
     }
-    for (var k = 0u; k < n; k++) {
-        var q = atomicLoad(&held[first + k]) - to_prev[k] - to_next[k];
-        if (k > 0u) {
-            q += to_next[k - 1u];
-        }
-        if (k + 1u < n) {
-            q += to_prev[k + 1u];
-        }
-        atomicStore(&held[first + k], q);
+    if (send.y != 0u) {
+        send.y = min(send.y, (0xffffffffu - atomicLoad(&held[i + 1u])) / 2u);
+    }
+    drip_scratch[2u * i] = send.x;
+    drip_scratch[2u * i + 1u] = send.y;
+}
+
+// Pass flow, part 2: each point's water less what it sends, plus what its neighbours send it.
+@compute @workgroup_size(WG)
+fn flow_take(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+             @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    if (i >= P.points) {
+        return;
+    }
+    let pt = points[i];
+    var gain = 0u;
+    if (i > pt.first) {
+        gain += drip_scratch[2u * (i - 1u) + 1u];
+    }
+    if (i < pt.last) {
+        gain += drip_scratch[2u * (i + 1u)];
+    }
+    let lose = drip_scratch[2u * i] + drip_scratch[2u * i + 1u];
+    if (gain != 0u || lose != 0u) {
+        atomicStore(&held[i], atomicLoad(&held[i]) - lose + gain);
     }
 }
 
@@ -270,88 +286,86 @@ fn runs_on(i: u32, pt: Point, ge: vec3<f32>) -> bool {
         || (i < pt.last && dot(ge, state[i + 1u].x.xyz - x) > 0.0);
 }
 
-var<workgroup> shed: array<u32, WG>;
+// Points per drip workgroup: a quarter as many block counts for drip_scan's one workgroup to
+// add up as workgroups of WG would leave.
+const DRIP_WG: u32 = 256u;
+// Drops in this drip_count workgroup.
+var<workgroup> drops: atomic<u32>;
+// The particle count before the step's drops (drip_scan).
+var<private> drip_base: u32;
+
+// The point a drip_count or drip_emit invocation stands for.
+fn drip_point(wid: vec3<u32>, nwg: vec3<u32>, lid: u32) -> u32 {
+    return (wid.y * nwg.x + wid.x) * DRIP_WG + lid;
+}
+
+// The scan's block sums (scan.wgsl `scan_block_sums`): drip_count's drops per workgroup, after
+// the per-point drops; written back as each workgroup's first particle slot.
+fn block_sum(k: u32) -> u32 {
+    return drip_scratch[P.points + k];
+}
+
+fn set_block_sum(k: u32, v: u32) {
+    drip_scratch[P.points + k] = drip_base + v;
+}
 
 // Pass drip, part 1 (cpu/held.rs `drip`): each point's drop (its excess, where the water
 // cannot run on), and each workgroup's count of drops.
-@compute @workgroup_size(WG)
+@compute @workgroup_size(DRIP_WG)
 fn drip_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
               @builtin(local_invocation_index) lid: u32) {
-    let i = linear_id(wid, nwg, lid);
-    var q = 0u;
+    let i = drip_point(wid, nwg, lid);
+    if (lid == 0u) {
+        atomicStore(&drops, 0u);
+    }
+    workgroupBarrier();
     if (i < P.points) {
         let pt = points[i];
-        let e = drip_excess(atomicLoad(&held[i]), capacity[i]);
-        if (e > 0u && !(P.flow_mobility > 0.0 && runs_on(i, pt, g_eff(i)))) {
-            q = e;
+        var q = drip_excess(atomicLoad(&held[i]), capacity[i]);
+        if (q > 0u && P.flow_mobility > 0.0 && runs_on(i, pt, g_eff(i))) {
+            q = 0u;
         }
         drip_scratch[i] = q;
+        if (q > 0u) {
+            atomicAdd(&drops, 1u);
+        }
     }
-    shed[lid] = select(0u, 1u, q > 0u);
     workgroupBarrier();
     if (lid == 0u) {
-        var n = 0u;
-        for (var k = 0u; k < WG; k++) {
-            n += shed[k];
-        }
-        drip_scratch[P.points + wid.y * nwg.x + wid.x] = n;
+        drip_scratch[P.points + wid.y * nwg.x + wid.x] = atomicLoad(&drops);
     }
 }
 
 // Pass drip, part 2 (one workgroup): each drip_count workgroup's first particle slot, in point
 // order after the live particles (so drops are numbered as the CPU numbers them); the count
 // grows by the drops that fit.
-@compute @workgroup_size(WG)
+@compute @workgroup_size(256)
 fn drip_scan(@builtin(local_invocation_index) lid: u32) {
-    let n = (P.points + WG - 1u) / WG;
-    let chunk = (n + WG - 1u) / WG;
-    let a = min(lid * chunk, n);
-    let b = min(a + chunk, n);
-    var sum = 0u;
-    for (var k = a; k < b; k++) {
-        sum += drip_scratch[P.points + k];
-    }
-    shed[lid] = sum;
-    workgroupBarrier();
+    drip_base = atomicLoad(&water_state[WATER_HELD]);
+    let total = scan_block_sums(lid, (P.points + DRIP_WG - 1u) / DRIP_WG);
+    storageBarrier();
     if (lid == 0u) {
-        var run = atomicLoad(&water_state[WATER_HELD]);
-        for (var k = 0u; k < WG; k++) {
-            let t = shed[k];
-            shed[k] = run;
-            run += t;
-        }
-        atomicStore(&water_state[WATER_HELD], min(run, P.capacity));
-    }
-    workgroupBarrier();
-    var run = shed[lid];
-    for (var k = a; k < b; k++) {
-        let t = drip_scratch[P.points + k];
-        drip_scratch[P.points + k] = run;
-        run += t;
+        atomicStore(&water_state[WATER_HELD], min(drip_base + total, P.capacity));
     }
 }
 
 // Pass drip, part 3: each drop becomes a particle with its point's velocity, r_max below the
 // point along the effective gravity (just out of its pull); when the water is full the excess
 // waits on the hair.
-@compute @workgroup_size(WG)
+@compute @workgroup_size(DRIP_WG)
 fn drip_emit(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
              @builtin(local_invocation_index) lid: u32) {
-    let i = linear_id(wid, nwg, lid);
+    let i = drip_point(wid, nwg, lid);
     var q = 0u;
     if (i < P.points) {
         q = drip_scratch[i];
     }
-    shed[lid] = select(0u, 1u, q > 0u);
-    workgroupBarrier();
+    let one = select(0u, 1u, q > 0u);
+    scan_inclusive(lid, one);
     if (q == 0u) {
         return;
     }
-    var before = 0u;
-    for (var k = 0u; k < lid; k++) {
-        before += shed[k];
-    }
-    let slot = drip_scratch[P.points + wid.y * nwg.x + wid.x] + before;
+    let slot = drip_scratch[P.points + wid.y * nwg.x + wid.x] + scan[lid] - one;
     if (slot >= P.capacity) {
         return;
     }
