@@ -83,8 +83,9 @@ gpu_record! {
         pub bridge_tension: f32,
         /// Liquid bridges: this step's search turn (`wet::bridge_search_turn`).
         pub bridge_turn: u32,
-        /// Unused: rounds the record to WGSL's 16-byte uniform size.
-        pub pad: u32,
+        /// Liquid bridges: the word of the bridge buffer where the points' masks of mutual
+        /// bridges start, after every point's record (`bridge_words`; 0 without bridges).
+        pub bridge_masks: u32,
     }
 }
 
@@ -444,12 +445,15 @@ pub mod bridge_words {
     pub const NEAREST: u32 = 0;
     /// How many of `NEAREST` are set (0: not wet, or none found).
     pub const COUNT: u32 = MAX_BRIDGES as u32;
-    /// Bit k set when `NEAREST[k]` is a bridge this step (each among the other's nearest).
-    pub const MUTUAL: u32 = COUNT + 1;
     /// Each bridge's coefficient, N/m (f32 bits; by `NEAREST`'s slot).
-    pub const COEF: u32 = MUTUAL + 1;
-    /// Words per point.
+    pub const COEF: u32 = COUNT + 1;
+    /// Words per point in its record.
     pub const WORDS: u32 = COEF + MAX_BRIDGES as u32;
+    /// Words per point in all: its record, and after every point's record (at
+    /// `Params::bridge_masks`), one word whose bit k is set when `NEAREST[k]` is a bridge this
+    /// step (each among the other's nearest). The masks stand apart so that pass cohesion,
+    /// every substep, reads four bytes of a point that has no bridge.
+    pub const PER_POINT: u32 = WORDS + 1;
 }
 
 /// Word offsets of one particle's record in the absorption scratch (`absorb`, per grid slot,

@@ -147,7 +147,6 @@ pub fn constants() -> Vec<(&'static str, Const)> {
         ("BRIDGE_MIN_PARTS", U32(crate::physics::wet::BRIDGE_MIN_PARTS)),
         ("BR_NEAREST", U32(buffers::bridge_words::NEAREST)),
         ("BR_COUNT", U32(buffers::bridge_words::COUNT)),
-        ("BR_MUTUAL", U32(buffers::bridge_words::MUTUAL)),
         ("BR_COEF", U32(buffers::bridge_words::COEF)),
         ("BR_WORDS", U32(buffers::bridge_words::WORDS)),
         ("WATER_QUANTUM", F32(crate::physics::wet::WATER_QUANTUM as f32)),

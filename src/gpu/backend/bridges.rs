@@ -69,7 +69,7 @@ impl BridgesGpu {
             (buckets as u64 + 1 + blocks as u64 + points as u64) * 4,
             STORAGE,
         );
-        let bridge = b::buffer(d, "bridge", points as u64 * bridge_words::WORDS as u64 * 4, STORAGE);
+        let bridge = b::buffer(d, "bridge", points as u64 * bridge_words::PER_POINT as u64 * 4, STORAGE);
         use Slot::*;
         let layout = pl::layout(
             d,

@@ -79,7 +79,11 @@ impl GpuBackend {
             },
             bridge_tension: p.held_water.bridge_tension,
             bridge_turn: self.bridges.as_ref().map_or(0, |b| b.turn()),
-            pad: 0,
+            bridge_masks: if p.held_water.bridges() {
+                self.points * crate::gpu::buffers::bridge_words::WORDS
+            } else {
+                0
+            },
         };
         self.dev
             .queue
@@ -141,9 +145,6 @@ impl GpuBackend {
         let mut enc = self.dev.device.create_command_encoder(&Default::default());
         // The step's speed maximum starts again; failure flags stay until reset.
         enc.clear_buffer(&self.status, 0, Some(4));
-        if let Some(h) = &self.held {
-            h.encode_start(&mut enc, &self.state[self.cur]);
-        }
         if let Some(v) = &self.volume {
             v.prepare(&self.dev.queue, &mut enc, from, dt);
         }

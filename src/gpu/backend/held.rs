@@ -3,7 +3,7 @@
 //! water is held (`points_wet`, rewritten by pass `wet_params` every step), the ledger block,
 //! and the kernels' encoding. Exists only when the scene has held water on.
 
-use super::super::buffers::{self as b, groups, held_ledger as hl, PointGpu, StateGpu, STORAGE};
+use super::super::buffers::{self as b, groups, held_ledger as hl, PointGpu, STORAGE};
 use super::super::pipelines::{self as pl, SceneConsts, Slot};
 use super::stamps::{close, PassStamps};
 use super::GpuBackend;
@@ -46,8 +46,8 @@ pub(super) struct HeldGpu {
     ledger: wgpu::Buffer,
     /// Soaking's per-point targets, quanta.
     soak_target: wgpu::Buffer,
-    /// The state at the step's start (drip only; its size only with flow).
-    state0: Option<wgpu::Buffer>,
+    /// The velocities at the step's start (drip only; its size only with flow).
+    v0: Option<wgpu::Buffer>,
     /// Flow's two sends a point, then drip's per-point drops and per-workgroup offsets (drip
     /// only; [`drip_scratch_words`]).
     drip_scratch: Option<wgpu::Buffer>,
@@ -60,6 +60,8 @@ pub(super) struct HeldGpu {
     bg3: Option<[[wgpu::BindGroup; 2]; 2]>,
     absorb_pipes: Vec<wgpu::ComputePipeline>,
     pipes: Vec<wgpu::ComputePipeline>,
+    /// keep_velocities (when water flows).
+    keep_pipe: Option<wgpu::ComputePipeline>,
     /// Flow's kernels (when water flows) and drip's (when it drips).
     flow_pipes: Vec<wgpu::ComputePipeline>,
     drip_pipes: Vec<wgpu::ComputePipeline>,
@@ -88,13 +90,16 @@ impl HeldGpu {
         let layouts = [
             pl::layout(d, "held", &[Uniform, Read, ReadWrite, Read, ReadWrite]),
             pl::layout(d, "held own", &[ReadWrite, Read, ReadWrite, Read]),
-            pl::layout(d, "held flow drip", &[Read, ReadWrite, ReadWrite, ReadWrite]),
+            pl::layout(d, "held flow drip", &[ReadWrite, ReadWrite, ReadWrite, ReadWrite]),
             pl::layout(d, "held absorb", &[ReadWrite, Read, ReadWrite, ReadWrite]),
         ];
         let module = pl::module(d, "held", &pl::held_source(consts));
         let own = [Some(&layouts[0]), Some(&layouts[1])];
         let pipes = pl::pipelines_sparse(d, &module, &own, &HELD_ENTRIES);
         let moving = [Some(&layouts[0]), None, Some(&layouts[2])];
+        let keep_pipe = cfg
+            .flows()
+            .then(|| pl::pipelines_sparse(d, &module, &moving, &["keep_velocities"]).remove(0));
         let flow_pipes = if cfg.flows() {
             pl::pipelines_sparse(d, &module, &moving, &FLOW_ENTRIES)
         } else {
@@ -119,13 +124,11 @@ impl HeldGpu {
             dry_mass,
             ledger: b::buffer(d, "held_ledger", hl::WORDS as u64 * 4, STORAGE),
             soak_target: b::buffer(d, "held_soak_target", n * 4, STORAGE),
-            // Without flow, drip reads no step-start state: a placeholder of one record (a
-            // binding must hold at least one element of the array it declares; 16 bytes
-            // failed validation as soon as a scene dripped without flow).
-            state0: cfg.drips().then(|| {
-                let record = std::mem::size_of::<StateGpu>() as u64;
-                b::buffer(d, "held_state0", if cfg.flows() { n * record } else { record }, STORAGE)
-            }),
+            // Without flow, drip reads no step-start velocity: a placeholder of one (a binding
+            // must hold at least one element of the array it declares).
+            v0: cfg
+                .drips()
+                .then(|| b::buffer(d, "held_v0", if cfg.flows() { n * 16 } else { 16 }, STORAGE)),
             drip_scratch: cfg
                 .drips()
                 .then(|| b::buffer(d, "held_drip", drip_scratch_words(n as u32, cfg.flows()) * 4, STORAGE)),
@@ -136,6 +139,7 @@ impl HeldGpu {
             bg3: None,
             absorb_pipes,
             pipes,
+            keep_pipe,
             flow_pipes,
             drip_pipes,
             cfg,
@@ -173,7 +177,7 @@ impl HeldGpu {
     /// Makes group 2 (flow and drip) over the particle buffers and the water state block;
     /// without drip, nothing (flow always comes with drip: `HeldWater::drips`).
     pub(super) fn bind_drip(&mut self, d: &wgpu::Device, particles: &[wgpu::Buffer; 2], water_state: &wgpu::Buffer) {
-        let (Some(s0), Some(scratch)) = (&self.state0, &self.drip_scratch) else {
+        let (Some(v0), Some(scratch)) = (&self.v0, &self.drip_scratch) else {
             return;
         };
         let mk = |i: usize| {
@@ -181,7 +185,7 @@ impl HeldGpu {
                 d,
                 "held flow drip",
                 &self.layouts[2],
-                &[s0, scratch, &particles[i], water_state],
+                &[v0, scratch, &particles[i], water_state],
                 None,
             )
         };
@@ -256,13 +260,6 @@ impl HeldGpu {
         self.cfg.drips()
     }
 
-    /// Keeps the state at the step's start for flow (outside the compute pass).
-    pub(super) fn encode_start(&self, enc: &mut wgpu::CommandEncoder, state: &wgpu::Buffer) {
-        if let (true, Some(s0)) = (self.cfg.flows(), &self.state0) {
-            enc.copy_buffer_to_buffer(state, 0, s0, 0, Some(s0.size()));
-        }
-    }
-
     /// Dispatches one of [`HELD_ENTRIES`] over every point.
     fn dispatch(&self, pass: &mut wgpu::ComputePass, entry: usize, cur: usize, points: u32) {
         pass.set_pipeline(&self.pipes[entry]);
@@ -274,6 +271,14 @@ impl HeldGpu {
 
     /// Pass wet_params, before the substeps.
     pub(super) fn encode_before(&self, pass: &mut wgpu::ComputePass, cur: usize, points: u32) {
+        if let (Some(p), Some(bg2)) = (&self.keep_pipe, &self.bg2) {
+            // keep_velocities: the step's start is state `cur`; bg2's particle buffer is unused.
+            pass.set_pipeline(p);
+            pass.set_bind_group(0, &self.bg0.as_ref().expect("bound at create")[cur], &[]);
+            pass.set_bind_group(2, &bg2[0], &[]);
+            let (gx, gy) = groups(points);
+            pass.dispatch_workgroups(gx, gy, 1);
+        }
         self.dispatch(pass, WET_PARAMS, cur, points);
     }
 
@@ -345,7 +350,12 @@ impl HeldGpu {
         if self.changes() {
             after.push(HELD_ENTRIES[SATURATION]);
         }
-        (vec![HELD_ENTRIES[WET_PARAMS]], after)
+        let mut before = Vec::new();
+        if self.keep_pipe.is_some() {
+            before.push("keep_velocities");
+        }
+        before.push(HELD_ENTRIES[WET_PARAMS]);
+        (before, after)
     }
 
     /// Wets every point up to saturation `s` of its capacity (never down), booked as added;
@@ -407,7 +417,7 @@ impl HeldGpu {
             &self.soak_target,
         ]
         .into_iter()
-        .chain(&self.state0)
+        .chain(&self.v0)
         .chain(&self.drip_scratch)
         .map(|b| b.size() as usize)
         .sum()

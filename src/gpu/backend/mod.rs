@@ -211,7 +211,7 @@ impl GpuBackend {
             (
                 "bridge records",
                 if params.held_water.bridges() {
-                    b::bridge_words::WORDS as u64 * 4
+                    b::bridge_words::PER_POINT as u64 * 4
                 } else {
                     0
                 },

@@ -16,7 +16,8 @@
 // [0, BRIDGE_BUCKETS]: each bucket's first entry (the last word: the total); then each scan
 // block's sum; then the entries, point indices by bucket.
 @group(0) @binding(6) var<storage, read_write> bucket: array<u32>;
-// Per point, BR_WORDS words (buffers.rs `bridge_words`).
+// Per point, BR_WORDS words (buffers.rs `bridge_words`); then, from word P.bridge_masks, each
+// point's mask of mutual bridges.
 @group(0) @binding(7) var<storage, read_write> bridge: array<u32>;
 
 const B_SUMS: u32 = BRIDGE_BUCKETS + 1u;
@@ -54,8 +55,11 @@ fn bridge_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
         return;
     }
     if (!bridge_point(i)) {
-        bridge[i * BR_WORDS + BR_COUNT] = 0u;
-        bridge[i * BR_WORDS + BR_MUTUAL] = 0u;
+        // Read first: most points stay dry, and a read costs less than a write.
+        if (bridge[i * BR_WORDS + BR_COUNT] != 0u) {
+            bridge[i * BR_WORDS + BR_COUNT] = 0u;
+        }
+        bridge[P.bridge_masks + i] = 0u;
         return;
     }
     atomicAdd(&bucket_count[bucket_of(bridge_cell(state[i].x.xyz))], 1u);
@@ -253,7 +257,7 @@ fn bridge_pairs(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
             }
         }
     }
-    bridge[at + BR_MUTUAL] = mask;
+    bridge[P.bridge_masks + i] = mask;
 }
 
 // Each point's length of hair, m: half of each adjacent segment at rest.
@@ -272,7 +276,7 @@ fn hair_length(i: u32) -> f32 {
 // What stiffness a point may still take: a quarter of what an explicit substep holds stably,
 // shared among its bridges, m / (4 h^2 n).
 fn bridge_room(i: u32) -> f32 {
-    let n = max(countOneBits(bridge[i * BR_WORDS + BR_MUTUAL]), 1u);
+    let n = max(countOneBits(bridge[P.bridge_masks + i]), 1u);
     return 1.0 / (points[i].inv_mass * 4.0 * P.h * P.h * f32(n));
 }
 
@@ -294,7 +298,7 @@ fn bridge_coef(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
         return;
     }
     let at = i * BR_WORDS;
-    let mask = bridge[at + BR_MUTUAL];
+    let mask = bridge[P.bridge_masks + i];
     let room = bridge_room(i);
     let s_i = min(saturation(held[i], capacity[i]), 1.0);
     let l_i = hair_length(i);

@@ -22,7 +22,7 @@ fn cohesion(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg:
         return;
     }
     let at = i * BR_WORDS;
-    let mask = bridge[at + BR_MUTUAL];
+    let mask = bridge[P.bridge_masks + i];
     if (mask == 0u) {
         // Most points, under light rain: no read of the state.
         state_out[i].v = vec4<f32>(0.0);

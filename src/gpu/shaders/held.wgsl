@@ -21,11 +21,12 @@
 @group(1) @binding(1) var<storage, read> dry_mass: array<f32>;
 @group(1) @binding(2) var<storage, read_write> ledger: array<atomic<u32>, HELD_LEDGER_WORDS>;
 @group(1) @binding(3) var<storage, read> soak_target: array<u32>;
-// Group 2, flow and drip: each point's state at the step's start (for its acceleration over
-// the step); drip's scratch (per point the drop it sheds, quanta, then per drip_count
+// Group 2, flow and drip: each point's velocity at the step's start (keep_velocities writes
+// it; flow and drip read it for the point's acceleration over the step); flow's and drip's
+// scratch (per point the drop it sheds, quanta, then per drip_count
 // workgroup its drops and, after drip_scan, the particle slot of its first); the particles
 // (drops go after the live ones) and the water state block.
-@group(2) @binding(0) var<storage, read> state0: array<State>;
+@group(2) @binding(0) var<storage, read_write> v0: array<vec4<f32>>;
 @group(2) @binding(1) var<storage, read_write> drip_scratch: array<u32>;
 @group(2) @binding(2) var<storage, read_write> particles: array<Particle>;
 @group(2) @binding(3) var<storage, read_write> water_state: array<atomic<u32>, WATER_STATE_WORDS>;
@@ -82,7 +83,7 @@ fn show_saturation(i: u32) {
     state[i].x.w = min(saturation(atomicLoad(&held[i]), capacity[i]), 1.0);
 }
 
-// Pass wet_params (cpu/held.rs `refresh_params`), once per step before the substeps: each free
+// Pass wet_params, part 2 (cpu/held.rs `refresh_params`), once per step before the substeps: each free
 // point's inverse mass from its dry mass plus its water (§3); each bend spring's stiffness
 // scaled by the mean saturation of its two ends (§4). A dry point keeps its dry record.
 @compute @workgroup_size(WG)
@@ -104,6 +105,18 @@ fn wet_params(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
         }
     }
     points_wet[i] = pt;
+}
+
+// Pass wet_params, part 1 (cpu/held.rs `keep_velocities`), with flow only: each point's
+// velocity at the step's start, for flow's and drip's accelerations. Only the velocity: a
+// copy of the whole state cost twice the traffic.
+@compute @workgroup_size(WG)
+fn keep_velocities(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+                   @builtin(local_invocation_index) lid: u32) {
+    let i = linear_id(wid, nwg, lid);
+    if (i < P.points) {
+        v0[i] = state[i].v;
+    }
 }
 
 // Soaking (cpu/held.rs `soak`): each point up to its target, never down; what is added is
@@ -162,7 +175,7 @@ fn dry(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3
 // CPU, which keeps no step-start velocities then).
 fn g_eff(i: u32) -> vec3<f32> {
     if (P.flow_mobility > 0.0) {
-        return P.g.xyz - (state[i].v.xyz - state0[i].v.xyz) / P.dt;
+        return P.g.xyz - (state[i].v.xyz - v0[i].xyz) / P.dt;
     }
     return P.g.xyz;
 }
