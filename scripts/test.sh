@@ -134,6 +134,12 @@ awk '/^water:/ {n++; if ($3 != $6 + $9 + $12 + $15) bad++} END {exit !(n > 0 && 
 xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --renderer gl --backend cpu --skinned-roots \
     --screenshot out/viewer-skinned.png --frames 30 --size 320x180 | grep -v "^wethair |"
 test -s out/viewer-skinned.png
+# Fixed steps of 1/144 s over 1/60 s frames: 2.4 steps a frame, so the frames take 2 or 3 and
+# the vertices show a blend between the last two (its value is printed each second).
+xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --renderer gl --backend cpu --fixed-step 144 \
+    --screenshot out/viewer-fixed.png --frames 30 --size 320x180 | tee target/viewer-fixed.log | grep -v "^wethair |"
+grep -Eq "^fixed step 1/144 s: last frame [23] steps" target/viewer-fixed.log
+test -s out/viewer-fixed.png
 # With no Vulkan driver the default renderer says why and falls back to OpenGL; the
 # screenshot mode writes a PNG.
 VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json xvfb-run -a -s "-screen 0 1280x720x24" \

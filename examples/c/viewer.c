@@ -7,6 +7,7 @@
  * usage: viewer [--groom FILE.tfx|.hair] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl]
  *               [--size WxH] [--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N]
  *               [--wet-model] [--guides N] [--volume] [--sdf-head] [--skinned-roots]
+ *               [--fixed-step HZ]
  *
  * Controls: left drag orbit, wheel zoom; space or right mouse: spray at the cursor; arrows turn
  * the head (left/right yaw, up/down pitch), W/A/S/D/Q/E move it; C dry (remove all water);
@@ -34,6 +35,9 @@
  *   sets every root's frame (wethair_sim_set_root_frames), the head's turn and offset plus a
  *   ripple that swells the scalp by up to 2 cm as it runs across it; script command
  *   "skin on|off" starts and stops the ripple.
+ * --fixed-step HZ advances in fixed steps of 1/HZ s by each frame's time (wethair_sim_advance;
+ *   1/60 s a frame when scripted), drawing the vertices blended between the last two steps;
+ *   the overlay shows the steps of the last frame and the blend.
  * In script mode the spray aims from the camera at the head, the frame step is a fixed 1/60 s
  * and every frame is stepped (no dropped frames), so runs repeat. */
 #include <GLFW/glfw3.h>
@@ -219,7 +223,7 @@ static void make_sim(Viewer *v) {
      * (springs from material properties, right for any sampling). */
     WetHairSimDesc desc;
     /* The 0.1.0 layout has neither the wet model, nor guides, nor the volume. */
-    int current = v->wet_model || v->guides || v->volume || v->sdf_head || v->skinned;
+    int current = v->wet_model || v->guides || v->volume || v->sdf_head || v->skinned || v->fixed_hz > 0.0f;
     if (v->is_paper && !current) wethair_sim_desc_default(&desc);
     else wh_check(wethair_sim_desc_init(&desc, sizeof desc), "wethair_sim_desc_init");
     if (v->is_paper && current) {
@@ -247,6 +251,7 @@ static void make_sim(Viewer *v) {
         desc.guides.fraction = v->guide_fraction;
     }
     if (v->volume) desc.volume.enabled = 1;
+    if (v->fixed_hz > 0.0f) desc.fixed_step = 1.0f / v->fixed_hz;
     desc.skinned_roots = (uint32_t)v->skinned;
     /* The SDF head: distances to a 0.1 m sphere every 5 mm, two cells of margin. */
     static float sdf_values[44 * 44 * 44];
@@ -376,9 +381,16 @@ static void print_stats(Viewer *v) {
              v->draw_ms / n, v->api, v->r.source(v));
     snprintf(v->overlay[1], sizeof v->overlay[1], "%s %s  %s  %u POINTS  %u PARTICLES  CLUMPING %.2f MM", be,
              info.device, integrator_name(v->integrator), st.points, st.particles, 1e3 * st.clumping);
-    snprintf(v->overlay[2], sizeof v->overlay[2], "SPRAY %d PARTICLES/S (SPACE, RIGHT MOUSE)  LINES %.1f PX%s%s",
+    char fixed[96] = "";
+    if (v->fixed_hz > 0.0f) {
+        snprintf(fixed, sizeof fixed, "  FIXED STEP 1/%g S: %u STEPS, BLEND %.2f", v->fixed_hz, v->advance.steps,
+                 v->advance.blend);
+        printf("fixed step 1/%g s: last frame %u steps, blend %.3f\n", v->fixed_hz, v->advance.steps,
+               v->advance.blend);
+    }
+    snprintf(v->overlay[2], sizeof v->overlay[2], "SPRAY %d PARTICLES/S (SPACE, RIGHT MOUSE)  LINES %.1f PX%s%s%s",
              SPRAY_PER_FRAME * 60, v->line_width, v->paused ? "  PAUSED" : "",
-             !v->skinned ? "" : v->skin_moving ? "  SKINNED ROOTS: RIPPLE (J)" : "  SKINNED ROOTS: STILL (J)");
+             !v->skinned ? "" : v->skin_moving ? "  SKINNED ROOTS: RIPPLE (J)" : "  SKINNED ROOTS: STILL (J)", fixed);
     if (v->wet_model) {
         double g = WETHAIR_WATER_QUANTUM_KG * 1e3;
         snprintf(v->overlay[3], sizeof v->overlay[3],
@@ -590,6 +602,13 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--volume")) v.volume = 1;
         else if (!strcmp(argv[i], "--sdf-head")) v.sdf_head = 1;
         else if (!strcmp(argv[i], "--skinned-roots")) v.skinned = v.skin_moving = 1;
+        else if (i + 1 < argc && !strcmp(argv[i], "--fixed-step")) {
+            v.fixed_hz = (float)atof(argv[++i]);
+            if (!(v.fixed_hz >= 1.0f)) {
+                fprintf(stderr, "viewer: --fixed-step wants steps per second, 1 or more\n");
+                return 2;
+            }
+        }
         else if (i + 1 < argc && !strcmp(argv[i], "--backend")) v.backend = wh_parse_backend(argv[++i]);
         else if (i + 1 < argc && !strcmp(argv[i], "--renderer")) renderer = argv[++i];
         else if (i + 1 < argc && !strcmp(argv[i], "--script")) script = argv[++i];
@@ -602,7 +621,7 @@ int main(int argc, char **argv) {
             fprintf(stderr,
                     "usage: %s [--groom FILE] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl] [--size WxH] "
                     "[--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N] [--wet-model] "
-                    "[--guides N] [--volume] [--sdf-head] [--skinned-roots]\n",
+                    "[--guides N] [--volume] [--sdf-head] [--skinned-roots] [--fixed-step HZ]\n",
                     argv[0]);
             return 2;
         }
@@ -670,10 +689,21 @@ int main(int argc, char **argv) {
         if (v.sdf_head && v.is_paper) wh_check(wethair_sim_set_sdf_transform(v.sim, 0, hm), "wethair_sim_set_sdf_transform");
 
         double t0 = wh_now_ms();
+        /* A person's frame lasts what it lasted (the fixed steps take it in whole steps); a
+         * scripted or single-stepped one 1/60 s, so runs repeat. */
+        float frame_s = 1.0f / 60.0f;
+        if (v.fixed_hz > 0.0f && !v.scripted && !shot && !v.step_once && v.last_frame_ms > 0.0)
+            frame_s = (float)fmin((t0 - v.last_frame_ms) * 1e-3, 0.25);
+        v.last_frame_ms = t0;
         if (!v.paused || v.step_once) {
-            if (v.skin_moving) v.skin_time += 1.0f / 60.0f;
+            if (v.skin_moving) v.skin_time += frame_s;
             set_root_frames(&v);
-            wh_check(wethair_sim_step(v.sim, 1.0f / 60.0f), "wethair_sim_step");
+            if (v.fixed_hz > 0.0f) {
+                v.advance.struct_size = sizeof v.advance;
+                wh_check(wethair_sim_advance(v.sim, frame_s, &v.advance), "wethair_sim_advance");
+            } else {
+                wh_check(wethair_sim_step(v.sim, frame_s), "wethair_sim_step");
+            }
             v.step_once = 0;
         }
         double t1 = wh_now_ms();

@@ -56,6 +56,13 @@ struct Viewer {
     int skinned, skin_moving;
     float *rest_roots, *root_frames, root_center[3], skin_time;
     uint32_t root_count;
+    /* --fixed-step HZ: wethair_sim_advance with each frame's time (1/60 s when scripted) in
+     * fixed steps of 1/HZ s, the vertices blended between the last two; 0: a 1/60 s step a
+     * frame. `advance` is the last advance's report, `last_frame_ms` when the frame before
+     * began. */
+    float fixed_hz;
+    WetHairAdvance advance;
+    double last_frame_ms;
     uint32_t seed;
     WetHairVertexLayout lay;
     /* Camera: orbit around target */
