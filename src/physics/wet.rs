@@ -9,7 +9,7 @@
 //! amounts they move are rounded, once, to whole quanta.
 
 use super::lanes::{Lane, L3, W};
-use super::rounding::{floor_nonneg, round_nonneg};
+use super::rounding::{floor_nonneg_lanes, round_nonneg, round_nonneg_lanes};
 use glam::Vec3;
 
 /// The unit water is counted in, kg (a nanogram): a `u32` count holds up to 4.29 g, far above
@@ -229,9 +229,20 @@ pub fn evaporate_lanes(held: &[u32; W], k: &Lane, h: f32) -> [u32; W] {
             frac[l] = one_minus_exp_neg(x[l]);
         }
     }
+    // evaporated_part lane by lane, its rounding as vectors.
+    let mut lost = [0.0f64; W];
+    for l in 0..W {
+        lost[l] = held[l] as f64 * frac[l];
+    }
+    let lost = round_nonneg_lanes(&lost);
     let mut e = [0u32; W];
     for l in 0..W {
-        e[l] = evaporated_part(held[l], frac[l]);
+        let r = lost[l] as u32;
+        e[l] = if r == 0 && held[l] > 0 && frac[l] > 0.0 {
+            1
+        } else {
+            r.min(held[l])
+        };
     }
     e
 }
@@ -375,16 +386,22 @@ pub fn flow_lanes(
     let rate = h as f64 * mobility as f64;
     for i in 0..rows - 1 {
         let (along_i, along_j) = segment_along(&x[i], &x[i + 1], &a[i], &a[i + 1], g, g_len);
+        // Every lane computed, a lane past its strand's end sending 0 (as one skipped would:
+        // its sums stay as they were), so the lanes run as vectors.
+        let (mut down, mut up) = ([0.0f64; W], [0.0f64; W]);
         for l in 0..W {
-            if i + 1 >= n[l] {
-                continue;
-            }
-            let down = floor_nonneg(rate * along_i[l] as f64 * held[i][l] as f64);
-            let up = floor_nonneg(rate * along_j[l] as f64 * held[i + 1][l] as f64);
-            sc.down[i][l] = down;
-            sc.up[i][l] = up;
-            sc.out[i][l] += down;
-            sc.out[i + 1][l] += up;
+            let on = i + 1 < n[l];
+            let d = rate * along_i[l] as f64 * held[i][l] as f64;
+            let u = rate * along_j[l] as f64 * held[i + 1][l] as f64;
+            down[l] = if on { d } else { 0.0 };
+            up[l] = if on { u } else { 0.0 };
+        }
+        let (down, up) = (floor_nonneg_lanes(&down), floor_nonneg_lanes(&up));
+        for l in 0..W {
+            sc.down[i][l] = down[l];
+            sc.up[i][l] = up[l];
+            sc.out[i][l] += down[l];
+            sc.out[i + 1][l] += up[l];
         }
     }
     // A point asked to send more than it holds sends all of it, shared in proportion (rounded
