@@ -397,9 +397,9 @@ pub fn flow_lanes(
             up[l] = if on { u } else { 0.0 };
         }
         let (down, up) = (floor_nonneg_lanes(&down), floor_nonneg_lanes(&up));
+        sc.down[i] = down;
+        sc.up[i] = up;
         for l in 0..W {
-            sc.down[i][l] = down[l];
-            sc.up[i][l] = up[l];
             sc.out[i][l] += down[l];
             sc.out[i + 1][l] += up[l];
         }
