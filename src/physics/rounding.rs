@@ -10,51 +10,47 @@ pub fn floor_nonneg(x: f64) -> u64 {
     x as u64
 }
 
-/// [`floor_nonneg`] lane by lane, the same bits, in a form that runs as vectors: x86 has no
-/// vector conversion of f64 to u64 before AVX-512, and the scalar ones were a fifth of the
-/// wet step's flow pass. Where every lane is in `[0, 2^52)` each is rounded to an integer by
-/// adding and taking away `2^52`, moved down by one where that rounded up, and read from the
-/// bits of `floor + 2^52`; otherwise (NaN, negative, huge: never in practice) lane by lane.
+/// 2^52: from here on every f64 is an integer, and below it adding `TWO_52` and taking it
+/// away again rounds a non-negative number to an integer.
+const TWO_52: f64 = 4_503_599_627_370_496.0;
+
+/// Each lane's floor and its fraction's test, as vectors, when every lane is in `[0, limit)`
+/// (`limit` at most `TWO_52 - 1`, so that a floor plus one stays in range): `round_up` says
+/// whether a lane moves up by one after its floor. `None` where any lane is outside (NaN,
+/// negative, huge: never in practice), for the caller's lane-by-lane path.
 #[inline(always)]
-pub fn floor_nonneg_lanes<const N: usize>(x: &[f64; N]) -> [u64; N] {
-    const M: f64 = 4_503_599_627_370_496.0; // 2^52: from here on every f64 is an integer
+fn small_integers<const N: usize>(x: &[f64; N], limit: f64, round_up: impl Fn(f64, f64) -> bool) -> Option<[u64; N]> {
     let mut fits = true;
     for &x in x {
-        fits &= (0.0..M).contains(&x);
+        fits &= (0.0..limit).contains(&x);
     }
     if !fits {
-        return x.map(floor_nonneg);
+        return None;
     }
     let mut out = [0u64; N];
     for (o, &x) in out.iter_mut().zip(x) {
-        let near = (x + M) - M;
+        let near = (x + TWO_52) - TWO_52;
         let floor = if near > x { near - 1.0 } else { near };
-        *o = (floor + M).to_bits() - M.to_bits();
+        let v = if round_up(x, floor) { floor + 1.0 } else { floor };
+        // An integer below 2^52 is the low mantissa bits of itself plus 2^52.
+        *o = (v + TWO_52).to_bits() - TWO_52.to_bits();
     }
-    out
+    Some(out)
 }
 
-/// [`round_nonneg`] lane by lane, the same bits, as vectors (as [`floor_nonneg_lanes`]: the
-/// floor found by adding and taking away `2^52`, then one up where the dropped part is a half
-/// or more; lane by lane where any lane is outside `[0, 2^52 - 1)`).
+/// [`floor_nonneg`] lane by lane, the same bits, in a form that runs as vectors: x86 has no
+/// vector conversion of f64 to u64 before AVX-512, and the scalar ones were a fifth of the
+/// wet step's flow pass.
+#[inline(always)]
+pub fn floor_nonneg_lanes<const N: usize>(x: &[f64; N]) -> [u64; N] {
+    small_integers(x, TWO_52 - 1.0, |_, _| false).unwrap_or_else(|| x.map(floor_nonneg))
+}
+
+/// [`round_nonneg`] lane by lane, the same bits, as vectors: the floor, one up where the
+/// dropped part is a half or more.
 #[inline(always)]
 pub fn round_nonneg_lanes<const N: usize>(x: &[f64; N]) -> [u64; N] {
-    const M: f64 = 4_503_599_627_370_496.0; // 2^52
-    let mut fits = true;
-    for &x in x {
-        fits &= (0.0..M - 1.0).contains(&x);
-    }
-    if !fits {
-        return x.map(round_nonneg);
-    }
-    let mut out = [0u64; N];
-    for (o, &x) in out.iter_mut().zip(x) {
-        let near = (x + M) - M;
-        let floor = if near > x { near - 1.0 } else { near };
-        let round = if x - floor >= 0.5 { floor + 1.0 } else { floor };
-        *o = (round + M).to_bits() - M.to_bits();
-    }
-    out
+    small_integers(x, TWO_52 - 1.0, |x, floor| x - floor >= 0.5).unwrap_or_else(|| x.map(round_nonneg))
 }
 
 /// `x.round() as u64` (half away from zero) for `x >= 0` (NaN gives 0, above `u64::MAX`
