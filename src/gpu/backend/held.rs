@@ -271,6 +271,7 @@ impl HeldGpu {
 
     /// Pass wet_params, before the substeps.
     pub(super) fn encode_before(&self, pass: &mut wgpu::ComputePass, cur: usize, points: u32) {
+        self.dispatch(pass, WET_PARAMS, cur, points);
         if let (Some(p), Some(bg2)) = (&self.keep_pipe, &self.bg2) {
             // keep_velocities: the step's start is state `cur`; bg2's particle buffer is unused.
             pass.set_pipeline(p);
@@ -279,7 +280,6 @@ impl HeldGpu {
             let (gx, gy) = groups(points);
             pass.dispatch_workgroups(gx, gy, 1);
         }
-        self.dispatch(pass, WET_PARAMS, cur, points);
     }
 
     /// The once-per-step passes after the substeps, in the plan's order (flow, drip, dry),
@@ -350,11 +350,10 @@ impl HeldGpu {
         if self.changes() {
             after.push(HELD_ENTRIES[SATURATION]);
         }
-        let mut before = Vec::new();
+        let mut before = vec![HELD_ENTRIES[WET_PARAMS]];
         if self.keep_pipe.is_some() {
             before.push("keep_velocities");
         }
-        before.push(HELD_ENTRIES[WET_PARAMS]);
         (before, after)
     }
 

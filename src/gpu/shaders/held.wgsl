@@ -83,9 +83,10 @@ fn show_saturation(i: u32) {
     state[i].x.w = min(saturation(atomicLoad(&held[i]), capacity[i]), 1.0);
 }
 
-// Pass wet_params, part 2 (cpu/held.rs `refresh_params`), once per step before the substeps: each free
-// point's inverse mass from its dry mass plus its water (§3); each bend spring's stiffness
-// scaled by the mean saturation of its two ends (§4). A dry point keeps its dry record.
+// Pass wet_params, part 1 (cpu/held.rs `refresh_params`), once per step before the
+// substeps: each free point's inverse mass from its dry mass plus its water (§3); each bend
+// spring's stiffness scaled by the mean saturation of its two ends (§4). A dry point keeps its
+// dry record.
 @compute @workgroup_size(WG)
 fn wet_params(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
               @builtin(local_invocation_index) lid: u32) {
@@ -107,7 +108,7 @@ fn wet_params(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
     points_wet[i] = pt;
 }
 
-// Pass wet_params, part 1 (cpu/held.rs `keep_velocities`), with flow only: each point's
+// Pass wet_params, part 2 (cpu/held.rs `keep_velocities`), with flow only: each point's
 // velocity at the step's start, for flow's and drip's accelerations. Only the velocity: a
 // copy of the whole state cost twice the traffic.
 @compute @workgroup_size(WG)
