@@ -2,9 +2,11 @@
 //! descriptors, threads, resident memory) as it goes, to find what a driver keeps of each:
 //! `cargo run --release --example device_cycles -- <mode> [cycles]`, where mode is
 //! `instance` (a wgpu instance of its own and its adapter list, the instance dropped each
-//! cycle), `device` (`GpuDevice::open`, on the process's one instance), `shared` (devices
-//! opened on one adapter) or `sim` (a GPU simulation created, stepped, read and dropped). `-- <mode> <cycles> thread`
-//! runs the cycles on a spawned thread, as a test harness runs a test. It stops at the first
+//! cycle: on NVIDIA's driver this finds no adapter after about thirty), `device`
+//! (`GpuDevice::open`, on the process's one instance), `shared` (devices opened on one
+//! adapter) or `sim` (a GPU simulation created, stepped, read and dropped).
+//! `-- <mode> <cycles> thread` runs the cycles on a spawned thread, as a test harness runs a
+//! test. It stops at the first
 //! cycle that finds no adapter and says which. Linux only (it reads /proc).
 use wethair::gpu::device::{block_on, GpuDevice};
 use wethair::{groom::paper_scene, Backend, SimParams, Simulation};

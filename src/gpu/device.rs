@@ -194,11 +194,11 @@ fn record(sink: &Mutex<Option<String>>, msg: &str) {
 /// Why not one per device: dropping a device's own instance destroys the process's last
 /// Vulkan instance, on which the Vulkan loader unloads the driver, and the next device loads it
 /// again. NVIDIA's driver cannot be loaded that often: each load takes static TLS that its
-/// unload does not give back, and on an H200 (driver 580.159) the 31st instance in one process
-/// found no driver (the loader: "libnvidia-tls.so.580.159.04: cannot allocate memory in static
-/// TLS block"; `device_cycles instance 40`). An H100 lost its adapter after as many (not
-/// rerun there since; the same symptom, most likely the same cause). One instance is also what
-/// wgpu expects of an application; devices opened on it still close with their simulations.
+/// unload does not give back: with driver 580.159 the 31st instance in one process on an H200,
+/// and the 30th on an H100, found no driver (the loader: "libnvidia-tls.so.580.159.04: cannot
+/// allocate memory in static TLS block"; `device_cycles instance 40`). One instance is also
+/// what wgpu expects of an application; devices opened on it still close with their
+/// simulations.
 pub fn instance() -> &'static wgpu::Instance {
     static INSTANCE: std::sync::OnceLock<wgpu::Instance> = std::sync::OnceLock::new();
     INSTANCE.get_or_init(|| wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env()))
