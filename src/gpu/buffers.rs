@@ -329,6 +329,10 @@ gpu_record! {
 pub const WG: u32 = 64;
 /// Cells one workgroup of the grid's prefix sum covers (256 invocations x 4 cells).
 pub const SCAN_BLOCK: u32 = 1024;
+/// Points per workgroup of drip's count and emit (held.wgsl): a quarter as many block counts
+/// for drip_scan's one workgroup to add up as workgroups of [`WG`] would leave. The emit's
+/// workgroup prefix sum (scan.wgsl `scan_inclusive`) is 256 wide, so this is too.
+pub const DRIP_WG: u32 = 256;
 /// Workgroups per row of a 2D dispatch.
 pub const MAX_GROUPS_X: u32 = 65_535;
 

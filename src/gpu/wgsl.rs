@@ -110,6 +110,7 @@ pub fn constants() -> Vec<(&'static str, Const)> {
     vec![
         ("WG", U32(buffers::WG)),
         ("SCAN_BLOCK", U32(buffers::SCAN_BLOCK)),
+        ("DRIP_WG", U32(buffers::DRIP_WG)),
         ("GRID_COUNT_HEADER", U32(buffers::GRID_COUNT_HEADER)),
         ("WATER_FORCE_WORDS", U32(buffers::WATER_FORCE_WORDS)),
         ("FIXED_SCALE", F32(buffers::FIXED_SCALE)),

@@ -19,8 +19,6 @@ pub(super) const HELD_ENTRIES: [&str; 4] = ["wet_params", "soak", "dry", "satura
 pub(super) const FLOW_ENTRIES: [&str; 2] = ["flow_send", "flow_take"];
 /// Pass drip's kernels (groups 0 and 2: they append particles).
 pub(super) const DRIP_ENTRIES: [&str; 3] = ["drip_count", "drip_scan", "drip_emit"];
-/// Points per workgroup of drip_count and drip_emit (held.wgsl `DRIP_WG`).
-const DRIP_WG: u32 = 256;
 /// Pass absorb's kernels (groups 0 and 3), per substep.
 pub(super) const ABSORB_ENTRIES: [&str; 2] = ["absorb", "absorb_finish"];
 const WET_PARAMS: usize = 0;
@@ -423,10 +421,10 @@ impl HeldGpu {
     }
 }
 
-/// Workgroups (x, y) of drip_count and drip_emit over `points`: [`DRIP_WG`] points each.
+/// Workgroups (x, y) of drip_count and drip_emit over `points`: [`b::DRIP_WG`] points each.
 fn drip_groups(points: u32) -> (u32, u32) {
     // `groups` counts workgroups of WG invocations.
-    groups(points.div_ceil(DRIP_WG / b::WG))
+    groups(points.div_ceil(b::DRIP_WG / b::WG))
 }
 
 /// Words of the flow and drip scratch over `points`: flow's two sends a point (when water

@@ -300,9 +300,6 @@ fn runs_on(i: u32, pt: Point, ge: vec3<f32>) -> bool {
         || (i < pt.last && dot(ge, state[i + 1u].x.xyz - x) > 0.0);
 }
 
-// Points per drip workgroup: a quarter as many block counts for drip_scan's one workgroup to
-// add up as workgroups of WG would leave.
-const DRIP_WG: u32 = 256u;
 // Drops in this drip_count workgroup.
 var<workgroup> drops: atomic<u32>;
 // The particle count before the step's drops (drip_scan).
