@@ -689,11 +689,12 @@ int main(int argc, char **argv) {
         if (v.sdf_head && v.is_paper) wh_check(wethair_sim_set_sdf_transform(v.sim, 0, hm), "wethair_sim_set_sdf_transform");
 
         double t0 = wh_now_ms();
-        /* A person's frame lasts what it lasted (the fixed steps take it in whole steps); a
-         * scripted or single-stepped one 1/60 s, so runs repeat. */
+        /* A person's frame lasts what it lasted (the fixed steps take it in whole steps, and
+         * wethair cuts a stall to desc.max_frame_time); a scripted or single-stepped one
+         * 1/60 s, so runs repeat. */
         float frame_s = 1.0f / 60.0f;
         if (v.fixed_hz > 0.0f && !v.scripted && !shot && !v.step_once && v.last_frame_ms > 0.0)
-            frame_s = (float)fmin((t0 - v.last_frame_ms) * 1e-3, 0.25);
+            frame_s = (float)((t0 - v.last_frame_ms) * 1e-3);
         v.last_frame_ms = t0;
         if (!v.paused || v.step_once) {
             if (v.skin_moving) v.skin_time += frame_s;
