@@ -13,7 +13,11 @@ use std::time::{Duration, Instant};
 /// they are one stage, `blocks`; on the GPU `blocks` is the same passes' kernels
 /// (`hair_substep`, or `hair_forces` and `implicit_solve`). The rest are the pass list's own
 /// passes, named as there (`wet_params` is the held water's masses and limpness, `vertices`
-/// the host's copy).
+/// the host's copy). The CPU runs the held water's passes after the substeps block by block
+/// too (`cpu/settle.rs`): its `flow` stage is that sweep (each block's flow, and for the
+/// blocks that shed no drop their drying, saturation and the next step's `wet_params`), its
+/// `drip` the serial drip, its `dry` the blocks that shed drops, finished after it; its
+/// `wet_params` is left with work only when the host changed the water between steps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
     /// Held water's masses and limpness (and the velocities flow reads).

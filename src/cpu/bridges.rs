@@ -8,6 +8,7 @@
 //! written and read back. Exists only when bridges are on.
 
 use super::cohesion::{self, Pairs};
+use super::held_rows;
 use super::layout::{Layout, StateRow};
 use super::pool::{for_chunks, for_chunks2, Pool};
 use crate::physics::hash_grid::HashGrid;
@@ -139,6 +140,12 @@ impl Bridges {
         }
     }
 
+    /// Each row's free lanes, and where the pass after the substeps writes the next step's
+    /// marks (`held_rows::bridge_marks`), which `find_pairs` then takes as given.
+    pub fn marks(&mut self) -> (&[u8], &mut [u8]) {
+        (&self.free_lanes, &mut self.wet_rows)
+    }
+
     /// Whether any pair was found this step (else the cohesion pass is skipped).
     pub fn active(&self) -> bool {
         self.n_pairs > 0
@@ -179,6 +186,7 @@ impl Bridges {
     /// listed now or last step: sweeping all of it twice was a quarter of the pass on a big
     /// groom. The fill also marks which points search in step `turn` (their records are in
     /// hand: a separate serial sweep reading them again cost the big groom 1.8 ms a step).
+    #[allow(clippy::too_many_arguments)]
     fn list_wet(
         &mut self,
         lay: &Layout,
@@ -186,24 +194,22 @@ impl Bridges {
         held: &[[u32; W]],
         capacity: &[[u32; W]],
         turn: u32,
+        marked: bool,
         pool: Option<&Pool>,
     ) {
         let free = &self.free_lanes;
-        let is_wet = |r: usize, l: usize| wet::can_bridge(held[r][l], capacity[r][l]) && free[r] & (1 << l) != 0;
         std::mem::swap(&mut self.point, &mut self.last_point);
         let last = &self.last_point[..];
         let slots = ROWS_PER_TASK * W;
-        // Pass 1: each row's wet lanes and each run's count; last step's points forget.
+        // Pass 1: each row's wet lanes (unless `marked`: the pass after the last step's
+        // substeps wrote them) and each run's count; last step's points forget.
         let mark = |c: usize, near: &mut [Near], rows: &mut [u8], count: &mut u32| {
             let r0 = c * ROWS_PER_TASK;
-            *count = 0;
-            for (k, m) in rows.iter_mut().enumerate() {
-                *m = 0;
-                for l in 0..W {
-                    *m |= (is_wet(r0 + k, l) as u8) << l;
-                }
-                *count += m.count_ones();
+            let n = rows.len();
+            if !marked {
+                held_rows::bridge_marks(&held[r0..r0 + n], &capacity[r0..r0 + n], &free[r0..r0 + n], rows);
             }
+            *count = rows.iter().map(|m| m.count_ones()).sum();
             let lo = last.partition_point(|&p| (p as usize) < r0 * W);
             let hi = lo + last[lo..].partition_point(|&p| (p as usize) < (r0 + rows.len()) * W);
             for &p in &last[lo..hi] {
@@ -328,7 +334,8 @@ impl Bridges {
     /// a quarter of what an explicit substep `h` holds stably (`m / (4 h^2)`, shared among its
     /// bridges). `inv_mass` gives each point's inverse mass (0 pinned). `any_held`: whether
     /// any point may hold water; when none does and none took part last step, nothing is
-    /// listed (the search turns still count the step).
+    /// listed (the search turns still count the step). `marked`: the rows' marks of who takes
+    /// part are already written for this water ([`Bridges::marks`]).
     #[allow(clippy::too_many_arguments)]
     pub fn find_pairs(
         &mut self,
@@ -339,6 +346,7 @@ impl Bridges {
         inv_mass: impl Fn(usize, usize) -> f32 + Sync,
         h: f32,
         any_held: bool,
+        marked: bool,
         pool: Option<&Pool>,
     ) {
         if !any_held && self.point.is_empty() {
@@ -346,7 +354,7 @@ impl Bridges {
             return;
         }
         let turn = self.step % SEARCH_TURNS;
-        self.list_wet(lay, state, held, capacity, turn, pool);
+        self.list_wet(lay, state, held, capacity, turn, marked, pool);
         self.step = self.step.wrapping_add(1);
         if self.point.len() < 2 {
             return;
@@ -687,6 +695,7 @@ mod tests {
                 inv_mass,
                 1.0 / 240.0,
                 true,
+                false,
                 None,
             );
             b

@@ -129,6 +129,9 @@ impl Engine for CpuBackend {
             }
             s += 1;
         }
+        if let Some(h) = &mut self.held {
+            h.state_changed();
+        }
         self.restart_bdf2();
         Ok(())
     }

@@ -10,11 +10,13 @@ mod follower_output;
 mod followers;
 mod guide_columns;
 pub mod held;
+mod held_rows;
 pub mod kernel;
 pub mod layout;
 pub mod output;
 pub mod pool;
 mod roots;
+mod settle;
 pub mod step;
 #[cfg(target_arch = "x86_64")]
 mod transpose;

@@ -86,3 +86,13 @@ pub fn for_chunks2<T: Send, U: Send>(
         None => f(0, a, b),
     }
 }
+
+/// `v` in chunks of `size`, or `n` empty slices when `v` is empty (a per-row buffer the scene
+/// does not have).
+pub fn chunks_or_empty<T: Send>(v: &mut [T], size: usize, n: usize) -> impl IndexedParallelIterator<Item = &mut [T]> {
+    if v.is_empty() {
+        rayon::iter::Either::Right((0..n).into_par_iter().map(|_| <&mut [T]>::default()))
+    } else {
+        rayon::iter::Either::Left(v.par_chunks_mut(size))
+    }
+}

@@ -8,6 +8,8 @@
 use super::avx2::cpu_has_avx2;
 use super::kernel::{block_substep, AbsorbCtx, Ctx, WaterCtx, Worker};
 use super::layout::{Layout, StateRow};
+use super::pool::chunks_or_empty;
+use super::settle::{DropSink, SettleOut};
 use super::water::Water;
 use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
@@ -401,11 +403,19 @@ impl CpuBackend {
         if let Some(held) = &mut self.held {
             let t = clock.start();
             let held_at_start = held.may_hold();
-            held.refresh_params(&self.lay, self.pool.as_ref()); // wet_params: masses and limpness from the water
+            // wet_params: masses and limpness from the water, and the velocities flow reads,
+            // unless the last step's pass after the substeps left them (with the bridges'
+            // marks) for the water and state as they are.
+            let fresh = held.take_fresh();
+            if !fresh {
+                held.refresh_params(&self.lay, self.pool.as_ref());
+            }
             if wet {
                 held.may_absorb();
             }
-            held.keep_velocities(&self.state, self.pool.as_ref());
+            if !fresh {
+                held.keep_velocities(&self.state, self.pool.as_ref());
+            }
             clock.stop(Stage::WetParams, t);
             if let Some(br) = &mut self.bridges {
                 let t = clock.start();
@@ -418,6 +428,7 @@ impl CpuBackend {
                     inv_mass,
                     h,
                     held_at_start,
+                    fresh,
                     self.pool.as_ref(),
                 );
                 clock.stop(Stage::HairGrid, t); // pass hair_grid
@@ -508,22 +519,28 @@ impl CpuBackend {
         }
         let clock = &mut self.clock;
         if let Some(held) = &mut self.held {
-            let t = clock.start();
-            held.flow(&self.lay, &self.state, self.params.gravity, dt, self.pool.as_ref()); // pass flow
-            clock.stop(Stage::Flow, t);
-            if self.params.held_water.drips() {
-                let t = clock.start();
-                let cap = self.params.water.capacity as usize;
-                let water = self.water.as_mut().expect("allocated at create when water can drip");
-                let g = self.params.gravity;
-                let reach = self.params.water.r_max;
-                held.drip(&self.lay, &self.state, g, dt, reach, water, cap, self.pool.as_ref()); // pass drip
-                clock.stop(Stage::Drip, t);
-            }
-            let t = clock.start();
-            held.dry(&self.state, self.wind, dt, self.pool.as_ref()); // pass dry
-            held.saturation_into(&mut self.wet, self.pool.as_ref());
-            clock.stop(Stage::Dry, t);
+            // Passes flow, drip and dry, and the next step's wet_params, block by block
+            // (cpu/settle.rs).
+            let drops = self.params.held_water.drips().then(|| DropSink {
+                water: self.water.as_mut().expect("allocated at create when water can drip"),
+                reach: self.params.water.r_max,
+                capacity: self.params.water.capacity as usize,
+            });
+            let out = SettleOut {
+                wetness: &mut self.wet,
+                bridges: self.bridges.as_mut().map(|b| b.marks()),
+            };
+            held.settle(
+                &self.lay,
+                &self.state,
+                self.params.gravity,
+                dt,
+                self.wind,
+                drops,
+                out,
+                self.pool.as_ref(),
+                clock,
+            );
         }
         if wet {
             let t = clock.start();
@@ -740,6 +757,9 @@ impl CpuBackend {
     /// and starts BDF2 again (its history held the old place).
     pub fn carry_strands(&mut self, strands: &[u32], from: &[RootFrame], to: &[RootFrame]) {
         super::roots::Roots::carry(&self.lay, &mut self.state, strands, from, to);
+        if let Some(h) = &mut self.held {
+            h.state_changed();
+        }
         self.restart_bdf2();
     }
 
@@ -758,16 +778,6 @@ impl CpuBackend {
     /// The output's blend from now on (see `Engine::blend_output`).
     pub fn blend_output(&mut self, a: Option<f32>) {
         self.output_blend = a;
-    }
-}
-
-/// `v` in chunks of `size`, or `n` empty slices when `v` is empty (a per-row buffer the scene
-/// does not have).
-fn chunks_or_empty<T: Send>(v: &mut [T], size: usize, n: usize) -> impl IndexedParallelIterator<Item = &mut [T]> {
-    if v.is_empty() {
-        rayon::iter::Either::Right((0..n).into_par_iter().map(|_| <&mut [T]>::default()))
-    } else {
-        rayon::iter::Either::Left(v.par_chunks_mut(size))
     }
 }
 

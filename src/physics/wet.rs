@@ -156,10 +156,11 @@ pub const BRIDGE_MIN_PARTS: u32 = 20;
 
 /// Whether a point holding `held` of its `capacity` quanta takes part in liquid bridges:
 /// any water, and at least `capacity / BRIDGE_MIN_PARTS` rounded up (integers, so both
-/// backends decide alike).
-#[inline]
+/// backends decide alike). Written as `BRIDGE_MIN_PARTS held >= capacity` in 64 bits (the
+/// same test for a whole `held`), which runs as vectors where the divide did not.
+#[inline(always)]
 pub fn can_bridge(held: u32, capacity: u32) -> bool {
-    held > 0 && held >= capacity.div_ceil(BRIDGE_MIN_PARTS)
+    (held > 0) & (held as u64 * BRIDGE_MIN_PARTS as u64 >= capacity as u64)
 }
 
 /// The most bridges one point holds: a fibre in a bundle of parallel fibres touches at most six
@@ -416,16 +417,33 @@ pub fn flow_lanes(
             q as u32
         }
     };
+    // Where no point of a segment's two ends is asked for more than it holds (nearly
+    // always), its lanes run as vectors: the sends are then whole `u32`s, and a lane past its
+    // strand's end sends 0 both ways, so it moves nothing, as skipped. Each lane's sums are
+    // the same operations in the same order either way: the same bits.
+    let over = |i: usize| (0..W).fold(false, |o, l| o | (out[i][l] > start[i][l] as u64));
+    let mut over_i = over(0);
     for i in 0..rows - 1 {
-        for l in 0..W {
-            if i + 1 >= n[l] {
-                continue;
+        let over_j = over(i + 1);
+        if !(over_i || over_j) {
+            for l in 0..W {
+                let d = (sc.down[i][l] as u32).min(flow_inflow_bound(start[i + 1][l]));
+                let u = (sc.up[i][l] as u32).min(flow_inflow_bound(start[i][l]));
+                held[i][l] = held[i][l].wrapping_sub(d).wrapping_add(u);
+                held[i + 1][l] = held[i + 1][l].wrapping_add(d).wrapping_sub(u);
             }
-            let d = share(sc.down[i][l], i, l).min(flow_inflow_bound(start[i + 1][l]));
-            let u = share(sc.up[i][l], i + 1, l).min(flow_inflow_bound(start[i][l]));
-            held[i][l] = held[i][l] - d + u;
-            held[i + 1][l] = held[i + 1][l] + d - u;
+        } else {
+            for l in 0..W {
+                if i + 1 >= n[l] {
+                    continue;
+                }
+                let d = share(sc.down[i][l], i, l).min(flow_inflow_bound(start[i + 1][l]));
+                let u = share(sc.up[i][l], i + 1, l).min(flow_inflow_bound(start[i][l]));
+                held[i][l] = held[i][l] - d + u;
+                held[i + 1][l] = held[i + 1][l] + d - u;
+            }
         }
+        over_i = over_j;
     }
 }
 
@@ -547,6 +565,36 @@ mod tests {
         assert!(can_bridge(1, 20) && can_bridge(1, 1) && can_bridge(1, 0) && !can_bridge(0, 0));
         let big = 1u32 << 31;
         assert!(!can_bridge(big / 20, big) && can_bridge(big / 20 + 1, big));
+        // The multiply is the divide's test (what the GPU's bridges.wgsl computes), up to
+        // the largest counts.
+        let mut rng = crate::scenes::Lcg(7);
+        let edges = [
+            0,
+            1,
+            19,
+            20,
+            21,
+            39,
+            40,
+            41,
+            1 << 31,
+            u32::MAX / 20,
+            u32::MAX - 1,
+            u32::MAX,
+        ];
+        for k in 0..200_000u32 {
+            let (h, c) = if k < 144 {
+                (edges[k as usize % 12], edges[k as usize / 12])
+            } else {
+                let c = (rng.next_f32() * 4.0e9) as u32;
+                (((rng.next_f32() * 0.1) * c as f32) as u32 + k % 3, c)
+            };
+            assert_eq!(
+                can_bridge(h, c),
+                h > 0 && h >= c.div_ceil(BRIDGE_MIN_PARTS),
+                "{h} of {c}"
+            );
+        }
     }
 
     /// The series agrees with `exp_m1` to a few units in the last place, and the quanta it

@@ -1,0 +1,231 @@
+//! The held water's per-point laws over a run of rows, each written once and called both by
+//! the passes that sweep the whole groom and by the pass after the substeps, which runs them
+//! block by block while the block is in cache (`cpu/settle.rs`). Every function is
+//! `#[inline(always)]`, so it compiles for AVX2 inside a caller run through
+//! `run_avx2_or_base`. A run starts at a block's first row, so row `k` of it is point
+//! `k % rows` of its strands.
+
+use super::layout::{Layout, ParamRow, StateRow};
+use crate::physics::lanes::{Lane, L3, W};
+use crate::physics::wet;
+use glam::Vec3;
+
+/// What the wet parameters are computed from: the layout, the dry masses and capacities of
+/// every row, and the model's limpness.
+pub struct ParamSource<'a> {
+    pub lay: &'a Layout,
+    pub dry_mass: &'a [Lane],
+    pub capacity: &'a [[u32; W]],
+    /// Whether bend stiffness falls with saturation, and the saturated ratio.
+    pub limp: bool,
+    pub ratio: f32,
+}
+
+/// `wet_params` on rows `r0..` (`water` holds exactly those rows' water, `out` and
+/// `was_wet` their parameters and flags; `sat(k)` is row `k`'s saturations, unclamped, as
+/// `wet::saturation` gives them): each free point's inverse mass becomes `1 / (dry + water)`
+/// and, when limp, each bend spring's stiffness is scaled by `wet::bend_scale` of the mean
+/// saturation of its two ends. A row that was and is dry is left as it is (it holds the
+/// layout's values); one that dries gets them back bit for bit.
+#[inline(always)]
+pub fn refresh_rows(
+    src: &ParamSource,
+    r0: usize,
+    water: &[[u32; W]],
+    sat: impl Fn(usize) -> Lane,
+    out: &mut [ParamRow],
+    was_wet: &mut [bool],
+) {
+    let (lay, rows, limp) = (src.lay, src.lay.rows, src.limp);
+    for (k, (row, was_wet)) in out.iter_mut().zip(was_wet).enumerate() {
+        let (r, i) = (r0 + k, (r0 + k) % rows);
+        let holds = |k: usize| water[k] != [0; W];
+        let bends = limp && i + 2 < rows;
+        let wet = holds(k) || (bends && holds(k + 2));
+        if !wet && !*was_wet {
+            continue; // still the layout's values
+        }
+        *was_wet = wet;
+        // Each lane computed, then chosen: branch-free, so the eight lanes' divides run as
+        // vectors (a divide per point was most of the pass).
+        for l in 0..W {
+            let dry_inv = lay.params[r].inv_mass[l];
+            let q = water[k][l];
+            let wet_inv = (1.0 / (src.dry_mass[r][l] as f64 + wet::to_kg(q))) as f32;
+            row.inv_mass[l] = if dry_inv == 0.0 || q == 0 { dry_inv } else { wet_inv };
+        }
+        if bends {
+            let (s_a, s_b) = (sat(k), sat(k + 2));
+            for l in 0..W {
+                let k_dry = lay.params[r].bend.k[l];
+                let wet_k = k_dry * wet::bend_scale(0.5 * (s_a[l] + s_b[l]), src.ratio);
+                row.bend.k[l] = if s_a[l] + s_b[l] == 0.0 { k_dry } else { wet_k };
+            }
+        }
+    }
+}
+
+/// Row `k`'s saturations (`wet::saturation`, unclamped) from its water and capacity.
+#[inline(always)]
+pub fn saturation_of(water: &[u32; W], capacity: &[u32; W]) -> Lane {
+    std::array::from_fn(|l| wet::saturation(water[l], capacity[l]))
+}
+
+/// The drying law's inputs: wind, time constant and reference air speed.
+#[derive(Clone, Copy)]
+pub struct DryLaw {
+    pub wind: Vec3,
+    pub tau: f32,
+    pub u_ref: f32,
+    pub dt: f32,
+}
+
+/// Pass `dry` on a run of rows (`state` from the same row on): each point loses
+/// `held (1 - e^(-k dt))` to the nearest quantum, `k` from the air speed past it. Returns
+/// the quanta lost (a sum of integers: the same in any order).
+#[inline(always)]
+pub fn dry_rows(water: &mut [[u32; W]], state: &[StateRow], law: DryLaw) -> u64 {
+    let DryLaw { wind, tau, u_ref, dt } = law;
+    let mut lost = 0;
+    for (w, r) in water.iter_mut().zip(state) {
+        if w.iter().all(|&q| q == 0) {
+            continue;
+        }
+        // The row's rates as one vector: `(wind - v).length()` component by component as
+        // glam computes it, so the bits are the same.
+        let mut k = [0.0f32; W];
+        for (l, k) in k.iter_mut().enumerate() {
+            let (ux, uy, uz) = (wind.x - r.v.x[l], wind.y - r.v.y[l], wind.z - r.v.z[l]);
+            let u = ((ux * ux) + (uy * uy) + (uz * uz)).sqrt();
+            *k = wet::evaporation_rate(u, tau, u_ref);
+        }
+        let e = wet::evaporate_lanes(w, &k, dt);
+        for l in 0..W {
+            w[l] -= e[l];
+            lost += e[l] as u64;
+        }
+    }
+    lost
+}
+
+/// Each point's saturation, at most 1, as its wetness (`capacity` from the same row on);
+/// returns whether any point holds water. With `keep`, each row's unclamped saturations are
+/// also kept there (for [`refresh_rows`]).
+#[inline(always)]
+pub fn saturation_rows(
+    water: &[[u32; W]],
+    capacity: &[[u32; W]],
+    out: &mut [Lane],
+    keep: Option<&mut Vec<Lane>>,
+) -> bool {
+    let mut held = false;
+    let mut keep = keep;
+    if let Some(k) = keep.as_deref_mut() {
+        k.clear();
+    }
+    for ((out, w), c) in out.iter_mut().zip(water).zip(capacity) {
+        held |= *w != [0; W];
+        let s = saturation_of(w, c);
+        for l in 0..W {
+            out[l] = s[l].min(1.0);
+        }
+        if let Some(k) = keep.as_deref_mut() {
+            k.push(s);
+        }
+    }
+    held
+}
+
+/// Per row, a bit per lane that takes part in the liquid bridges: a free point
+/// (`free`, from the same row on) holding water enough to bridge ([`wet::can_bridge`]).
+#[inline(always)]
+pub fn bridge_marks(water: &[[u32; W]], capacity: &[[u32; W]], free: &[u8], out: &mut [u8]) {
+    for (((m, w), c), &f) in out.iter_mut().zip(water).zip(capacity).zip(free) {
+        *m = pack_bits(std::array::from_fn(|l| wet::can_bridge(w[l], c[l]))) & f;
+    }
+}
+
+/// Per lane of a block (`water` its rows, `capacity` from its first row on), whether some
+/// point holds a drop's excess: which strands the drip pass visits.
+#[inline(always)]
+pub fn drip_lanes(water: &[[u32; W]], capacity: &[[u32; W]], min_drop: u32) -> u8 {
+    let mut m = 0u8;
+    for (w, c) in water.iter().zip(capacity) {
+        m |= pack_bits(std::array::from_fn(|l| wet::drip(w[l], c[l], min_drop) > 0));
+    }
+    m
+}
+
+/// Lane `l`'s flag as bit `l`.
+#[inline(always)]
+fn pack_bits(b: [bool; W]) -> u8 {
+    let mut m = 0u8;
+    for (l, &b) in b.iter().enumerate() {
+        m |= (b as u8) << l;
+    }
+    m
+}
+
+/// What the passes over one block work in: its positions and accelerations (flow), and its
+/// saturations (kept by [`saturation_rows`] for [`refresh_rows`]).
+#[derive(Debug, Default)]
+pub struct BlockScratch {
+    x: Vec<L3>,
+    a: Vec<L3>,
+    lanes: wet::FlowScratch,
+    pub sat: Vec<Lane>,
+}
+
+impl BlockScratch {
+    /// Room for a block of `rows` rows.
+    pub fn with_rows(rows: usize) -> BlockScratch {
+        BlockScratch {
+            x: Vec::with_capacity(rows),
+            a: Vec::with_capacity(rows),
+            lanes: wet::FlowScratch::default(),
+            sat: Vec::with_capacity(rows),
+        }
+    }
+}
+
+/// Pass `flow` on block `b` (`water` its rows; `state` and `v0` from its first row on): held
+/// water runs along each strand toward where gravity minus the point's acceleration over the
+/// step points (`wet::flow_lanes`, the block's eight strands at once). A dry block is left
+/// alone.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn flow_block(
+    lay: &Layout,
+    b: usize,
+    water: &mut [[u32; W]],
+    state: &[StateRow],
+    v0: &[L3],
+    g: Vec3,
+    mobility: f32,
+    dt: f32,
+    t: &mut BlockScratch,
+) {
+    if water.iter().all(|w| w.iter().all(|&q| q == 0)) {
+        return;
+    }
+    let mut n = [0usize; W];
+    for (l, n) in n.iter_mut().enumerate() {
+        let s = lay.strand_of_slot[b * W + l] as usize;
+        if s < lay.strands {
+            *n = lay.strand_points(s);
+        }
+    }
+    t.x.clear();
+    t.a.clear();
+    for (s, v0) in state[..water.len()].iter().zip(v0) {
+        t.x.push(s.x);
+        let mut a = L3::ZERO;
+        for l in 0..W {
+            a.x[l] = (s.v.x[l] - v0.x[l]) / dt;
+            a.y[l] = (s.v.y[l] - v0.y[l]) / dt;
+            a.z[l] = (s.v.z[l] - v0.z[l]) / dt;
+        }
+        t.a.push(a);
+    }
+    wet::flow_lanes(water, &t.x, &t.a, &n, g, mobility, dt, &mut t.lanes);
+}
