@@ -386,3 +386,65 @@ fn runs_on(state: &[StateRow], rows: &std::ops::Range<usize>, r: usize, l: usize
 fn avx2<R>(on: bool, f: impl FnOnce() -> R) -> R {
     super::avx2::run_avx2_or_base(on, f)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::{HeldWater, SimParams};
+
+    /// What the pass leaves for the next step is what the sweeps at the step's start would
+    /// compute from the water it leaves: the parameters (bit for bit), the velocities and
+    /// the bridge marks; and `take_fresh` answers once.
+    #[test]
+    fn the_pass_leaves_what_the_next_step_would_compute() {
+        let groom = crate::groom::paper_scene(300, 6).unwrap();
+        let params = SimParams {
+            held_water: HeldWater::ON,
+            ..SimParams::paper()
+        };
+        let lay = Layout::new(&groom, &params);
+        let mut state = lay.rest_state(&glam::Affine3A::IDENTITY);
+        let mut held = Held::new(&lay, params.held_water);
+        held.soak(0.6);
+        // Uneven water: some rows dry, some over capacity.
+        for (k, w) in held.water.iter_mut().enumerate() {
+            for l in 0..W {
+                w[l] = match (k + l) % 5 {
+                    0 => 0,
+                    1 => held.capacity[k][l] * 2,
+                    _ => w[l],
+                };
+            }
+        }
+        held.keep_velocities(&state, None);
+        // The step moved the points: flow reads the kept velocities, the next step the new.
+        for (k, r) in state.iter_mut().enumerate() {
+            for l in 0..W {
+                r.v.x[l] = 0.01 * ((k * W + l) % 7) as f32;
+            }
+        }
+        let mut wetness = vec![[0.0; W]; state.len()];
+        let free = vec![0xff; state.len()];
+        let mut marks = vec![0; state.len()];
+        let out = SettleOut {
+            wetness: &mut wetness,
+            bridges: Some((&free, &mut marks)),
+        };
+        let g = params.gravity;
+        held.settle(&lay, &state, g, 1.0 / 60.0, Vec3::ZERO, None, out, None, &mut StageClock::default());
+        assert!(held.may_hold());
+        let mut fresh = Held::new(&lay, params.held_water);
+        fresh.water = held.water.clone();
+        fresh.may_absorb();
+        fresh.refresh_params(&lay, None);
+        assert_eq!(format!("{:?}", held.params), format!("{:?}", fresh.params));
+        let mut want = vec![0; state.len()];
+        held_rows::bridge_marks(&held.water, &held.capacity, &free, &mut want);
+        assert_eq!(marks, want);
+        assert!(marks.iter().any(|&m| m != 0) && marks.iter().any(|&m| m != 0xff));
+        assert!(held.v0.iter().zip(&state).all(|(v0, s)| format!("{v0:?}") == format!("{:?}", s.v)));
+        assert!(held.take_fresh() && !held.take_fresh());
+        held.soak(1.0);
+        assert!(!held.take_fresh(), "the host changed the water");
+    }
+}
