@@ -431,7 +431,17 @@ mod tests {
             bridges: Some((&free, &mut marks)),
         };
         let g = params.gravity;
-        held.settle(&lay, &state, g, 1.0 / 60.0, Vec3::ZERO, None, out, None, &mut StageClock::default());
+        held.settle(
+            &lay,
+            &state,
+            g,
+            1.0 / 60.0,
+            Vec3::ZERO,
+            None,
+            out,
+            None,
+            &mut StageClock::default(),
+        );
         assert!(held.may_hold());
         let mut fresh = Held::new(&lay, params.held_water);
         fresh.water = held.water.clone();
@@ -442,7 +452,11 @@ mod tests {
         held_rows::bridge_marks(&held.water, &held.capacity, &free, &mut want);
         assert_eq!(marks, want);
         assert!(marks.iter().any(|&m| m != 0) && marks.iter().any(|&m| m != 0xff));
-        assert!(held.v0.iter().zip(&state).all(|(v0, s)| format!("{v0:?}") == format!("{:?}", s.v)));
+        assert!(held
+            .v0
+            .iter()
+            .zip(&state)
+            .all(|(v0, s)| format!("{v0:?}") == format!("{:?}", s.v)));
         assert!(held.take_fresh() && !held.take_fresh());
         held.soak(1.0);
         assert!(!held.take_fresh(), "the host changed the water");
