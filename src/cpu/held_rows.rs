@@ -208,13 +208,10 @@ pub fn flow_block(
     if water.iter().all(|w| w.iter().all(|&q| q == 0)) {
         return;
     }
-    let mut n = [0usize; W];
-    for (l, n) in n.iter_mut().enumerate() {
-        let s = lay.strand_of_slot[b * W + l] as usize;
-        if s < lay.strands {
-            *n = lay.strand_points(s);
-        }
-    }
+    // Each lane's points: its real rows, which are the block's first (read from the block's
+    // own marks: looking each strand's length up was a cache miss per lane).
+    let real = &lay.real_lanes[b * water.len()..(b + 1) * water.len()];
+    let n: [usize; W] = std::array::from_fn(|l| real.iter().map(|&m| ((m >> l) & 1) as usize).sum());
     t.x.clear();
     t.a.clear();
     for (s, v0) in state[..water.len()].iter().zip(v0) {
