@@ -182,8 +182,8 @@ impl Bridges {
 
     /// Lists this step's wet free points (those holding water enough to bridge,
     /// [`wet::can_bridge`]) in index order with their positions, strands, saturations and
-    /// lengths, and their places in `near`; a point listed last step forgets its place and
-    /// place, and its nearest too if it is no longer wet. Pinned points (roots) take no part:
+    /// lengths, and their places in `near`; a point listed last step and no longer wet
+    /// forgets its place and its nearest. Pinned points (roots) take no part:
     /// a bridge cannot move them, and the scalp is where hair is densest. In two passes over
     /// runs of rows on the pool: mark each row's wet lanes and count them (reading only the
     /// held water, and last step's points), then fill each run's own part of the lists from
@@ -217,10 +217,13 @@ impl Bridges {
             *count = rows.iter().map(|m| m.count_ones()).sum();
             let lo = last.partition_point(|&p| (p as usize) < r0 * W);
             let hi = lo + last[lo..].partition_point(|&p| (p as usize) < (r0 + rows.len()) * W);
+            // A point still wet gets its new place in the fill; only those that left are
+            // touched here (each a likely cache miss: `near` is 32 bytes a point of the
+            // groom). Without nearest, no pair reads a left point's place.
             for &p in &last[lo..hi] {
                 let (k, l) = (p as usize - r0 * W, p as usize % W);
-                near[k].local = u32::MAX;
                 if rows[k / W] & (1 << l) == 0 {
+                    near[k].local = u32::MAX;
                     near[k].n = 0;
                 }
             }
