@@ -23,7 +23,7 @@ pub struct Held {
     /// Capacity per point, quanta (0 on padding lanes).
     pub capacity: Vec<[u32; W]>,
     /// Dry mass per point, kg (0 on padding lanes).
-    pub(super) dry_mass: Vec<Lane>,
+    dry_mass: Vec<Lane>,
     /// The layout's row parameters with each free point's inverse mass from its dry mass plus
     /// its water (what the kernel reads instead of the layout's while water is held).
     pub params: Vec<ParamRow>,
@@ -104,13 +104,9 @@ impl Held {
             return; // every row holds the layout's values
         }
         self.params_wet_any = self.may_hold;
-        let src = ParamSource {
-            lay,
-            dry_mass: &self.dry_mass,
-            capacity: &self.capacity,
-            limp: self.cfg.limp(),
-            ratio: self.cfg.wet_bend_ratio,
-        };
+        // The rows written, out of `self` while the law reads its constants.
+        let (mut params, mut was_wet) = (std::mem::take(&mut self.params), std::mem::take(&mut self.params_wet));
+        let src = self.param_source(lay);
         let (water, avx2) = (&self.water, self.avx2);
         let refresh = |r0: usize, out: &mut [ParamRow], was_wet: &mut [bool]| {
             run_avx2_or_base(
@@ -123,7 +119,19 @@ impl Held {
             )
         };
         let size = lay.rows * BLOCKS_PER_TASK;
-        for_chunks2(pool, &mut self.params, &mut self.params_wet, size, refresh);
+        for_chunks2(pool, &mut params, &mut was_wet, size, refresh);
+        (self.params, self.params_wet) = (params, was_wet);
+    }
+
+    /// What the wet parameters are computed from.
+    pub(super) fn param_source<'a>(&'a self, lay: &'a Layout) -> ParamSource<'a> {
+        ParamSource {
+            lay,
+            dry_mass: &self.dry_mass,
+            capacity: &self.capacity,
+            limp: self.cfg.limp(),
+            ratio: self.cfg.wet_bend_ratio,
+        }
     }
 
     /// Whether the pass after the last step left this step's parameters and bridge marks

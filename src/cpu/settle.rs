@@ -105,7 +105,7 @@ struct Finish<'a> {
     avx2: bool,
 }
 
-impl Finish<'_> {
+impl<'a> Finish<'a> {
     /// `dry`, the saturation, the next step's parameters and bridge marks of the block whose
     /// first row is `r0`. Returns the quanta evaporated and whether any point holds water.
     #[inline(always)]
@@ -113,7 +113,7 @@ impl Finish<'_> {
         let n = out.water.len();
         let cap = &self.src.capacity[r0..r0 + n];
         // Each law compiled on its own (for AVX2 where the CPU has it): inlined into one
-        // body, the compiler left most of their lanes scalar.
+        // body, the compiler left the drying's lanes partly scalar.
         let lost = match self.dry {
             Some(law) => avx2(
                 self.avx2,
@@ -146,9 +146,6 @@ impl Finish<'_> {
         }
         (lost, any)
     }
-}
-
-impl<'a> Finish<'a> {
     /// The laws' inputs for this step (`free`: with bridges, each row's free lanes).
     fn new(
         held: &'a Held,
@@ -160,13 +157,7 @@ impl<'a> Finish<'a> {
     ) -> Self {
         let cfg = held.cfg;
         Finish {
-            src: ParamSource {
-                lay,
-                dry_mass: &held.dry_mass,
-                capacity: &held.capacity,
-                limp: cfg.limp(),
-                ratio: cfg.wet_bend_ratio,
-            },
+            src: held.param_source(lay),
             state,
             dry: (cfg.dry_time > 0.0).then_some(DryLaw {
                 wind,
