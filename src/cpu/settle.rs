@@ -11,6 +11,7 @@
 //! Run one after another, the sweeps read the big groom's water, capacities, velocities and
 //! parameters five times a step (17 ms of a 70 ms step under rain on 2 threads).
 
+use super::avx2::run_avx2_or_base as avx2;
 use super::held::Held;
 use super::held_rows::{self, BlockScratch, DryLaw, ParamSource};
 use super::layout::{Layout, ParamRow, StateRow};
@@ -370,12 +371,6 @@ fn runs_on(state: &[StateRow], rows: &std::ops::Range<usize>, r: usize, l: usize
     let x = state[r].x.get(l);
     let toward = |n: usize| wet::runs_toward(g_eff, (state[n].x.get(l) - x).normalize_or_zero());
     (r > rows.start && toward(r - 1)) || (r + 1 < rows.end && toward(r + 1))
-}
-
-/// Runs `f` compiled for AVX2 when `on` (`run_avx2_or_base`, with `f` inlined into it).
-#[inline(always)]
-fn avx2<R>(on: bool, f: impl FnOnce() -> R) -> R {
-    super::avx2::run_avx2_or_base(on, f)
 }
 
 #[cfg(test)]
