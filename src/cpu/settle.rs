@@ -296,17 +296,16 @@ impl Held {
             let finish = Finish::new(self, lay, state, wind, dt, free);
             let (mut lost, mut any) = (0u64, false);
             let scratch = &mut bufs.scratch[0];
+            let mut all = Rows {
+                water: &mut bufs.water,
+                params: &mut bufs.params,
+                was_wet: &mut bufs.was_wet,
+                wetness,
+                marks,
+                v0: &mut bufs.v0,
+            };
             for (b, _) in bufs.drip_lanes.iter().enumerate().filter(|(_, &m)| m != 0) {
-                let r = b * rows..(b + 1) * rows;
-                let block = Rows {
-                    water: &mut bufs.water[r.clone()],
-                    params: &mut bufs.params[r.clone()],
-                    was_wet: &mut bufs.was_wet[r.clone()],
-                    wetness: &mut wetness[r.clone()],
-                    marks: marks.get_mut(r.clone()).unwrap_or_default(),
-                    v0: bufs.v0.get_mut(r).unwrap_or_default(),
-                };
-                let (l, a) = finish.block(b * rows, block, scratch);
+                let (l, a) = finish.block(b * rows, all.block(b, rows), scratch);
                 lost += l;
                 any |= a;
             }
