@@ -9,10 +9,11 @@
 
 use super::cohesion::{self, Pairs};
 use super::held_rows;
-use super::layout::{Layout, StateRow};
+use super::layout::{Layout, ParamRow, StateRow};
 use super::pool::{for_chunks, for_chunks2, Pool};
+use super::prefetch;
 use crate::physics::hash_grid::HashGrid;
-use crate::physics::lanes::{L3, W};
+use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::wet;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -48,8 +49,8 @@ pub struct Bridges {
     pos: Vec<Vec3>,
     /// Their strands (block times `W` plus lane: one number per strand).
     strand: Vec<u32>,
-    /// Their saturation (at most 1) and length of hair, m.
-    sat_len: Vec<(f32, f32)>,
+    /// Their saturation, length of hair and inverse mass.
+    traits: Vec<WetTraits>,
     /// Per point index: its nearest wet points of other strands as of its last search, and
     /// its place in `point` this step (one cache line, read together by the mutual test).
     near: Vec<Near>,
@@ -124,7 +125,7 @@ impl Bridges {
             free_lanes,
             pos: Vec::new(),
             strand: Vec::new(),
-            sat_len: Vec::new(),
+            traits: Vec::new(),
             near: vec![Near::NONE; n_rows * W],
             searches: Vec::new(),
             turn: Vec::new(),
@@ -173,7 +174,7 @@ impl Bridges {
         self.last_point.clear();
         self.pos.clear();
         self.strand.clear();
-        self.sat_len.clear();
+        self.traits.clear();
         self.searches.clear();
         self.block_start.iter_mut().for_each(|s| *s = 0);
         self.pairs.clear();
@@ -198,6 +199,7 @@ impl Bridges {
         state: &[StateRow],
         held: &[[u32; W]],
         capacity: &[[u32; W]],
+        params: &[ParamRow],
         turn: u32,
         marked: bool,
         pool: Option<&Pool>,
@@ -262,7 +264,7 @@ impl Bridges {
         self.point.resize(total, 0);
         self.pos.resize(total, Vec3::ZERO);
         self.strand.resize(total, 0);
-        self.sat_len.resize(total, (0.0, 0.0));
+        self.traits.resize(total, WetTraits::default());
         self.searches.resize(total, false);
         self.pairs.clear();
         self.n_pairs = 0;
@@ -271,7 +273,7 @@ impl Bridges {
             &'a mut [u32],
             &'a mut [Vec3],
             &'a mut [u32],
-            &'a mut [(f32, f32)],
+            &'a mut [WetTraits],
             &'a mut [bool],
         );
         let mut parts: Vec<Part> = Vec::with_capacity(runs);
@@ -279,7 +281,7 @@ impl Bridges {
             &mut self.point,
             &mut self.pos,
             &mut self.strand,
-            &mut self.sat_len,
+            &mut self.traits,
             &mut self.searches,
         );
         for c in 0..runs {
@@ -295,15 +297,37 @@ impl Bridges {
         }
         let (length, start, marks, host) = (&self.length, &self.run_start, &self.wet_rows, &self.host);
         let fill = |c: usize, near: &mut [Near], part: Part| {
-            let (point, pos, strand, sat_len, searches) = part;
+            let (point, pos, strand, traits, searches) = part;
             if point.is_empty() {
                 return;
             }
             let r0 = c * ROWS_PER_TASK;
+            let rows = near.len() / W;
+            // The marked rows are sparse (under rain, the big groom's 40,000 wet points lie
+            // in at most a fifth of its rows), and each row's records missed the cache one
+            // after another: the next marked rows' are asked for ahead.
+            let from = Sources {
+                state,
+                held,
+                capacity,
+                params,
+                length,
+                host,
+            };
+            let (mut ahead, mut pending) = (0, 0);
             let mut i = 0;
-            for k in 0..near.len() / W {
+            for k in 0..rows {
+                while ahead < rows && pending < LIST_AHEAD {
+                    let r = r0 + ahead;
+                    if marks[r] != 0 {
+                        from.prefetch(r, &near[ahead * W..], marks[r]);
+                        pending += 1;
+                    }
+                    ahead += 1;
+                }
                 let r = r0 + k;
                 let mut m = marks[r];
+                pending -= (m != 0) as usize;
                 while m != 0 {
                     let l = m.trailing_zeros() as usize;
                     m &= m - 1;
@@ -313,7 +337,11 @@ impl Bridges {
                     point[i] = (r * W + l) as u32;
                     pos[i] = state[r].x.get(l);
                     strand[i] = ((r / lay.rows) * W + l) as u32;
-                    sat_len[i] = (wet::saturation(held[r][l], capacity[r][l]).min(1.0), length[r][l]);
+                    traits[i] = WetTraits {
+                        sat: wet::saturation(held[r][l], capacity[r][l]).min(1.0),
+                        len: length[r][l],
+                        inv_mass: params[r].inv_mass[l],
+                    };
                     i += 1;
                 }
             }
@@ -340,10 +368,11 @@ impl Bridges {
     /// and gives each its coefficient: the bridge's stiffness `4 kappa l min(s_i, s_j) / d_b`
     /// (peak pull `kappa l s` at `d_b / 2`), capped so that no point's bridges together exceed
     /// a quarter of what an explicit substep `h` holds stably (`m / (4 h^2)`, shared among its
-    /// bridges). `inv_mass` gives each point's inverse mass (0 pinned). `any_held`: whether
-    /// any point may hold water; when none does and none took part last step, nothing is
-    /// listed (the search turns still count the step). `marked`: the rows' marks of who takes
-    /// part are already written for this water ([`Bridges::marks`]).
+    /// bridges). `params` are the rows the kernel reads this step (inverse masses with the
+    /// water; 0 pinned). `any_held`: whether any point may hold water; when none does and
+    /// none took part last step, nothing is listed (the search turns still count the step).
+    /// `marked`: the rows' marks of who takes part are already written for this water
+    /// ([`Bridges::marks`]).
     #[allow(clippy::too_many_arguments)]
     pub fn find_pairs(
         &mut self,
@@ -351,7 +380,7 @@ impl Bridges {
         state: &[StateRow],
         held: &[[u32; W]],
         capacity: &[[u32; W]],
-        inv_mass: impl Fn(usize, usize) -> f32 + Sync,
+        params: &[ParamRow],
         h: f32,
         any_held: bool,
         marked: bool,
@@ -362,7 +391,7 @@ impl Bridges {
             return;
         }
         let turn = self.step % SEARCH_TURNS;
-        self.list_wet(lay, state, held, capacity, turn, marked, pool);
+        self.list_wet(lay, state, held, capacity, params, turn, marked, pool);
         self.step = self.step.wrapping_add(1);
         if self.point.len() < 2 {
             return;
@@ -396,7 +425,7 @@ impl Bridges {
         // point has no nearest): the bridges are symmetric, so each pair's two forces are
         // exact negatives. Point by point in parallel; each keeps its nearest's order.
         // With each point's pairs, what stiffness it may take: m / (4 h^2 n).
-        let near = &self.near[..];
+        let (near, traits) = (&self.near[..], &self.traits);
         self.pairs.clear();
         self.pairs.resize(self.point.len(), Pairs::NONE);
         self.room.clear();
@@ -423,20 +452,19 @@ impl Bridges {
                 }
                 out.j = j;
                 out.n = n as u32;
-                let p = p as usize;
-                *room = 1.0 / (inv_mass(p / W, p % W) * 4.0 * h * h * n.max(1) as f32);
+                *room = 1.0 / (traits[i0 + k].inv_mass * 4.0 * h * h * n.max(1) as f32);
             }
         };
         for_chunks2(pool, &mut self.pairs, &mut self.room, CHUNK, mutual);
         self.n_pairs = self.pairs.iter().map(|p| p.n as usize).sum();
-        let (room, sl, kappa, d_b) = (&self.room, &self.sat_len, self.kappa, self.d_b);
+        let (room, tr, kappa, d_b) = (&self.room, &self.traits, self.kappa, self.d_b);
         let coef = |i0: usize, out: &mut [Pairs]| {
             for (k, out) in out.iter_mut().enumerate() {
                 let i = i0 + k;
                 for m in 0..out.n as usize {
                     let j = out.j[m] as usize;
-                    let l = 0.5 * (sl[i].1 + sl[j].1);
-                    let stiff = wet::bridge_stiffness(kappa, l, sl[i].0, sl[j].0, d_b);
+                    let l = 0.5 * (tr[i].len + tr[j].len);
+                    let stiff = wet::bridge_stiffness(kappa, l, tr[i].sat, tr[j].sat, d_b);
                     out.c[m] = stiff.min(room[i].min(room[j]));
                 }
             }
@@ -509,7 +537,7 @@ impl Bridges {
             + (4 * MAX_BRIDGES + 1) * self.found.capacity()
             + 12 * (self.pos.capacity() + self.xs.capacity() + self.xs_next.capacity())
             + 4 * self.block_start.capacity()
-            + 8 * self.sat_len.capacity()
+            + std::mem::size_of::<WetTraits>() * self.traits.capacity()
             + 4 * W * self.length.capacity()
             + 4 * self.host.capacity()
     }
@@ -584,20 +612,56 @@ const PREFETCH_AHEAD: usize = 8;
 /// Asks the cache for the records of the nearest of wet point `i` (nothing past the end).
 #[inline(always)]
 fn prefetch_nearest(near: &[Near], point: &[u32], i: usize) {
-    #[cfg(target_arch = "x86_64")]
     if let Some(&p) = point.get(i) {
         let me = &near[p as usize];
         for &q in &me.q[..(me.n as usize).min(MAX_BRIDGES)] {
-            // SAFETY: a prefetch is a hint; it reads nothing and cannot fault. `q` indexes
-            // `near` (a point's nearest are points of the groom).
-            unsafe {
-                use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-                _mm_prefetch::<_MM_HINT_T0>(near.as_ptr().add(q as usize) as *const i8);
-            }
+            prefetch::line(near.as_ptr().wrapping_add(q as usize));
         }
     }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (near, point, i);
+}
+
+/// What the pairs' coefficients read of a wet point.
+#[derive(Debug, Clone, Copy, Default)]
+struct WetTraits {
+    /// Saturation, at most 1.
+    sat: f32,
+    /// Length of hair, m.
+    len: f32,
+    /// Inverse mass with its water, 1/kg (read here while the row is at hand: read by the
+    /// mutual test, each was a cache miss).
+    inv_mass: f32,
+}
+
+/// How many marked rows ahead the listing asks for their records.
+const LIST_AHEAD: usize = 8;
+
+/// What the listing reads of each row it lists from.
+struct Sources<'a> {
+    state: &'a [StateRow],
+    held: &'a [[u32; W]],
+    capacity: &'a [[u32; W]],
+    params: &'a [ParamRow],
+    length: &'a [Lane],
+    host: &'a [u32],
+}
+
+impl Sources<'_> {
+    /// Asks the cache for row `r`'s records, and its marked lanes' `near` records (`near`
+    /// starts at the row's first).
+    #[inline(always)]
+    fn prefetch(&self, r: usize, near: &[Near], marks: u8) {
+        prefetch::lines(std::slice::from_ref(&self.state[r].x));
+        prefetch::line(&self.held[r]);
+        prefetch::line(&self.capacity[r]);
+        prefetch::line(&self.params[r].inv_mass);
+        prefetch::line(&self.length[r]);
+        prefetch::line(&self.host[r * W]);
+        let mut m = marks;
+        while m != 0 {
+            prefetch::line(&near[m.trailing_zeros() as usize]);
+            m &= m - 1;
+        }
+    }
 }
 
 /// A point's nearest wet points of other strands (point indices, sorted ascending, `n` of
@@ -692,7 +756,6 @@ mod tests {
         let start = lay.rest_state(&glam::Affine3A::IDENTITY);
         let hw = &params.held_water;
         let d_b = hw.bridge_length_for(&params.water);
-        let inv_mass = |r: usize, l: usize| lay.params[r].inv_mass[l];
         let found = || {
             let mut b = Bridges::new(&lay, hw.bridge_tension, d_b);
             b.find_pairs(
@@ -700,7 +763,7 @@ mod tests {
                 &start,
                 &held.water,
                 &held.capacity,
-                inv_mass,
+                &lay.params,
                 1.0 / 240.0,
                 true,
                 false,

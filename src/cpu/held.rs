@@ -209,11 +209,6 @@ impl Held {
         &self.params
     }
 
-    /// Inverse mass of lane `l` of row `r` (with its water, as this step's kernel reads it).
-    pub fn inv_mass(&self, r: usize, l: usize) -> f32 {
-        self.params[r].inv_mass[l]
-    }
-
     /// Dry again, with an empty ledger.
     pub fn reset(&mut self, lay: &Layout) {
         self.water.iter_mut().for_each(|w| *w = [0; W]);

@@ -15,6 +15,7 @@ pub mod kernel;
 pub mod layout;
 pub mod output;
 pub mod pool;
+mod prefetch;
 mod roots;
 mod settle;
 pub mod step;

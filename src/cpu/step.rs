@@ -419,13 +419,12 @@ impl CpuBackend {
             clock.stop(Stage::WetParams, t);
             if let Some(br) = &mut self.bridges {
                 let t = clock.start();
-                let inv_mass = |r: usize, l: usize| held.inv_mass(r, l);
                 br.find_pairs(
                     &self.lay,
                     &self.state,
                     &held.water,
                     &held.capacity,
-                    inv_mass,
+                    held.row_params(),
                     h,
                     held_at_start,
                     fresh,
