@@ -48,10 +48,11 @@ pub fn refresh_rows(
         *was_wet = wet;
         // Each lane computed, then chosen: branch-free, so the eight lanes' divides run as
         // vectors (a divide per point was most of the pass).
+        let kg = wet::to_kg_lanes(&water[k]);
         for l in 0..W {
             let dry_inv = lay.params[r].inv_mass[l];
             let q = water[k][l];
-            let wet_inv = (1.0 / (src.dry_mass[r][l] as f64 + wet::to_kg(q))) as f32;
+            let wet_inv = (1.0 / (src.dry_mass[r][l] as f64 + kg[l])) as f32;
             row.inv_mass[l] = if dry_inv == 0.0 || q == 0 { dry_inv } else { wet_inv };
         }
         if bends {
@@ -68,7 +69,7 @@ pub fn refresh_rows(
 /// Row `k`'s saturations (`wet::saturation`, unclamped) from its water and capacity.
 #[inline(always)]
 pub fn saturation_of(water: &[u32; W], capacity: &[u32; W]) -> Lane {
-    std::array::from_fn(|l| wet::saturation(water[l], capacity[l]))
+    wet::saturation_lanes(water, capacity)
 }
 
 /// The drying law's inputs: wind, time constant and reference air speed.

@@ -229,10 +229,7 @@ fn block_substep_impl<const AXIAL: bool>(
             let mut acc = L3::ZERO;
             let mut near = [0.0f32; W];
             let mut wet_row = w.absorb.as_ref().map(|a| {
-                let mut sat = [0.0f32; W];
-                for l in 0..W {
-                    sat[l] = crate::physics::wet::saturation(a.held[base + i][l], a.capacity[base + i][l]);
-                }
+                let sat = crate::physics::wet::saturation_lanes(&a.held[base + i], &a.capacity[base + i]);
                 absorb::WetRow {
                     mass: a.mass,
                     strength_per_quantum: a.strength_per_quantum,

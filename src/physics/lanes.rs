@@ -87,6 +87,25 @@ pub fn hsum(a: &Lane) -> f32 {
     (s4[0] + s4[2]) + (s4[1] + s4[3])
 }
 
+/// 2^52 as an f64: its mantissa's low bits hold any `u32` exactly.
+const TWO_52: f64 = 4_503_599_627_370_496.0;
+
+/// Each lane's `q as f64` (exact), in a form that runs as vectors: x86 before AVX-512 has no
+/// conversion from unsigned integers, and with `as` LLVM left the held water's laws scalar
+/// (eight conversions and eight divides a row). The count goes into the low mantissa bits
+/// of 2^52, which is then taken away.
+#[inline(always)]
+pub fn u32_as_f64(q: &[u32; W]) -> [f64; W] {
+    std::array::from_fn(|l| f64::from_bits(TWO_52.to_bits() | q[l] as u64) - TWO_52)
+}
+
+/// Each lane's `q as f32` (to nearest, as `as` rounds), as vectors: exact in f64 first, so
+/// the one rounding to f32 is the same.
+#[inline(always)]
+pub fn u32_as_f32(q: &[u32; W]) -> Lane {
+    u32_as_f64(q).map(|x| x as f32)
+}
+
 /// Mutable per-row state: positions (m) and velocities (m/s) of `W` points.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C, align(32))]
@@ -114,6 +133,35 @@ mod tests {
     use super::{L3, W};
     use crate::scenes::Lcg;
     use glam::{Affine3A, Quat, Vec3};
+
+    /// The lane conversions of `u32` give `as`'s values, at the ends of the range too.
+    #[test]
+    fn unsigned_conversions_give_the_casts_bits() {
+        let mut rng = Lcg(5);
+        let edges = [
+            0,
+            1,
+            2,
+            (1 << 24) - 1,
+            1 << 24,
+            (1 << 24) + 1,
+            (1 << 31) - 1,
+            1 << 31,
+            u32::MAX - 1,
+            u32::MAX,
+        ];
+        for k in 0..2000 {
+            let q: [u32; W] = std::array::from_fn(|l| {
+                if k < 2 * edges.len() {
+                    edges[(k + l) % edges.len()]
+                } else {
+                    (rng.next_f32() * u32::MAX as f32) as u32 ^ (rng.next_f32() * 65536.0) as u32
+                }
+            });
+            assert_eq!(super::u32_as_f64(&q).map(f64::to_bits), q.map(|q| (q as f64).to_bits()));
+            assert_eq!(super::u32_as_f32(&q).map(f32::to_bits), q.map(|q| (q as f32).to_bits()));
+        }
+    }
 
     /// `transformed` gives `Affine3A::transform_point3`'s bits on every lane.
     #[test]

@@ -8,7 +8,7 @@
 //! order, on any thread count, and with integer atomics on the GPU. Rates are floats; only the
 //! amounts they move are rounded, once, to whole quanta.
 
-use super::lanes::{Lane, L3, W};
+use super::lanes::{u32_as_f32, u32_as_f64, Lane, L3, W};
 use super::rounding::{floor_nonneg_lanes, round_nonneg, round_nonneg_lanes};
 use glam::Vec3;
 
@@ -80,6 +80,25 @@ pub fn saturation(held: u32, capacity: u32) -> f32 {
     } else {
         0.0
     }
+}
+
+/// [`saturation`] of a row of eight points, the same bits lane by lane, as vectors (each
+/// lane's divide computed, then chosen).
+#[inline(always)]
+pub fn saturation_lanes(held: &[u32; W], capacity: &[u32; W]) -> Lane {
+    let (h, c) = (u32_as_f32(held), u32_as_f32(capacity));
+    let mut s = [0.0f32; W];
+    for l in 0..W {
+        let d = h[l] / c[l];
+        s[l] = if capacity[l] > 0 { d } else { 0.0 };
+    }
+    s
+}
+
+/// [`to_kg`] of a row of eight points, the same bits, as vectors.
+#[inline(always)]
+pub fn to_kg_lanes(q: &[u32; W]) -> [f64; W] {
+    u32_as_f64(q).map(|q| q * WATER_QUANTUM)
 }
 
 /// The factor on bending stiffness at saturation `s`: 1 dry, `wet_ratio` saturated, linear
@@ -498,6 +517,30 @@ pub fn gust(w0: Vec3, amplitude: f32, seed: u32, t: f64) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The row forms of the saturation and of `to_kg` give the one-point laws' bits, over
+    /// capacities of zero, water over capacity and the ends of the count.
+    #[test]
+    fn the_row_forms_give_the_point_laws_bits() {
+        let mut rng = crate::scenes::Lcg(11);
+        let mut q = || match (rng.next_f32() * 6.0) as u32 {
+            0 => 0,
+            1 => u32::MAX,
+            2 => 1 << 31,
+            _ => (rng.next_f32() * 4.0e9) as u32,
+        };
+        for _ in 0..5000 {
+            let (held, cap): ([u32; W], [u32; W]) = (std::array::from_fn(|_| q()), std::array::from_fn(|_| q()));
+            let want: [u32; W] = std::array::from_fn(|l| saturation(held[l], cap[l]).to_bits());
+            assert_eq!(
+                saturation_lanes(&held, &cap).map(f32::to_bits),
+                want,
+                "{held:?} {cap:?}"
+            );
+            let kg: [u64; W] = std::array::from_fn(|l| to_kg(held[l]).to_bits());
+            assert_eq!(to_kg_lanes(&held).map(f64::to_bits), kg);
+        }
+    }
 
     /// Eight strands of different lengths flowing at once give each the same bits as it gets
     /// alone (lane 0), and rows past a strand's end are left alone.
