@@ -78,10 +78,9 @@ fn flow_conserves_water_and_drains_a_hanging_strand_to_its_tip() {
     let x: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.0, 0.0, -0.01 * i as f32)).collect();
     let a = vec![Vec3::ZERO; n];
     let mut held = vec![to_quanta(1.0e-6); n];
-    let mut sc = FlowScratch::default();
     let total: u64 = held.iter().map(|&w| w as u64).sum();
     for _ in 0..2000 {
-        flow_strand(&mut held, &x, &a, g, FLOW_MOBILITY, 1.0 / 60.0, &mut sc);
+        flow_strand(&mut held, &x, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
         assert_eq!(held.iter().map(|&w| w as u64).sum::<u64>(), total, "conserved exactly");
     }
     assert!(
@@ -93,16 +92,16 @@ fn flow_conserves_water_and_drains_a_hanging_strand_to_its_tip() {
     let flat: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.01 * i as f32, 0.0, 0.0)).collect();
     let before: Vec<u32> = (0..n as u32).map(|i| 1000 * (i + 1)).collect();
     let mut w = before.clone();
-    flow_strand(&mut w, &flat, &a, g, FLOW_MOBILITY, 1.0 / 60.0, &mut sc);
+    flow_strand(&mut w, &flat, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
     assert_eq!(w, before);
     // A strand accelerated downward at g (free fall) feels no gravity along it: no flow either.
     let fall = vec![g; n];
     let mut w2 = before.clone();
-    flow_strand(&mut w2, &x, &fall, g, FLOW_MOBILITY, 1.0 / 60.0, &mut sc);
+    flow_strand(&mut w2, &x, &fall, g, FLOW_MOBILITY, 1.0 / 60.0);
     assert_eq!(w2, before);
     // A step long enough to send more than a point holds sends what it holds, no more.
     let mut w3 = before.clone();
-    flow_strand(&mut w3, &x, &a, g, FLOW_MOBILITY, 10.0, &mut sc);
+    flow_strand(&mut w3, &x, &a, g, FLOW_MOBILITY, 10.0);
     assert_eq!(
         w3.iter().map(|&v| v as u64).sum::<u64>(),
         before.iter().map(|&v| v as u64).sum::<u64>()

@@ -173,7 +173,6 @@ fn pack_bits(b: [bool; W]) -> u8 {
 pub struct BlockScratch {
     x: Vec<L3>,
     a: Vec<L3>,
-    lanes: wet::FlowScratch,
     pub sat: Vec<Lane>,
 }
 
@@ -183,7 +182,6 @@ impl BlockScratch {
         BlockScratch {
             x: Vec::with_capacity(rows),
             a: Vec::with_capacity(rows),
-            lanes: wet::FlowScratch::default(),
             sat: Vec::with_capacity(rows),
         }
     }
@@ -225,5 +223,5 @@ pub fn flow_block(
         }
         t.a.push(a);
     }
-    wet::flow_lanes(water, &t.x, &t.a, &n, g, mobility, dt, &mut t.lanes);
+    wet::flow_lanes(water, &t.x, &t.a, &n, g, mobility, dt);
 }

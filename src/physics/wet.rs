@@ -332,15 +332,6 @@ pub fn drip(held: u32, capacity: u32, min_drop: u32) -> u32 {
     }
 }
 
-/// Scratch for [`flow_lanes`], kept by the caller so a pass allocates nothing per block.
-#[derive(Debug, Default)]
-pub struct FlowScratch {
-    down: Vec<[u64; W]>,
-    up: Vec<[u64; W]>,
-    out: Vec<[u64; W]>,
-    start: Vec<[u32; W]>,
-}
-
 /// Moves one strand's held water (quanta per point, updated in place) one step `h` along its
 /// segments toward where the effective gravity `g - a` points (`x` positions, `a`
 /// accelerations). Each end of a segment sends `h mobility held (g - a).t / |g|` away from
@@ -349,7 +340,7 @@ pub struct FlowScratch {
 /// sends more than it holds. Every transfer is one integer taken from one point and given to
 /// its neighbour: the strand's total never changes. The strand runs as lane 0 of
 /// [`flow_lanes`], which the CPU backend calls on eight strands at once.
-pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: f32, h: f32, sc: &mut FlowScratch) {
+pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: f32, h: f32) {
     let n = held.len();
     debug_assert!(x.len() == n && a.len() == n);
     let lane0 = |v: &Vec3| {
@@ -368,7 +359,7 @@ pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: 
     let (xs, as_): (Vec<L3>, Vec<L3>) = (x.iter().map(lane0).collect(), a.iter().map(lane0).collect());
     let mut count = [0; W];
     count[0] = n;
-    flow_lanes(&mut rows, &xs, &as_, &count, g, mobility, h, sc);
+    flow_lanes(&mut rows, &xs, &as_, &count, g, mobility, h);
     for (q, r) in held.iter_mut().zip(&rows) {
         *q = r[0];
     }
@@ -382,87 +373,93 @@ pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: 
 /// Inlined, so the CPU's pass compiles it for AVX2 where it runs there.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub fn flow_lanes(
-    held: &mut [[u32; W]],
-    x: &[L3],
-    a: &[L3],
-    n: &[usize; W],
-    g: Vec3,
-    mobility: f32,
-    h: f32,
-    sc: &mut FlowScratch,
-) {
+pub fn flow_lanes(held: &mut [[u32; W]], x: &[L3], a: &[L3], n: &[usize; W], g: Vec3, mobility: f32, h: f32) {
     let rows = held.len();
     debug_assert!(x.len() >= rows && a.len() >= rows && n.iter().all(|&k| k <= rows));
     let g_len = g.length();
     if rows < 2 || g_len <= 0.0 || mobility <= 0.0 {
         return;
     }
-    // Per segment, what each end sends across it (down: i to i+1; up: i+1 to i).
-    for v in [&mut sc.down, &mut sc.up, &mut sc.out] {
-        v.clear();
-        v.resize(rows, [0; W]);
-    }
     let rate = h as f64 * mobility as f64;
+    // One pass with a segment's lag: segment `i`'s sends (down: `i` to `i + 1`; up: `i + 1`
+    // to `i`) complete what point `i` is asked to send in all, so segment `i - 1`, whose two
+    // ends' totals are then known, is applied. Sends are computed from the water at the
+    // pass's start, which no applied segment has touched yet where they read it.
+    let (mut d_prev, mut u_prev) = ([0u64; W], [0u64; W]);
+    let (mut out_prev, mut start_prev) = ([0u64; W], [0u32; W]);
+    let mut start_i = held[0];
     for i in 0..rows - 1 {
+        let start_j = held[i + 1];
         let (along_i, along_j) = segment_along(&x[i], &x[i + 1], &a[i], &a[i + 1], g, g_len);
         // Every lane computed, a lane past its strand's end sending 0 (as one skipped would:
         // its sums stay as they were), so the lanes run as vectors.
         let (mut down, mut up) = ([0.0f64; W], [0.0f64; W]);
         for l in 0..W {
             let on = i + 1 < n[l];
-            let d = rate * along_i[l] as f64 * held[i][l] as f64;
-            let u = rate * along_j[l] as f64 * held[i + 1][l] as f64;
+            let d = rate * along_i[l] as f64 * start_i[l] as f64;
+            let u = rate * along_j[l] as f64 * start_j[l] as f64;
             down[l] = if on { d } else { 0.0 };
             up[l] = if on { u } else { 0.0 };
         }
         let (down, up) = (floor_nonneg_lanes(&down), floor_nonneg_lanes(&up));
-        sc.down[i] = down;
-        sc.up[i] = up;
+        let mut out_i = [0u64; W];
         for l in 0..W {
-            sc.out[i][l] += down[l];
-            sc.out[i + 1][l] += up[l];
+            out_i[l] = u_prev[l] + down[l];
         }
+        if i > 0 {
+            let ends = [(out_prev, start_prev), (out_i, start_i)];
+            flow_apply(held, i - 1, n, (d_prev, u_prev), ends);
+        }
+        (d_prev, u_prev, out_prev, start_prev, start_i) = (down, up, out_i, start_i, start_j);
     }
-    // A point asked to send more than it holds sends all of it, shared in proportion (rounded
-    // down, so never more).
-    sc.start.clear();
-    sc.start.extend_from_slice(held);
-    let (out, start) = (&sc.out, &sc.start);
-    let share = |q: u64, from: usize, l: usize| -> u32 {
-        if out[from][l] > start[from][l] as u64 {
-            (q * start[from][l] as u64 / out[from][l]) as u32
+    // The last segment: its far end sends nothing further.
+    let ends = [(out_prev, start_prev), (u_prev, start_i)];
+    flow_apply(held, rows - 2, n, (d_prev, u_prev), ends);
+}
+
+/// Applies segment `i`'s sends `(down, up)` to `held` (rows `i` and `i + 1`): `ends` holds each
+/// end's total asked of it and its water at the pass's start. A point asked to send more
+/// than it holds sends all of it, shared in proportion (rounded down, so never more); each
+/// transfer is cut to the receiver's inflow bound ([`flow_inflow_bound`]). Where neither end
+/// is asked for more than it holds (nearly always) the lanes run as vectors: the sends are
+/// then whole `u32`s, and a lane past its strand's end sends 0 both ways, so it moves
+/// nothing, as skipped. Each lane's sums are the same operations in the same order either
+/// way.
+#[inline(always)]
+fn flow_apply(
+    held: &mut [[u32; W]],
+    i: usize,
+    n: &[usize; W],
+    sends: ([u64; W], [u64; W]),
+    ends: [([u64; W], [u32; W]); 2],
+) {
+    let (down, up) = sends;
+    let [(out_a, start_a), (out_b, start_b)] = ends;
+    let over = |out: &[u64; W], start: &[u32; W]| (0..W).fold(false, |o, l| o | (out[l] > start[l] as u64));
+    if !(over(&out_a, &start_a) || over(&out_b, &start_b)) {
+        for l in 0..W {
+            let d = (down[l] as u32).min(flow_inflow_bound(start_b[l]));
+            let u = (up[l] as u32).min(flow_inflow_bound(start_a[l]));
+            held[i][l] = held[i][l].wrapping_sub(d).wrapping_add(u);
+            held[i + 1][l] = held[i + 1][l].wrapping_add(d).wrapping_sub(u);
+        }
+        return;
+    }
+    let share = |q: u64, out: u64, start: u32| -> u32 {
+        if out > start as u64 {
+            (q * start as u64 / out) as u32
         } else {
             q as u32
         }
     };
-    // Where no point of a segment's two ends is asked for more than it holds (nearly
-    // always), its lanes run as vectors: the sends are then whole `u32`s, and a lane past its
-    // strand's end sends 0 both ways, so it moves nothing, as skipped. Each lane's sums are
-    // the same operations in the same order either way: the same bits.
-    let over = |i: usize| (0..W).fold(false, |o, l| o | (out[i][l] > start[i][l] as u64));
-    let mut over_i = over(0);
-    for i in 0..rows - 1 {
-        let over_j = over(i + 1);
-        if !(over_i || over_j) {
-            for l in 0..W {
-                let d = (sc.down[i][l] as u32).min(flow_inflow_bound(start[i + 1][l]));
-                let u = (sc.up[i][l] as u32).min(flow_inflow_bound(start[i][l]));
-                held[i][l] = held[i][l].wrapping_sub(d).wrapping_add(u);
-                held[i + 1][l] = held[i + 1][l].wrapping_add(d).wrapping_sub(u);
-            }
-        } else {
-            for l in 0..W {
-                if i + 1 >= n[l] {
-                    continue;
-                }
-                let d = share(sc.down[i][l], i, l).min(flow_inflow_bound(start[i + 1][l]));
-                let u = share(sc.up[i][l], i + 1, l).min(flow_inflow_bound(start[i][l]));
-                held[i][l] = held[i][l] - d + u;
-                held[i + 1][l] = held[i + 1][l] + d - u;
-            }
+    for l in 0..W {
+        if i + 1 >= n[l] {
+            continue;
         }
-        over_i = over_j;
+        let d = share(down[l], out_a[l], start_a[l]).min(flow_inflow_bound(start_b[l]));
+        let u = share(up[l], out_b[l], start_b[l]).min(flow_inflow_bound(start_a[l]));
+        held[i][l] = held[i][l] - d + u;
+        held[i + 1][l] = held[i + 1][l] + d - u;
     }
 }
 
@@ -566,14 +563,13 @@ mod tests {
         let g = Vec3::new(0.0, -9.81, 0.0);
         let (h, mob) = (1.0 / 60.0, 40.0);
         let before = held.clone();
-        let mut sc = FlowScratch::default();
-        flow_lanes(&mut held, &x, &a, &n, g, mob, h, &mut sc);
+        flow_lanes(&mut held, &x, &a, &n, g, mob, h);
         let mut moved = 0;
         for l in 0..W {
             let mut alone: Vec<u32> = before[..n[l]].iter().map(|r| r[l]).collect();
             let xs: Vec<Vec3> = x[..n[l]].iter().map(|r| r.get(l)).collect();
             let as_: Vec<Vec3> = a[..n[l]].iter().map(|r| r.get(l)).collect();
-            flow_strand(&mut alone, &xs, &as_, g, mob, h, &mut sc);
+            flow_strand(&mut alone, &xs, &as_, g, mob, h);
             for r in 0..rows {
                 let want = if r < n[l] { alone[r] } else { before[r][l] };
                 assert_eq!(held[r][l], want, "lane {l} row {r}");
