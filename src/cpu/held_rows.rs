@@ -167,12 +167,10 @@ fn pack_bits(b: [bool; W]) -> u8 {
     m
 }
 
-/// What the passes over one block work in: its positions and accelerations (flow), and its
-/// saturations (kept by [`saturation_rows`] for [`refresh_rows`]).
+/// What the passes over one block work in: its saturations (kept by [`saturation_rows`] for
+/// [`refresh_rows`]).
 #[derive(Debug, Default)]
 pub struct BlockScratch {
-    x: Vec<L3>,
-    a: Vec<L3>,
     pub sat: Vec<Lane>,
 }
 
@@ -180,8 +178,6 @@ impl BlockScratch {
     /// Room for a block of `rows` rows.
     pub fn with_rows(rows: usize) -> BlockScratch {
         BlockScratch {
-            x: Vec::with_capacity(rows),
-            a: Vec::with_capacity(rows),
             sat: Vec::with_capacity(rows),
         }
     }
@@ -202,7 +198,6 @@ pub fn flow_block(
     g: Vec3,
     mobility: f32,
     dt: f32,
-    t: &mut BlockScratch,
 ) {
     if water.iter().all(|w| w.iter().all(|&q| q == 0)) {
         return;
@@ -211,17 +206,16 @@ pub fn flow_block(
     // own marks: looking each strand's length up was a cache miss per lane).
     let real = &lay.real_lanes[b * water.len()..(b + 1) * water.len()];
     let n: [usize; W] = std::array::from_fn(|l| real.iter().map(|&m| ((m >> l) & 1) as usize).sum());
-    t.x.clear();
-    t.a.clear();
-    for (s, v0) in state[..water.len()].iter().zip(v0) {
-        t.x.push(s.x);
+    let (state, v0) = (&state[..water.len()], &v0[..water.len()]);
+    let accel = |i: usize| {
+        let (v, v0) = (&state[i].v, &v0[i]);
         let mut a = L3::ZERO;
         for l in 0..W {
-            a.x[l] = (s.v.x[l] - v0.x[l]) / dt;
-            a.y[l] = (s.v.y[l] - v0.y[l]) / dt;
-            a.z[l] = (s.v.z[l] - v0.z[l]) / dt;
+            a.x[l] = (v.x[l] - v0.x[l]) / dt;
+            a.y[l] = (v.y[l] - v0.y[l]) / dt;
+            a.z[l] = (v.z[l] - v0.z[l]) / dt;
         }
-        t.a.push(a);
-    }
-    wet::flow_lanes(water, &t.x, &t.a, &n, g, mobility, dt);
+        a
+    };
+    wet::flow_rows(water, |i| state[i].x, accel, &n, g, mobility, dt);
 }

@@ -226,7 +226,7 @@ impl Held {
                         avx2(
                             av,
                             #[inline(always)]
-                            || held_rows::flow_block(lay, b, block.water, st, block.v0, g, mob, dt, t),
+                            || held_rows::flow_block(lay, b, block.water, st, block.v0, g, mob, dt),
                         );
                     }
                     if drips {

@@ -374,8 +374,25 @@ pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: 
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn flow_lanes(held: &mut [[u32; W]], x: &[L3], a: &[L3], n: &[usize; W], g: Vec3, mobility: f32, h: f32) {
+    debug_assert!(x.len() >= held.len() && a.len() >= held.len());
+    flow_rows(held, |i| x[i], |i| a[i], n, g, mobility, h);
+}
+
+/// [`flow_lanes`] reading row `i`'s positions and accelerations as `x(i)` and `a(i)`, once
+/// each: the CPU's pass computes the accelerations from the velocities as it goes, instead
+/// of copying both into scratch first.
+#[inline(always)]
+pub fn flow_rows(
+    held: &mut [[u32; W]],
+    x: impl Fn(usize) -> L3,
+    a: impl Fn(usize) -> L3,
+    n: &[usize; W],
+    g: Vec3,
+    mobility: f32,
+    h: f32,
+) {
     let rows = held.len();
-    debug_assert!(x.len() >= rows && a.len() >= rows && n.iter().all(|&k| k <= rows));
+    debug_assert!(n.iter().all(|&k| k <= rows));
     let g_len = g.length();
     if rows < 2 || g_len <= 0.0 || mobility <= 0.0 {
         return;
@@ -388,9 +405,10 @@ pub fn flow_lanes(held: &mut [[u32; W]], x: &[L3], a: &[L3], n: &[usize; W], g: 
     let (mut d_prev, mut u_prev) = ([0u64; W], [0u64; W]);
     let (mut out_prev, mut start_prev) = ([0u64; W], [0u32; W]);
     let mut start_i = held[0];
+    let (mut x_i, mut a_i) = (x(0), a(0));
     for i in 0..rows - 1 {
-        let start_j = held[i + 1];
-        let (along_i, along_j) = segment_along(&x[i], &x[i + 1], &a[i], &a[i + 1], g, g_len);
+        let (start_j, x_j, a_j) = (held[i + 1], x(i + 1), a(i + 1));
+        let (along_i, along_j) = segment_along(&x_i, &x_j, &a_i, &a_j, g, g_len);
         // Every lane computed, a lane past its strand's end sending 0 (as one skipped would:
         // its sums stay as they were), so the lanes run as vectors.
         let (mut down, mut up) = ([0.0f64; W], [0.0f64; W]);
@@ -411,6 +429,7 @@ pub fn flow_lanes(held: &mut [[u32; W]], x: &[L3], a: &[L3], n: &[usize; W], g: 
             flow_apply(held, i - 1, n, (d_prev, u_prev), ends);
         }
         (d_prev, u_prev, out_prev, start_prev, start_i) = (down, up, out_i, start_i, start_j);
+        (x_i, a_i) = (x_j, a_j);
     }
     // The last segment: its far end sends nothing further.
     let ends = [(out_prev, start_prev), (u_prev, start_i)];
