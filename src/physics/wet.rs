@@ -371,7 +371,6 @@ pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: 
 /// operations in the same order, lane by lane (the f32 part then runs as vectors: one square
 /// root and three divides per segment were most of the pass when it went strand by strand).
 /// Inlined, so the CPU's pass compiles it for AVX2 where it runs there.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn flow_lanes(held: &mut [[u32; W]], x: &[L3], a: &[L3], n: &[usize; W], g: Vec3, mobility: f32, h: f32) {
     debug_assert!(x.len() >= held.len() && a.len() >= held.len());
