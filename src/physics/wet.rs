@@ -411,10 +411,11 @@ pub fn flow_rows(
         // Every lane computed, a lane past its strand's end sending 0 (as one skipped would:
         // its sums stay as they were), so the lanes run as vectors.
         let (mut down, mut up) = ([0.0f64; W], [0.0f64; W]);
+        let (held_i, held_j) = (u32_as_f64(&start_i), u32_as_f64(&start_j));
         for l in 0..W {
             let on = i + 1 < n[l];
-            let d = rate * along_i[l] as f64 * start_i[l] as f64;
-            let u = rate * along_j[l] as f64 * start_j[l] as f64;
+            let d = rate * along_i[l] as f64 * held_i[l];
+            let u = rate * along_j[l] as f64 * held_j[l];
             down[l] = if on { d } else { 0.0 };
             up[l] = if on { u } else { 0.0 };
         }
