@@ -138,6 +138,17 @@ fn main() {
             });
         println!("positions hash {h:016x}");
     }
+    // WET=1: how many hair points hold water at the end (wetness above zero), which is what
+    // the per-point wet passes can skip or not.
+    if std::env::var_os("WET").is_some() {
+        let a = sim.attributes();
+        if let Some(o) = a.offset(wethair::VertexAttributes::WETNESS) {
+            let mut v = vec![0.0f32; sim.vertex_count() * a.stride()];
+            sim.write_vertices(&mut v).expect("vertices");
+            let wet = v.chunks(a.stride()).filter(|p| p[o] > 0.0).count();
+            println!("{wet} of {} points hold water", sim.vertex_count());
+        }
+    }
     // CLUMP=1: the clumping measures at the end (tips, and along the strands), m.
     if std::env::var_os("CLUMP").is_some() {
         let st = sim.stats();

@@ -4,7 +4,7 @@
 //! the laws per row, `held_rows.rs`. Exists only when the scene has held water switched on.
 
 use super::avx2::{cpu_has_avx2, run_avx2_or_base};
-use super::held_rows::{self, BlockScratch, ParamSource};
+use super::held_rows::{self, BlockScratch, DryRow, ParamSource};
 use super::layout::{Layout, ParamRow, StateRow};
 use super::pool::{for_chunks, for_chunks2, Pool};
 use crate::engine::WaterLedger;
@@ -22,8 +22,8 @@ pub struct Held {
     pub water: Vec<[u32; W]>,
     /// Capacity per point, quanta (0 on padding lanes).
     pub capacity: Vec<[u32; W]>,
-    /// Dry mass per point, kg (0 on padding lanes).
-    dry_mass: Vec<Lane>,
+    /// Per row, the dry values the wet parameters are computed from.
+    dry: Vec<DryRow>,
     /// The layout's row parameters with each free point's inverse mass from its dry mass plus
     /// its water (what the kernel reads instead of the layout's while water is held).
     pub params: Vec<ParamRow>,
@@ -62,14 +62,20 @@ impl Held {
     /// Every point dry, with capacities from the groom's masses.
     pub fn new(lay: &Layout, cfg: HeldWater) -> Held {
         let n_rows = lay.blocks * lay.rows;
-        let mut dry_mass = vec![[0.0f32; W]; n_rows];
+        let mut dry: Vec<DryRow> = (lay.params.iter())
+            .map(|p| DryRow {
+                mass: [0.0; W],
+                inv_mass: p.inv_mass,
+                bend_k: p.bend.k,
+            })
+            .collect();
         let mut capacity = vec![[0u32; W]; n_rows];
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
             let first = lay.strand_first[s] as usize;
             for i in 0..lay.strand_points(s) {
                 let m = lay.mass[first + i];
-                dry_mass[b * lay.rows + i][l] = m;
+                dry[b * lay.rows + i].mass[l] = m;
                 capacity[b * lay.rows + i][l] = wet::capacity(m, cfg.capacity_ratio);
             }
         }
@@ -77,7 +83,7 @@ impl Held {
         Held {
             water: vec![[0; W]; n_rows],
             capacity,
-            dry_mass,
+            dry,
             params: lay.params.clone(),
             params_wet: vec![false; n_rows],
             added: 0,
@@ -126,8 +132,8 @@ impl Held {
     /// What the wet parameters are computed from.
     pub(super) fn param_source<'a>(&'a self, lay: &'a Layout) -> ParamSource<'a> {
         ParamSource {
-            lay,
-            dry_mass: &self.dry_mass,
+            rows: lay.rows,
+            dry: &self.dry,
             capacity: &self.capacity,
             limp: self.cfg.limp(),
             ratio: self.cfg.wet_bend_ratio,
@@ -234,7 +240,7 @@ impl Held {
     pub fn bytes(&self) -> usize {
         self.water.capacity() * 4 * W
             + self.capacity.capacity() * 4 * W
-            + self.dry_mass.capacity() * 4 * W
+            + self.dry.capacity() * std::mem::size_of::<DryRow>()
             + self.params.capacity() * std::mem::size_of::<ParamRow>()
             + self.params_wet.capacity()
             + self.v0.capacity() * std::mem::size_of::<L3>()

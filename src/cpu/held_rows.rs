@@ -10,11 +10,26 @@ use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::wet;
 use glam::Vec3;
 
-/// What the wet parameters are computed from: the layout, the dry masses and capacities of
-/// every row, and the model's limpness.
+/// A row's dry values that its wet parameters are computed from, kept together: the refresh
+/// then reads one compact record a row, not two cache lines of the layout's 224-byte
+/// parameter row besides the masses.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(32))]
+pub struct DryRow {
+    /// Dry mass per point, kg (0 on padding lanes).
+    pub mass: Lane,
+    /// The layout's inverse mass (0 pinned).
+    pub inv_mass: Lane,
+    /// The layout's bend stiffness, N/m.
+    pub bend_k: Lane,
+}
+
+/// What the wet parameters are computed from: the rows' dry records and capacities, and the
+/// model's limpness.
 pub struct ParamSource<'a> {
-    pub lay: &'a Layout,
-    pub dry_mass: &'a [Lane],
+    /// Rows per block.
+    pub rows: usize,
+    pub dry: &'a [DryRow],
     pub capacity: &'a [[u32; W]],
     /// Whether bend stiffness falls with saturation, and the saturated ratio.
     pub limp: bool,
@@ -36,7 +51,7 @@ pub fn refresh_rows(
     out: &mut [ParamRow],
     was_wet: &mut [bool],
 ) {
-    let (lay, rows, limp) = (src.lay, src.lay.rows, src.limp);
+    let (rows, limp) = (src.rows, src.limp);
     for (k, (row, was_wet)) in out.iter_mut().zip(was_wet).enumerate() {
         let (r, i) = (r0 + k, (r0 + k) % rows);
         let holds = |k: usize| water[k] != [0; W];
@@ -49,17 +64,17 @@ pub fn refresh_rows(
         // Each lane computed, then chosen: branch-free (a branch per point was most of the
         // pass). LLVM still keeps the eight f64 divides scalar; in f32, as vectors, they
         // measured no faster.
-        let kg = wet::to_kg_lanes(&water[k]);
+        let (kg, dry) = (wet::to_kg_lanes(&water[k]), &src.dry[r]);
         for l in 0..W {
-            let dry_inv = lay.params[r].inv_mass[l];
+            let dry_inv = dry.inv_mass[l];
             let q = water[k][l];
-            let wet_inv = (1.0 / (src.dry_mass[r][l] as f64 + kg[l])) as f32;
+            let wet_inv = (1.0 / (dry.mass[l] as f64 + kg[l])) as f32;
             row.inv_mass[l] = if dry_inv == 0.0 || q == 0 { dry_inv } else { wet_inv };
         }
         if bends {
             let (s_a, s_b) = (sat(k), sat(k + 2));
             for l in 0..W {
-                let k_dry = lay.params[r].bend.k[l];
+                let k_dry = dry.bend_k[l];
                 let wet_k = k_dry * wet::bend_scale(0.5 * (s_a[l] + s_b[l]), src.ratio);
                 row.bend.k[l] = if s_a[l] + s_b[l] == 0.0 { k_dry } else { wet_k };
             }
