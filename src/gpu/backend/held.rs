@@ -317,10 +317,10 @@ impl HeldGpu {
                 close(stamps, pass, Stage::Drip);
             }
         }
+        // dry writes the saturation as it goes; without it, saturation_out does.
         if self.cfg.dries() {
             self.dispatch(pass, DRY, cur, points);
-        }
-        if self.changes() {
+        } else if self.changes() {
             self.dispatch(pass, SATURATION, cur, points);
         }
         if self.changes() {
@@ -344,8 +344,7 @@ impl HeldGpu {
         }
         if self.cfg.dries() {
             after.push(HELD_ENTRIES[DRY]);
-        }
-        if self.changes() {
+        } else if self.changes() {
             after.push(HELD_ENTRIES[SATURATION]);
         }
         let mut before = vec![HELD_ENTRIES[WET_PARAMS]];

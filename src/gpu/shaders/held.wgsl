@@ -78,9 +78,9 @@ fn part_flush(lid: u32, at: u32) {
     }
 }
 
-// Writes point i's saturation, at most 1, as its wetness.
-fn show_saturation(i: u32) {
-    state[i].x.w = min(saturation(atomicLoad(&held[i]), capacity[i]), 1.0);
+// Writes point i's saturation with water q, at most 1, as its wetness.
+fn show_saturation(i: u32, q: u32) {
+    state[i].x.w = min(saturation(q, capacity[i]), 1.0);
 }
 
 // Pass wet_params, part 1 (cpu/held.rs `refresh_params`), once per step before the
@@ -133,7 +133,7 @@ fn soak(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
             atomicStore(&held[i], t);
             part_add(t - q);
         }
-        show_saturation(i);
+        show_saturation(i, atomicLoad(&held[i]));
     }
     part_flush(lid, HELD_ADDED);
 }
@@ -154,20 +154,24 @@ fn evaporate(q: u32, k: f32, h: f32) -> u32 {
 }
 
 // Pass dry (cpu/held.rs `dry`), once per step: each point loses water at
-// k = (1 / dry_time) (1 + sqrt(|wind - v| / dry_air_speed)).
+// k = (1 / dry_time) (1 + sqrt(|wind - v| / dry_air_speed)). Then the saturation that
+// saturation_out would write, from the water left: the same law, without a second pass over
+// every point (the CPU's settle likewise shows each block's saturation after its drying).
 @compute @workgroup_size(WG)
 fn dry(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
        @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
     if (i < P.points) {
-        let q = atomicLoad(&held[i]);
+        var q = atomicLoad(&held[i]);
         if (q > 0u) {
             let u = length(P.wind.xyz - state[i].v.xyz);
             let k = (1.0 + sqrt(u / P.dry_air_speed)) / P.dry_time;
             let e = evaporate(q, k, P.dt);
-            atomicStore(&held[i], q - e);
+            q -= e;
+            atomicStore(&held[i], q);
             part_add(e);
         }
+        show_saturation(i, q);
     }
     part_flush(lid, HELD_EVAPORATED);
 }
@@ -498,13 +502,13 @@ fn absorb_finish(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups)
     }
 }
 
-// Pass saturation (cpu/held.rs `saturation_into`), after the step's held-water passes: the
-// wetness each vertex shows.
+// Pass saturation (cpu/held.rs `saturation_into`), after the step's held-water passes when
+// none dries (dry writes it then): the wetness each vertex shows.
 @compute @workgroup_size(WG)
 fn saturation_out(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                   @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
     if (i < P.points) {
-        show_saturation(i);
+        show_saturation(i, atomicLoad(&held[i]));
     }
 }
