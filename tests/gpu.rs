@@ -850,14 +850,7 @@ fn held_water_flows_and_drips_as_on_the_cpu() {
         return;
     };
     let dispatched = g.gpu_dispatches();
-    for k in [
-        "flow_send",
-        "flow_take",
-        "drip_count",
-        "drip_scan",
-        "drip_emit",
-        "dry",
-    ] {
+    for k in ["flow_send", "flow_take", "drip_count", "drip_scan", "drip_emit", "dry"] {
         assert!(dispatched.contains(&k), "{k} missing from {dispatched:?}");
     }
     assert!(!dispatched.contains(&"saturation_out"), "{dispatched:?}");

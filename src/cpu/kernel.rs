@@ -228,16 +228,15 @@ fn block_substep_impl<const AXIAL: bool>(
             let mut runs = [(0u32, 0u32); MAX_RUNS];
             let mut acc = L3::ZERO;
             let mut near = [0.0f32; W];
-            let mut wet_row = w.absorb.as_ref().map(|a| {
-                let sat = crate::physics::wet::saturation_lanes(&a.held[base + i], &a.capacity[base + i]);
-                absorb::WetRow {
-                    mass: a.mass,
-                    strength_per_quantum: a.strength_per_quantum,
-                    sat,
-                    first_point: ((base + i) * W) as u32,
-                    take: a.take,
-                    out: &mut worker.demands,
-                }
+            let mut wet_row = w.absorb.as_ref().map(|a| absorb::WetRow {
+                mass: a.mass,
+                strength_per_quantum: a.strength_per_quantum,
+                water: &a.held[base + i],
+                capacity: &a.capacity[base + i],
+                sat: None,
+                first_point: ((base + i) * W) as u32,
+                take: a.take,
+                out: &mut worker.demands,
             });
             let reactions = &mut worker.reactions;
             if let Some(n) = w.grid.runs_in_box(lo - w.r_max, hi + w.r_max, &mut runs) {

@@ -25,8 +25,15 @@ pub struct WetRow<'a> {
     /// `s / particle_mass` in N per quantum: a particle's pull is eq. 2's `s` times the
     /// fraction of a full particle it still holds.
     pub strength_per_quantum: f64,
-    /// The row's saturations (a point at or above 1 asks for nothing).
-    pub sat: Lane,
+    /// The row's water and capacities, quanta. Its saturations (a point at or above 1 asks
+    /// for nothing) are computed from them at the row's first demand: most rows the gather
+    /// visits have no particle within reach, and reading every visited row's water was a
+    /// cache miss a row (5 % of the big groom's frame under rain).
+    pub water: &'a [u32; W],
+    /// The row's capacities, quanta.
+    pub capacity: &'a [u32; W],
+    /// The saturations, once computed.
+    pub sat: Option<Lane>,
     /// The row's first point index (`row * W`).
     pub first_point: u32,
     /// The fraction of a particle a point within `r_min` takes this substep
@@ -51,12 +58,14 @@ impl WetRow<'_> {
         if q == 0 {
             return;
         }
+        let (water, capacity) = (self.water, self.capacity);
+        let sat = *self.sat.get_or_insert_with(|| wet::saturation_lanes(water, capacity));
         for l in 0..W {
-            if inside[l] == 0.0 || self.sat[l] >= 1.0 {
+            if inside[l] == 0.0 || sat[l] >= 1.0 {
                 continue;
             }
             let w = wet::absorb_weight(d2s[l].sqrt(), r_min, r_max);
-            let quanta = wet::absorb_demand_taking(q, w, self.sat[l], self.take);
+            let quanta = wet::absorb_demand_taking(q, w, sat[l], self.take);
             if quanta > 0 {
                 self.out.push(Demand {
                     slot,

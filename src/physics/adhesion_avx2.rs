@@ -130,10 +130,12 @@ mod tests {
     /// What one gather produced: the reactions, the forces on the lanes, the marks and the
     /// absorption demands.
     type Out = (Vec<Reaction>, L3, Lane, Vec<Demand>);
+    /// A row's water and capacities, quanta.
+    type WaterRow = ([u32; W], [u32; W]);
 
     /// Runs one row's gather over two runs of `q` (slots 2..5 and 7..), the lane form or the
     /// AVX2 one, from the same starting accumulators.
-    fn gather(avx2: bool, x: &L3, mask: &Lane, q: &[Vec<f32>; 3], wet: Option<(&[u32], Lane)>) -> Out {
+    fn gather(avx2: bool, x: &L3, mask: &Lane, q: &[Vec<f32>; 3], wet: Option<(&[u32], &WaterRow)>) -> Out {
         let (r_min, r_max, s) = (0.002f32, 0.008f32, 0.008f32);
         let runs = [(2, 5), (7, q[0].len() as u32)];
         let sorted = [&q[0][..], &q[1][..], &q[2][..]];
@@ -142,10 +144,12 @@ mod tests {
         acc.x[3] = 0.25; // accumulators carry what earlier rows' passes added
         let mut near = [0.0f32; W];
         near[5] = 1.0;
-        let mut row = wet.map(|(mass, sat)| WetRow {
+        let mut row = wet.map(|(mass, (water, capacity))| WetRow {
             mass,
             strength_per_quantum: 1.0e-6,
-            sat,
+            water,
+            capacity,
+            sat: None,
             first_point: 48,
             take: crate::physics::wet::absorb_take(30.0, 1.0 / 240.0),
             out: &mut demands,
@@ -213,14 +217,16 @@ mod tests {
         for case in 0..300 {
             let mut x = L3::ZERO;
             let mut mask = [1.0f32; W];
-            let mut sat = [0.0f32; W];
+            // Saturations from 0 to 1.2 (water over capacity asks for nothing).
+            let (mut water, mut capacity) = ([0u32; W], [0u32; W]);
             for l in 0..W {
                 x.set(
                     l,
                     glam::Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 0.02,
                 );
                 mask[l] = (rng.next_f32() > 0.2) as u32 as f32;
-                sat[l] = rng.next_f32() * 1.2;
+                capacity[l] = 1000 + (rng.next_f32() * 4000.0) as u32;
+                water[l] = (rng.next_f32() * 1.2 * capacity[l] as f32) as u32;
             }
             let n = 8 + case % 13;
             let mut q = [vec![], vec![], vec![]];
@@ -236,7 +242,7 @@ mod tests {
                 }
             }
             let mass: Vec<u32> = (0..n + 7).map(|k| (k as u32 * 977) % 4000).collect();
-            for wet in [None, Some((&mass[..], sat))] {
+            for wet in [None, Some((&mass[..], &(water, capacity)))] {
                 let (a, b) = (gather(false, &x, &mask, &q, wet), gather(true, &x, &mask, &q, wet));
                 (reactions, demands) = (reactions + a.0.len(), demands + a.3.len());
                 assert_eq!(bits(&a), bits(&b), "case {case}, wet {}", wet.is_some());
