@@ -149,6 +149,30 @@ fn main() {
             println!("{wet} of {} points hold water", sim.vertex_count());
         }
     }
+    // NEAR=1: how many strands have a point within r_max plus a margin of a particle at the
+    // end (what a step could run apart from the particles, all substeps at once, were it
+    // known in advance that no particle reaches them within the step).
+    if std::env::var_os("NEAR").is_some() {
+        let w = sim.water_positions().expect("positions");
+        let x = sim.positions();
+        let strands = strands as usize;
+        let n = x.len() / strands;
+        for margin in [0.0f32, 0.01, 0.02, 0.05] {
+            let r = sim.params().water.r_max + margin;
+            let mut g = wethair::physics::grid::Grid::new(w.len().max(1), r);
+            g.build(&w);
+            let near = (0..strands)
+                .filter(|&s| {
+                    x[s * n..(s + 1) * n].iter().any(|&p| {
+                        let mut hit = false;
+                        g.for_each_candidate(p, r, |j| hit |= (w[j as usize] - p).length() <= r);
+                        hit
+                    })
+                })
+                .count();
+            println!("margin {margin} m: {near} of {strands} strands within r_max + margin of a particle");
+        }
+    }
     // CLUMP=1: the clumping measures at the end (tips, and along the strands), m.
     if std::env::var_os("CLUMP").is_some() {
         let st = sim.stats();
