@@ -62,7 +62,9 @@ impl Held {
     /// Every point dry, with capacities from the groom's masses.
     pub fn new(lay: &Layout, cfg: HeldWater) -> Held {
         let n_rows = lay.blocks * lay.rows;
-        let mut dry: Vec<DryRow> = (lay.params.iter())
+        let mut dry: Vec<DryRow> = lay
+            .params
+            .iter()
             .map(|p| DryRow {
                 mass: [0.0; W],
                 inv_mass: p.inv_mass,

@@ -29,6 +29,7 @@ pub struct DryRow {
 pub struct ParamSource<'a> {
     /// Rows per block.
     pub rows: usize,
+    /// Each row's dry record.
     pub dry: &'a [DryRow],
     pub capacity: &'a [[u32; W]],
     /// Whether bend stiffness falls with saturation, and the saturated ratio.
@@ -61,9 +62,10 @@ pub fn refresh_rows(
             continue; // still the layout's values
         }
         *was_wet = wet;
-        // Each lane computed, then chosen: branch-free (a branch per point was most of the
-        // pass). LLVM still keeps the eight f64 divides scalar; in f32, as vectors, they
-        // measured no faster.
+        // Each lane computed, then chosen (a branch per point was most of the pass). LLVM
+        // still compiles the choice as a branch a lane and the eight f64 divides as scalars;
+        // forms that made them vectors (in f32, or two `vdivpd` with the divides kept out of
+        // the choice) measured no faster: the refresh waits on its rows' loads.
         let (kg, dry) = (wet::to_kg_lanes(&water[k]), &src.dry[r]);
         for l in 0..W {
             let dry_inv = dry.inv_mass[l];

@@ -32,7 +32,7 @@ pub struct WetRow<'a> {
     pub water: &'a [u32; W],
     /// The row's capacities, quanta.
     pub capacity: &'a [u32; W],
-    /// The saturations, once computed.
+    /// The saturations once computed: `None` until the row's first demand.
     pub sat: Option<Lane>,
     /// The row's first point index (`row * W`).
     pub first_point: u32,
