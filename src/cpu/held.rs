@@ -122,7 +122,7 @@ impl Held {
                 #[inline(always)]
                 || {
                     let (w, c) = (&water[r0..r0 + out.len()], &src.capacity[r0..]);
-                    held_rows::refresh_rows(&src, r0, w, |k| held_rows::saturation_of(&w[k], &c[k]), out, was_wet)
+                    held_rows::refresh_rows(&src, r0, w, |k| wet::saturation_lanes(&w[k], &c[k]), out, was_wet)
                 },
             )
         };

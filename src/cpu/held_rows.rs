@@ -84,12 +84,6 @@ pub fn refresh_rows(
     }
 }
 
-/// Row `k`'s saturations (`wet::saturation`, unclamped) from its water and capacity.
-#[inline(always)]
-pub fn saturation_of(water: &[u32; W], capacity: &[u32; W]) -> Lane {
-    wet::saturation_lanes(water, capacity)
-}
-
 /// The drying law's inputs: wind, time constant and reference air speed.
 #[derive(Clone, Copy)]
 pub struct DryLaw {
@@ -144,7 +138,7 @@ pub fn saturation_rows(
     }
     for ((out, w), c) in out.iter_mut().zip(water).zip(capacity) {
         held |= *w != [0; W];
-        let s = saturation_of(w, c);
+        let s = wet::saturation_lanes(w, c);
         for l in 0..W {
             out[l] = s[l].min(1.0);
         }
