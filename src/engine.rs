@@ -22,6 +22,18 @@ pub struct BackendInfo {
     pub fallback_reason: String,
 }
 
+/// The GPU's hashed water grid as one build leaves it (tests compare it with the CPU's
+/// `HashGrid` and `hash_marks`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GpuGrid {
+    /// Cell side, m.
+    pub cell: f32,
+    /// Particles per bucket.
+    pub counts: Vec<u32>,
+    /// The mark table (`physics::hash_marks`); empty where the build has none.
+    pub marks: Vec<u32>,
+}
+
 /// Counters a backend keeps (the rest of [`crate::Stats`] is the simulation's).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Counters {
@@ -219,9 +231,9 @@ pub trait Engine: std::fmt::Debug + Send {
     fn last_step_gpu_ms(&self) -> Option<Result<f64>> {
         None
     }
-    /// The GPU's hashed water grid built now over the particles: its cell side and per-bucket
-    /// counts.
-    fn gpu_grid_counts(&mut self) -> Option<Result<(f32, Vec<u32>)>> {
+    /// The GPU's hashed water grid built now over the particles: its cell side, per-bucket
+    /// counts and mark table.
+    fn gpu_grid(&mut self) -> Option<Result<GpuGrid>> {
         None
     }
     /// The vertex buffer as the host's Vulkan sees it (host-shared GPU simulations only).

@@ -6,9 +6,11 @@
 
 use crate::common::{max_diff, nudged_groom};
 use glam::Vec3;
+use wethair::engine::GpuGrid;
 use wethair::gpu::buffers::WATER_CELL_R;
 use wethair::groom::{paper_scene, Groom};
 use wethair::physics::hash_grid::HashGrid;
+use wethair::physics::hash_marks::{self, mark_words};
 use wethair::plan::Pass;
 use wethair::scenes::{on_hair, Lcg};
 use wethair::{Backend, Error, Integrator, Readback, SimParams, Simulation};
@@ -324,7 +326,7 @@ fn grid_bucket_counts_equal_the_cpu_hash_grid() {
         g.add_water(&water, &[]).unwrap();
         g.step(1.0 / 60.0).unwrap();
         let held = g.water_positions().unwrap();
-        let (cell, counts) = g.gpu_grid_counts().unwrap().unwrap();
+        let GpuGrid { cell, counts, marks } = g.gpu_grid().unwrap().unwrap();
         assert_eq!(cell, WATER_CELL_R * params.water.r_max);
         let mut grid = HashGrid::new(cell);
         grid.build(&held, false);
@@ -335,6 +337,15 @@ fn grid_bucket_counts_equal_the_cpu_hash_grid() {
         // The table spreads the cloud: no bucket holds a crowd (a broken hash piles cells up).
         assert!(counts.iter().all(|&c| c < 200), "{:?}", counts.iter().max());
         assert_eq!(counts.iter().sum::<u32>() as usize, held.len());
+        // The mark table is the one `hash_marks` works out from the same particles.
+        let words = mark_words(counts.len() as u32, held.len() as u32);
+        assert_eq!(marks.len(), words as usize, "{n} particles");
+        assert!(words > 0, "{n} particles: a table");
+        let want = hash_marks::marks(&held, 1.0 / cell, words);
+        let differ = marks.iter().zip(&want).filter(|(a, b)| *a != *b).count();
+        assert_eq!(differ, 0, "{differ} of {words} mark words differ");
+        let set: u32 = marks.iter().map(|w| w.count_ones()).sum();
+        assert!(set > 0 && set < 32 * words / 8, "{set} of {} bits set", 32 * words);
     }
 }
 

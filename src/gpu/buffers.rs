@@ -373,12 +373,9 @@ pub const FIXED_SCALE: f32 = 4_294_967_296.0;
 /// order-preserving keys: lo.xyz at 0..3, hi.xyz at 3..6).
 pub const GRID_COUNT_HEADER: u32 = 8;
 
-/// The water grid's cell side on the GPU, in units of `r_max`. At twice the reach a query
-/// spans at most 2 cells a side (8 buckets to read, against 27 at one reach) for 2.4 times
-/// the volume of candidates. Most hair points lie far from any drop, so the bucket reads
-/// dominate: on an H200 the large groom with 1,000 particles took 1.27 ms a step in the hair
-/// kernel at two reaches and 3.36 at one (README, "The water's GPU cost, taken apart").
-pub const WATER_CELL_R: f32 = 2.0;
+/// The water grid's cell side on the GPU, in units of `r_max` (defined with the mark table's
+/// law, which depends on it).
+pub use crate::physics::hash_marks::WATER_CELL_R;
 
 /// Word offsets of the header at the start of the `grid` buffer (the water's hashed grid,
 /// `grid.wgsl`), written by `grid_setup`.
@@ -395,8 +392,26 @@ pub mod grid_header {
     pub const BUCKETS: u32 = 8;
     /// Particles in the grid.
     pub const COUNT: u32 = 9;
+    /// Words of this build's mark table (`physics::hash_marks`); 0: no table.
+    pub const MARKS: u32 = 10;
+    /// Where the mark table starts, in words (written once, at create: [`super::grid_words`]).
+    pub const MARK_AT: u32 = 11;
     /// start[b] at START + b; start[buckets] = count.
     pub const START: u32 = 16;
+}
+
+/// The `grid` buffer's layout for a table of `max_buckets` buckets: where the mark table
+/// starts and the words in all. The header, `start[0..=max_buckets]`, the prefix sum's
+/// per-block totals (one per [`SCAN_BLOCK`] buckets), then the largest mark table, at a
+/// multiple of 256 bytes so the water module can bind it apart (the smallest
+/// `min_storage_buffer_offset_alignment` a device may ask is 256).
+pub fn grid_words(max_buckets: u32) -> (u32, u32) {
+    let block_sums = max_buckets.div_ceil(SCAN_BLOCK);
+    let mark_at = (grid_header::START + max_buckets + 1 + block_sums).next_multiple_of(64);
+    (
+        mark_at,
+        mark_at + crate::physics::hash_marks::max_mark_words(max_buckets),
+    )
 }
 
 /// Word offsets and flags of the hair status block (`status`, 4 words), which every readback

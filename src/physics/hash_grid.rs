@@ -183,20 +183,26 @@ impl HashGrid {
 
 /// Integer cell of a position (floor; NaN gives 0, beyond `i32` saturates).
 #[inline(always)]
-fn coord_at(p: Vec3, inv_cell: f32) -> IVec3 {
+pub fn coord_at(p: Vec3, inv_cell: f32) -> IVec3 {
     let c = p * inv_cell;
     IVec3::new(floor_i32(c.x), floor_i32(c.y), floor_i32(c.z))
 }
 
-/// Bucket of a cell: the coordinates mixed by odd multipliers and a finaliser (a plain xor of
-/// products clusters neighbouring cells into the same buckets).
+/// Bucket of a cell: its [`hash_cell`] in a table of `mask + 1` buckets.
 #[inline(always)]
 fn bucket_at(c: IVec3, mask: u32) -> u32 {
+    hash_cell(c) & mask
+}
+
+/// A cell's hash: the coordinates mixed by odd multipliers and a finaliser (a plain xor of
+/// products clusters neighbouring cells into the same buckets). `common.wgsl` `hash_cell`.
+#[inline(always)]
+pub fn hash_cell(c: IVec3) -> u32 {
     let mut h = (c.x as u32).wrapping_mul(0x9e37_79b1)
         ^ (c.y as u32).wrapping_mul(0x85eb_ca77)
         ^ (c.z as u32).wrapping_mul(0xc2b2_ae3d);
     h ^= h >> 15;
     h = h.wrapping_mul(0x2c1b_3c6d);
     h ^= h >> 12;
-    h & mask
+    h
 }

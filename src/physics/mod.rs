@@ -16,6 +16,7 @@ pub mod follow_roots;
 pub mod followers;
 pub mod grid;
 pub mod hash_grid;
+pub mod hash_marks;
 pub mod head;
 pub mod implicit;
 pub mod integrate;

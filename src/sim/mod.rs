@@ -957,10 +957,10 @@ impl Simulation {
         self.engine.last_step_gpu_ms()
     }
 
-    /// Builds the GPU's hashed water grid over the particles held now and returns its cell side
-    /// and per-bucket counts (tests compare them with the CPU's `HashGrid`). `None` on the CPU
-    /// backend or without water.
-    pub fn gpu_grid_counts(&mut self) -> Option<Result<(f32, Vec<u32>)>> {
-        self.engine.gpu_grid_counts()
+    /// Builds the GPU's hashed water grid over the particles held now and returns its cell
+    /// side, per-bucket counts and mark table (tests compare them with the CPU's `HashGrid`
+    /// and `hash_marks`). `None` on the CPU backend or without water.
+    pub fn gpu_grid(&mut self) -> Option<Result<crate::engine::GpuGrid>> {
+        self.engine.gpu_grid()
     }
 }

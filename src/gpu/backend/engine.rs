@@ -178,8 +178,8 @@ impl Engine for GpuBackend {
         GpuBackend::last_step_gpu_ms(self)
     }
 
-    fn gpu_grid_counts(&mut self) -> Option<Result<(f32, Vec<u32>)>> {
-        Some(self.read_grid_counts())
+    fn gpu_grid(&mut self) -> Option<Result<crate::engine::GpuGrid>> {
+        Some(self.read_grid())
     }
 
     #[cfg(feature = "vulkan")]

@@ -3,7 +3,7 @@
 //! blocking reads tests use (particles, grid counts).
 
 use super::super::buffers::{
-    self as b, grid_header as gh, groups, ParticleGpu, GRID_COUNT_HEADER, SCAN_BLOCK, STORAGE, WATER_FORCE_WORDS,
+    self as b, grid_header as gh, groups, ParticleGpu, GRID_COUNT_HEADER, STORAGE, WATER_FORCE_WORDS,
 };
 use super::super::pipelines::{self as pl, Slot};
 use super::kernels::HairKernels;
@@ -179,15 +179,12 @@ impl GpuBackend {
         // holds, is at most this).
         let max_buckets = buckets_for(cap as usize) as u64;
         let grid_count = b::buffer(d, "grid_count", (GRID_COUNT_HEADER as u64 + max_buckets) * 4, STORAGE);
-        // Header, start[0..=buckets], and the prefix sum's per-block totals (one per SCAN_BLOCK
-        // buckets).
-        let block_sums = max_buckets.div_ceil(SCAN_BLOCK as u64);
-        let grid = b::buffer(
-            d,
-            "grid",
-            (gh::START as u64 + max_buckets + 1 + block_sums) * 4,
-            STORAGE,
-        );
+        // Header, start[0..=buckets], the prefix sum's per-block totals, the mark table.
+        let (mark_at, grid_words) = b::grid_words(max_buckets as u32);
+        let grid = b::buffer(d, "grid", grid_words as u64 * 4, STORAGE);
+        self.dev
+            .queue
+            .write_buffer(&grid, gh::MARK_AT as u64 * 4, bytemuck::bytes_of(&mark_at));
         let state = b::buffer(d, "water_state", b::water_state::WORDS as u64 * 4, STORAGE);
         let dispatch = b::buffer(d, "grid_dispatch", 16, STORAGE | wgpu::BufferUsages::INDIRECT);
         // Particles added in one frame; the whole capacity at most.
@@ -220,23 +217,38 @@ impl GpuBackend {
             "water hair",
             &[Slot::ReadWrite, Slot::ReadWrite, Slot::Read, Slot::ReadWrite],
         );
+        // The build binds the grid twice, apart: the mark table as atomics, the rest as words.
+        let range = |from: u32, to: u32| {
+            wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &grid,
+                offset: from as u64 * 4,
+                size: std::num::NonZeroU64::new((to - from) as u64 * 4),
+            })
+        };
         let mk_build = |i: usize| {
-            pl::bind(
-                d,
-                "water build",
-                &build_layout,
-                &[
-                    &self.params_buf,
-                    &particles[i],
-                    &particles[1 - i],
-                    &force,
-                    &grid_count,
-                    &grid,
-                    &state,
-                    &incoming,
-                ],
-                None,
-            )
+            let resources = [
+                self.params_buf.as_entire_binding(),
+                particles[i].as_entire_binding(),
+                particles[1 - i].as_entire_binding(),
+                range(mark_at, grid_words),
+                grid_count.as_entire_binding(),
+                range(0, mark_at),
+                state.as_entire_binding(),
+                incoming.as_entire_binding(),
+            ];
+            let entries: Vec<wgpu::BindGroupEntry> = resources
+                .into_iter()
+                .enumerate()
+                .map(|(k, resource)| wgpu::BindGroupEntry {
+                    binding: k as u32,
+                    resource,
+                })
+                .collect();
+            d.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("water build"),
+                layout: &build_layout,
+                entries: &entries,
+            })
         };
         let mk_hair = |i: usize| {
             pl::bind(
@@ -309,9 +321,9 @@ impl GpuBackend {
         Ok(recs)
     }
 
-    /// Per-bucket particle counts of the hashed grid built now over the held particles, with
-    /// its cell side (tests compare them with the CPU's `HashGrid`).
-    pub fn read_grid_counts(&mut self) -> Result<(f32, Vec<u32>)> {
+    /// The hashed grid built now over the held particles: its cell side, per-bucket particle
+    /// counts and mark table (tests compare them with the CPU's `HashGrid` and `hash_marks`).
+    pub fn read_grid(&mut self) -> Result<crate::engine::GpuGrid> {
         let Some(w) = &self.water else {
             return Err(Error::InvalidArgument("no water".into()));
         };
@@ -329,11 +341,13 @@ impl GpuBackend {
         let counts = (0..word(gh::BUCKETS) as usize)
             .map(|b| start(b + 1) - start(b))
             .collect();
-        // Without the scatter the counts stay: clear them for the next build.
+        let at = word(gh::MARK_AT) as usize;
+        let marks = g[at..at + word(gh::MARKS) as usize].to_vec();
+        // Without the scatter the counts stay: clear them (and the marks) for the next build.
         let mut enc = self.dev.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&w.grid_count, 0, None);
         self.dev.submit(enc.finish(), false);
         self.dev.wait()?;
-        Ok((cell, counts))
+        Ok(crate::engine::GpuGrid { cell, counts, marks })
     }
 }

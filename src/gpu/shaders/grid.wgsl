@@ -24,9 +24,27 @@ fn cell_run(c: vec3<i32>) -> vec2<u32> {
     return vec2<u32>(grid[G_START + b], grid[G_START + b + 1u]);
 }
 
+// Cell c's word and bit in a mark table of `words` words (physics/hash_marks.rs `mark_bit`).
+fn mark_bit(c: vec3<i32>, words: u32) -> vec2<u32> {
+    let i = hash_cell(c) & (32u * words - 1u);
+    return vec2<u32>(i >> 5u, i & 31u);
+}
+
+// Whether a point at x may have a particle within reach (physics/hash_marks.rs `marked`):
+// its cell's bit in the build's mark table, or true where the build has none. `mark_word`
+// reads the table's words from whichever binding of `grid_count` the module has.
+fn marked(x: vec3<f32>) -> bool {
+    let words = grid[G_MARKS];
+    if (words == 0u) {
+        return true;
+    }
+    let b = mark_bit(water_cell(x), words);
+    return ((mark_word(b.x) >> b.y) & 1u) != 0u;
+}
+
 // The cells a query of radius r at x covers (r <= the cell's half side: at most 2 a side,
-// 8 in all): false when no particle can be within r (the particles' box grown by r misses x),
-// so points far from all water read no bucket.
+// 8 in all): false when no particle can be within r (the particles' box grown by r misses x,
+// or x's cell is not marked), so points far from all water read no bucket.
 struct Span {
     c0: vec3<i32>,
     c1: vec3<i32>,
@@ -38,7 +56,7 @@ fn near_span(x: vec3<f32>, r: f32, span: ptr<function, Span>) -> bool {
     }
     let lo = vec3<f32>(bitcast<f32>(grid[G_LO]), bitcast<f32>(grid[G_LO + 1u]), bitcast<f32>(grid[G_LO + 2u]));
     let hi = vec3<f32>(bitcast<f32>(grid[G_HI]), bitcast<f32>(grid[G_HI + 1u]), bitcast<f32>(grid[G_HI + 2u]));
-    if (any(x < lo - vec3<f32>(r)) || any(x > hi + vec3<f32>(r))) {
+    if (any(x < lo - vec3<f32>(r)) || any(x > hi + vec3<f32>(r)) || !marked(x)) {
         return false;
     }
     (*span).c0 = water_cell(x - vec3<f32>(r));

@@ -23,3 +23,11 @@ fn reaction_sum(k: u32, a: u32) -> vec2<u32> {
     let at = WATER_FORCE_WORDS * k + 2u * a;
     return vec2<u32>(atomicLoad(&water_force[at]), atomicLoad(&water_force[at + 1u]));
 }
+
+// Particle k's sums back to zero, once water_integrate has read them (the next build may give
+// the slot to another particle).
+fn clear_reactions(k: u32) {
+    for (var w = 0u; w < 6u; w++) {
+        atomicStore(&water_force[WATER_FORCE_WORDS * k + w], 0u);
+    }
+}

@@ -17,3 +17,11 @@ fn reaction_sum(k: u32, a: u32) -> vec2<u32> {
     let s = atomicLoad(&water_force[(WATER_FORCE_WORDS * k) / 2u + a]);
     return vec2<u32>(u32(s), u32(s >> 32u));
 }
+
+// Particle k's sums back to zero, once water_integrate has read them (the next build may give
+// the slot to another particle).
+fn clear_reactions(k: u32) {
+    for (var a = 0u; a < 3u; a++) {
+        atomicStore(&water_force[(WATER_FORCE_WORDS * k) / 2u + a], u64(0u));
+    }
+}

@@ -6,7 +6,9 @@
 @group(0) @binding(0) var<uniform> P: Params;
 @group(0) @binding(1) var<storage, read_write> cur: array<Particle>;
 @group(0) @binding(2) var<storage, read_write> other: array<Particle>;
-@group(0) @binding(3) var<storage, read_write> water_force: array<u32>;
+// The grid's mark table (physics/hash_marks.rs): the `grid` buffer from word G_MARK_AT on,
+// bound apart so that it can be set by atomic or.
+@group(0) @binding(3) var<storage, read_write> grid_marks: array<atomic<u32>>;
 // [0..3) max of ~key(lo), [3..6) max of key(hi), [GRID_COUNT_HEADER + b] particles in bucket b.
 @group(0) @binding(4) var<storage, read_write> grid_count: array<atomic<u32>>;
 @group(0) @binding(5) var<storage, read_write> grid: array<u32>;
@@ -17,6 +19,11 @@
 // The prefix sum's indirect dispatch size: bound only for grid_setup, as a buffer cannot be
 // storage and indirect in one dispatch.
 @group(1) @binding(0) var<storage, read_write> grid_dispatch: array<u32, 3>;
+
+// Word w of the grid's mark table (grid.wgsl `marked`).
+fn mark_word(w: u32) -> u32 {
+    return atomicLoad(&grid_marks[w]);
+}
 
 // Float bits mapped so that unsigned order is float order.
 fn order_key(f: f32) -> u32 {
@@ -51,11 +58,16 @@ fn water_append(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
 var<workgroup> wg_bounds: array<atomic<u32>, 6>;
 
 // Pass water_grid, part 1: the particles' bounds (a workgroup reduction, then one atomic per
-// workgroup and axis).
+// workgroup and axis), and the last build's mark table cleared (the hair read it after that
+// build; this one marks it again).
 @compute @workgroup_size(WG)
 fn grid_bounds(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
+    let marks = grid[G_MARKS];
+    for (var w = i; w < marks; w += nwg.x * nwg.y * WG) {
+        atomicStore(&grid_marks[w], 0u);
+    }
     if (i < atomicLoad(&water_state[WATER_HELD])) {
         let x = cur[i].x.xyz;
         for (var a = 0u; a < 3u; a++) {
@@ -99,6 +111,12 @@ fn grid_setup() {
     grid[G_INV] = bitcast<u32>(1.0 / cell);
     grid[G_BUCKETS] = buckets;
     grid[G_COUNT] = n;
+    // hash_marks::mark_words: 4 words a bucket up to the cap; none past half a word a particle.
+    var marks = min(MARK_WORDS_PER_BUCKET * buckets, MAX_MARK_WORDS);
+    if (n > marks / 2u) {
+        marks = 0u;
+    }
+    grid[G_MARKS] = marks;
     grid_dispatch[0] = (buckets + SCAN_BLOCK - 1u) / SCAN_BLOCK;
     grid_dispatch[1] = 1u;
     grid_dispatch[2] = 1u;
@@ -109,7 +127,28 @@ fn bucket_at(x: vec3<f32>) -> u32 {
     return water_bucket(water_cell(x));
 }
 
-// Pass water_grid, part 3: particles per bucket.
+// hash_marks::mark_span: the particle at y marks its cell and, along each axis, the
+// neighbour across each face it lies within half a cell and MARK_MARGIN of.
+fn mark_particle(y: vec3<f32>, words: u32) {
+    let q = y * bitcast<f32>(grid[G_INV]);
+    let c = water_cell(y);
+    let f = q - floor(q);
+    let lo = c - select(vec3<i32>(0), vec3<i32>(1), f < vec3<f32>(0.5 + MARK_MARGIN));
+    let hi = c + select(vec3<i32>(0), vec3<i32>(1), f > vec3<f32>(0.5 - MARK_MARGIN));
+    // By offsets from lo (0 to 2 a side, wrapping as the span does), so a cell at the edge
+    // of i32 cannot make the loop run on.
+    let n = hi - lo;
+    for (var a = 0; a <= n.x; a++) {
+        for (var b = 0; b <= n.y; b++) {
+            for (var k = 0; k <= n.z; k++) {
+                let m = mark_bit(lo + vec3<i32>(a, b, k), words);
+                atomicOr(&grid_marks[m.x], 1u << m.y);
+            }
+        }
+    }
+}
+
+// Pass water_grid, part 3: particles per bucket, and the cells they mark.
 @compute @workgroup_size(WG)
 fn grid_count_cells(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                     @builtin(local_invocation_index) lid: u32) {
@@ -117,7 +156,12 @@ fn grid_count_cells(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgrou
     if (i >= grid[G_COUNT]) {
         return;
     }
-    atomicAdd(&grid_count[GRID_COUNT_HEADER + bucket_at(cur[i].x.xyz)], 1u);
+    let y = cur[i].x.xyz;
+    atomicAdd(&grid_count[GRID_COUNT_HEADER + bucket_at(y)], 1u);
+    let words = grid[G_MARKS];
+    if (words != 0u) {
+        mark_particle(y, words);
+    }
 }
 
 // Pass water_grid, part 4a: exclusive prefix sum of the counts within blocks of 1,024
@@ -180,7 +224,7 @@ fn grid_scan_add(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocatio
 }
 
 // Pass water_grid, part 5: each particle to its slot in bucket order (counts drop back to 0,
-// ready for the next build); its reaction-force sum starts at 0.
+// ready for the next build; the slot's reaction sums are 0, as water_integrate left them).
 @compute @workgroup_size(WG)
 fn grid_scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                 @builtin(local_invocation_index) lid: u32) {
@@ -192,9 +236,6 @@ fn grid_scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     let c = bucket_at(p.x.xyz);
     let slot = grid[G_START + c] + atomicSub(&grid_count[GRID_COUNT_HEADER + c], 1u) - 1u;
     other[slot] = p;
-    for (var w = 0u; w < WATER_FORCE_WORDS; w++) {
-        water_force[WATER_FORCE_WORDS * slot + w] = 0u;
-    }
 }
 
 // Pass water_cull (once per step): particles farther than the domain radius from its centre
