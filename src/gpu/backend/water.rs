@@ -1,6 +1,6 @@
 //! Water on the GPU: the particle, grid and reaction buffers and their pipelines (made at the
 //! first `add_water`), pass water_grid's encoding, adding and clearing particles, and the
-//! blocking reads tests use (particles, grid counts).
+//! blocking reads tests use (particles, the grid: counts and mark table).
 
 use super::super::buffers::{
     self as b, grid_header as gh, groups, ParticleGpu, GRID_COUNT_HEADER, STORAGE, WATER_FORCE_WORDS,
