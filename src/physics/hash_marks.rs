@@ -15,10 +15,10 @@
 //! distance test (a relative 1e-7), for positions within a few kilometres of the origin.
 //!
 //! A particle marks 8 cells, or up to 27 when it lies within the margin of a cell's middle.
-//! The table holds [`MARK_WORDS_PER_BUCKET`] words (128 bits) a bucket, so fewer than one bit
-//! in thirty is set where the particles lie apart; where they are too many for that (a
-//! million, where the table would be capped), there is no table and every point reads its
-//! buckets as before.
+//! The table holds [`MARK_WORDS_PER_BUCKET`] words (128 bits) a bucket, at least 256 bits a
+//! particle, so about one bit in thirty is set where the particles lie apart. Past
+//! [`MAX_MARK_WORDS`] the table stops growing, and past half its words in particles (about
+//! half a million) a build has none: every point reads its buckets as before.
 
 use super::hash_grid::{coord_at, hash_cell};
 use glam::{IVec3, Vec3};
@@ -46,9 +46,10 @@ pub fn max_mark_words(max_buckets: u32) -> u32 {
     MARK_WORDS_PER_BUCKET.saturating_mul(max_buckets).min(MAX_MARK_WORDS)
 }
 
-/// Words of the mark table of a build with `buckets` buckets over `particles` particles (a
-/// power of two), or 0 for none: with more particles than half its words, more than one bit
-/// in eight would be set and the table would turn few points away. `water.wgsl` `grid_setup`.
+/// Words of the mark table (a power of two) of a build with `buckets` buckets over
+/// `particles` particles, or 0 for none: with more particles than half its words, more than
+/// one bit in eight would be set and the table would turn few points away. `water.wgsl`
+/// `grid_setup`.
 pub fn mark_words(buckets: u32, particles: u32) -> u32 {
     let words = max_mark_words(buckets);
     if particles > words / 2 {
