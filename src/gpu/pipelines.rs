@@ -308,19 +308,35 @@ pub fn bind(
     buffers: &[&wgpu::Buffer],
     dyn_size: Option<(usize, u64)>,
 ) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> = buffers
+    let resources: Vec<wgpu::BindingResource> = buffers
         .iter()
         .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
+        .map(|(i, b)| match dyn_size {
+            Some((at, size)) if at == i => wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: b,
+                offset: 0,
+                size: std::num::NonZeroU64::new(size),
+            }),
+            _ => b.as_entire_binding(),
+        })
+        .collect();
+    bind_resources(dev, label, layout, resources)
+}
+
+/// A bind group whose binding `i` is `resources[i]` (for ranges of buffers; [`bind`] for
+/// whole ones).
+pub fn bind_resources(
+    dev: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    resources: Vec<wgpu::BindingResource>,
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = resources
+        .into_iter()
+        .enumerate()
+        .map(|(i, resource)| wgpu::BindGroupEntry {
             binding: i as u32,
-            resource: match dyn_size {
-                Some((at, size)) if at == i => wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: b,
-                    offset: 0,
-                    size: std::num::NonZeroU64::new(size),
-                }),
-                _ => b.as_entire_binding(),
-            },
+            resource,
         })
         .collect();
     dev.create_bind_group(&wgpu::BindGroupDescriptor {

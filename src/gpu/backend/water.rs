@@ -226,7 +226,7 @@ impl GpuBackend {
             })
         };
         let mk_build = |i: usize| {
-            let resources = [
+            let resources = vec![
                 self.params_buf.as_entire_binding(),
                 particles[i].as_entire_binding(),
                 particles[1 - i].as_entire_binding(),
@@ -236,19 +236,7 @@ impl GpuBackend {
                 state.as_entire_binding(),
                 incoming.as_entire_binding(),
             ];
-            let entries: Vec<wgpu::BindGroupEntry> = resources
-                .into_iter()
-                .enumerate()
-                .map(|(k, resource)| wgpu::BindGroupEntry {
-                    binding: k as u32,
-                    resource,
-                })
-                .collect();
-            d.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("water build"),
-                layout: &build_layout,
-                entries: &entries,
-            })
+            pl::bind_resources(d, "water build", &build_layout, resources)
         };
         let mk_hair = |i: usize| {
             pl::bind(
