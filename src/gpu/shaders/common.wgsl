@@ -61,12 +61,14 @@ fn carried_high(old: u32, v: vec2<u32>) -> u32 {
     return v.y + select(0u, 1u, old + v.x < old);
 }
 
-// A cell's coordinates mixed by odd multipliers and a finaliser (physics/hash_grid.rs
+// A cell's coordinates folded in one by one by odd multipliers and shifts (physics/hash_grid.rs
 // `bucket_at` before its mask): the hashed grids of the water and of the liquid bridges.
 fn hash_cell(c: vec3<i32>) -> u32 {
-    var h = (bitcast<u32>(c.x) * 0x9e3779b1u) ^ (bitcast<u32>(c.y) * 0x85ebca77u) ^ (bitcast<u32>(c.z) * 0xc2b2ae3du);
-    h ^= h >> 15u;
-    h *= 0x2c1b3c6du;
-    h ^= h >> 12u;
+    var h = bitcast<u32>(c.x) * 0x9e3779b1u;
+    h ^= h >> 16u;
+    h = (h ^ bitcast<u32>(c.y)) * 0x85ebca77u;
+    h ^= h >> 13u;
+    h = (h ^ bitcast<u32>(c.z)) * 0xc2b2ae3du;
+    h ^= h >> 16u;
     return h;
 }
