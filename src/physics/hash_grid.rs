@@ -198,10 +198,10 @@ fn bucket_at(c: IVec3, mask: u32) -> u32 {
 /// were shifted down onto the low ones, then a last shift for the low bits a table keeps
 /// (`common.wgsl` `hash_cell`). It replaced an xor of the three coordinates' products,
 /// finalised after, under which cells about the origin, where a head puts its hair, shared
-/// whole 32-bit hashes: 39,370 hashes for a cube of 64,000 cells (`tests`), and 13 % of the
-/// occupied cells of the 100,000 x 32 groom with 100,000 drops on it, so a query there scanned
-/// 1.6-1.9 times the particles its cells held (1.25 times with this hash, which gives those
-/// cells no shared hash).
+/// whole 32-bit hashes: 39,370 hashes for a cube of 64,000 cells (`tests`), and 7-13 % of
+/// the occupied cells of the 100,000 x 32 groom with 100,000 drops on it, so a query there
+/// scanned 1.6-1.9 times the particles its cells held (1.25 times with this hash, which gives
+/// those cells no shared hash).
 #[inline(always)]
 pub fn hash_cell(c: IVec3) -> u32 {
     let mut h = (c.x as u32).wrapping_mul(0x9e37_79b1);
@@ -220,7 +220,7 @@ mod tests {
     /// Cells hash apart as random keys would, where hair lies: a cube of cells about the
     /// origin (both signs of every coordinate: a head at the world's origin), the same cube
     /// far off, and a shell like a scalp. Under a tenth of a per mille share a whole 32-bit
-    /// hash (a random hash: about `n^2 / 2^33`, under 6 of 208,000), and a table of about two
+    /// hash (a random hash: about `n^2 / 2^33`, 5 of 208,000), and a table of about two
     /// buckets a cell ([`buckets_for`]) uses within 1 % of the buckets a random hash fills.
     /// The xor of products this replaced gave the cube about the origin 39,370 hashes for
     /// 64,000 cells and filled 34,010 buckets of the 50,636 expected.
