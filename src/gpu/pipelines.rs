@@ -7,6 +7,7 @@ use crate::plan::Pass;
 
 const COMMON: &str = include_str!("shaders/common.wgsl");
 const GRID: &str = include_str!("shaders/grid.wgsl");
+const GRID_MARKS: &str = include_str!("shaders/grid_marks.wgsl");
 const HAIR: &str = include_str!("shaders/hair.wgsl");
 const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
 const REACTION32: &str = include_str!("shaders/reaction32.wgsl");
@@ -145,7 +146,7 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
 /// particles' reaction sums in the device's widest atomic integers.
 fn adhesion(c: SceneConsts) -> String {
     let reaction = if c.atomic64 { REACTION64 } else { REACTION32 };
-    format!("{GRID}\n{ABSORB}\n{reaction}\n{ADHESION}")
+    format!("{GRID}\n{GRID_MARKS}\n{ABSORB}\n{reaction}\n{ADHESION}")
 }
 
 /// Implicit Euler's (and BDF2's) hair module: `hair_forces` (adhesion, wetting, cohesion; per
@@ -195,7 +196,7 @@ pub fn water_source(c: SceneConsts) -> String {
 
 /// The held-water module (scenes with held water only).
 pub fn held_source(c: SceneConsts) -> String {
-    format!("{}{SCAN}\n{HELD}\n{GRID}\n{ABSORB}", prelude(c))
+    format!("{}{SCAN}\n{HELD}\n{GRID}\n{GRID_MARKS}\n{ABSORB}", prelude(c))
 }
 
 /// The liquid bridges' module (pass hair_grid; scenes with bridges only) over a hashed grid of

@@ -331,7 +331,8 @@ impl GpuBackend {
             .collect();
         let at = word(gh::MARK_AT) as usize;
         let marks = g[at..at + word(gh::MARKS) as usize].to_vec();
-        // Without the scatter the counts stay: clear them (and the marks) for the next build.
+        // Without the scatter the counts stay: clear them for the next build (whose
+        // `grid_bounds` clears the marks).
         let mut enc = self.dev.device.create_command_encoder(&Default::default());
         enc.clear_buffer(&w.grid_count, 0, None);
         self.dev.submit(enc.finish(), false);

@@ -13,11 +13,6 @@
 // Absorption's per-particle scratch (buffers::absorb_words; a placeholder without absorption).
 @group(1) @binding(3) var<storage, read_write> absorb_scratch: array<atomic<u32>>;
 
-// Word w of the grid's mark table (grid.wgsl `marked`).
-fn mark_word(w: u32) -> u32 {
-    return grid[grid[G_MARK_AT] + w];
-}
-
 // Eq. 2's factor (physics/adhesion.rs `force_scale`): s g(d) / d within [MIN_DISTANCE, r_max],
 // else 0, for a particle of strength s.
 fn force_scale(d2: f32, s: f32) -> f32 {

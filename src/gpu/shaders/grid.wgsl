@@ -32,8 +32,8 @@ fn mark_bit(c: vec3<i32>, words: u32) -> vec2<u32> {
 
 // Whether a point at x may have a particle within reach (physics/hash_marks.rs `marked`):
 // its cell's bit in the build's mark table, or true where the build has none. `mark_word`
-// reads the table's words through the module's own binding (the hair modules read it in
-// `grid`; the water module through its atomic view of that range).
+// reads the table's words through the module's own binding (grid_marks.wgsl for the hair
+// and held modules; the water module through its atomic view of that range).
 fn marked(x: vec3<f32>) -> bool {
     let words = grid[G_MARKS];
     if (words == 0u) {

@@ -37,11 +37,6 @@
 @group(3) @binding(2) var<storage, read_write> absorb_scratch: array<atomic<u32>>;
 @group(3) @binding(3) var<storage, read_write> state_out: array<State>;
 
-// Word w of the grid's mark table (grid.wgsl `marked`).
-fn mark_word(w: u32) -> u32 {
-    return grid[grid[G_MARK_AT] + w];
-}
-
 // This workgroup's share of a ledger count, (lo, hi): summed here first so one invocation per
 // workgroup touches the ledger.
 var<workgroup> part_lo: atomic<u32>;
