@@ -374,8 +374,9 @@ fn block_substep_impl<const AXIAL: bool>(
             }
         }
     }
-    let mut max_v2 = worker.max_v2;
-    let mut check = 0.0f32;
+    // Per lane, so that neither is a serial chain through every lane of every row.
+    let mut max_v2 = [worker.max_v2; W];
+    let mut check = [0.0f32; W];
     let ns = ctx.sdfs.len();
     let colliders = Colliders {
         placed: &ctx.placed[s * ctx.n_colliders..(s + 1) * ctx.n_colliders],
@@ -396,14 +397,16 @@ fn block_substep_impl<const AXIAL: bool>(
         }
         for l in 0..W {
             let v2 = r.v.x[l] * r.v.x[l] + r.v.y[l] * r.v.y[l] + r.v.z[l] * r.v.z[l];
-            max_v2 = max_v2.max(v2);
+            // A compare and select (one max instruction): a NaN `v2` keeps the last, as
+            // `f32::max` would, and `check` catches it.
+            max_v2[l] = if v2 > max_v2[l] { v2 } else { max_v2[l] };
             // `blown_up`, lane-wise: each product is 0 unless its factor is NaN or inf (a
             // speed whose square overflows included), and a sum of zeros cannot overflow.
-            check += v2 * 0.0 + r.x.x[l] * 0.0 + r.x.y[l] * 0.0 + r.x.z[l] * 0.0;
+            check[l] += v2 * 0.0 + r.x.x[l] * 0.0 + r.x.y[l] * 0.0 + r.x.z[l] * 0.0;
         }
     }
-    worker.max_v2 = max_v2;
-    if !check.is_finite() {
+    worker.max_v2 = max_v2.iter().fold(0.0, |a: f32, &b| a.max(b));
+    if !check.iter().sum::<f32>().is_finite() {
         worker.nonfinite = true;
     }
 }
