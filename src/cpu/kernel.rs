@@ -12,7 +12,7 @@ use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::spring::spring;
 use crate::physics::xpbd;
 use crate::physics::{absorb, adhesion};
-use glam::{Affine3A, Vec3};
+use glam::Affine3A;
 
 /// Most grid columns one row query walks (a row spanning ~6 cells a side); wider rows query
 /// lane by lane (3 x 3 columns each, as cells are r_max wide).
@@ -216,15 +216,7 @@ fn block_substep_impl<const AXIAL: bool>(
             // Row path: one query for the lanes' bounds, each particle against all lanes at once.
             // Morton-ordered strands keep most rows compact; a row too wide for MAX_RUNS columns
             // goes lane by lane.
-            let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-            let mut mask = [0.0f32; W];
-            for l in 0..W {
-                if lanes & (1 << l) != 0 {
-                    mask[l] = 1.0;
-                    lo = lo.min(x.get(l));
-                    hi = hi.max(x.get(l));
-                }
-            }
+            let (lo, hi, mask) = bounds_and_mask(ctx.avx2, &x, lanes);
             let mut runs = [(0u32, 0u32); MAX_RUNS];
             let mut acc = L3::ZERO;
             let mut near = [0.0f32; W];
@@ -422,6 +414,20 @@ fn prefilter(avx2: bool, w: &WaterCtx, x: &L3) -> u32 {
     }
     let _ = avx2;
     w.grid.may_have_near_lanes(x, w.r_max)
+}
+
+/// The bounds of the lanes of `x` whose bit is set in `lanes`, and those lanes as a mask of
+/// 1.0 and 0.0. `avx2`: its AVX2 form (the same bits).
+#[inline(always)]
+fn bounds_and_mask(avx2: bool, x: &L3, lanes: u32) -> (glam::Vec3, glam::Vec3, Lane) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: `avx2` comes from `is_x86_feature_detected!("avx2")` at create.
+        return unsafe { crate::physics::lanes_avx2::bounds_and_mask(x, lanes) };
+    }
+    let _ = avx2;
+    let (lo, hi) = x.bounds_of(lanes);
+    (lo, hi, std::array::from_fn(|l| (lanes >> l & 1) as f32))
 }
 
 /// Eq. 2 between the lanes of `x` in `mask` and the particles of grid `runs` (slices of the

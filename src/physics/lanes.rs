@@ -66,6 +66,47 @@ impl L3 {
         }
     }
 
+    /// The smallest and largest coordinates over the lanes whose bit is set in `lanes`
+    /// (infinities when none is), branch-free: a reduction in halves, so that neither a branch
+    /// per lane nor a chain through eight lanes stands between a row and its grid query.
+    /// Min and max are exact, so the result is the same whatever the order.
+    #[inline(always)]
+    pub fn bounds_of(&self, lanes: u32) -> (glam::Vec3, glam::Vec3) {
+        let pick =
+            |v: &Lane, fill: f32| -> Lane { std::array::from_fn(|l| if lanes >> l & 1 != 0 { v[l] } else { fill }) };
+        let low = |v: Lane| -> f32 {
+            let a: [f32; 4] = std::array::from_fn(|l| if v[l] < v[l + 4] { v[l] } else { v[l + 4] });
+            let b: [f32; 2] = std::array::from_fn(|l| if a[l] < a[l + 2] { a[l] } else { a[l + 2] });
+            if b[0] < b[1] {
+                b[0]
+            } else {
+                b[1]
+            }
+        };
+        let high = |v: Lane| -> f32 {
+            let a: [f32; 4] = std::array::from_fn(|l| if v[l] > v[l + 4] { v[l] } else { v[l + 4] });
+            let b: [f32; 2] = std::array::from_fn(|l| if a[l] > a[l + 2] { a[l] } else { a[l + 2] });
+            if b[0] > b[1] {
+                b[0]
+            } else {
+                b[1]
+            }
+        };
+        let (inf, ninf) = (f32::INFINITY, f32::NEG_INFINITY);
+        (
+            glam::Vec3::new(
+                low(pick(&self.x, inf)),
+                low(pick(&self.y, inf)),
+                low(pick(&self.z, inf)),
+            ),
+            glam::Vec3::new(
+                high(pick(&self.x, ninf)),
+                high(pick(&self.y, ninf)),
+                high(pick(&self.z, ninf)),
+            ),
+        )
+    }
+
     /// `self + a (to - self)`, lane by lane: the output blend between two steps' positions
     /// (`output.wgsl` `toward` is its GPU twin).
     #[inline(always)]

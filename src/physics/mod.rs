@@ -21,6 +21,8 @@ pub mod head;
 pub mod implicit;
 pub mod integrate;
 pub mod lanes;
+#[cfg(target_arch = "x86_64")]
+pub mod lanes_avx2;
 pub mod morton;
 pub mod roots;
 pub mod rounding;
