@@ -284,15 +284,7 @@ fn block_substep_impl<const AXIAL: bool>(
     // Pass: integrate; pinned points take the head's target (or their root frame's).
     let head = &ctx.heads[s];
     let a = (s + 1) as f32 / ctx.heads.len() as f32;
-    let target = |i: usize| -> Option<L3> {
-        if !lay.pinned_row[base + i] {
-            return None;
-        }
-        if let Some(r) = ctx.roots {
-            return Some(r.target(lay.rows, b, i, a));
-        }
-        Some(lay.rest_local[base + i].transformed(head))
-    };
+    let target = |i: usize| pinned_target(ctx, b, i, a, head);
     match ctx.integrator {
         Integrator::IMPLICIT_EULER | Integrator::BDF2 => {
             let sc = worker.band.as_mut().expect("band scratch allocated for implicit Euler");
@@ -361,7 +353,9 @@ fn block_substep_impl<const AXIAL: bool>(
         _ => {
             for i in 0..p {
                 let r = &mut rows[i];
-                let t = target(i);
+                // Not through `target`: a closure used in three places was left a call per
+                // row, compiled without AVX2.
+                let t = pinned_target(ctx, b, i, a, head);
                 symplectic_euler_row(&mut r.x, &mut r.v, &f[i], &params[i].inv_mass, t.as_ref(), ctx.g, ctx.h);
             }
         }
@@ -401,6 +395,21 @@ fn block_substep_impl<const AXIAL: bool>(
     if !check.iter().sum::<f32>().is_finite() {
         worker.nonfinite = true;
     }
+}
+
+/// Where row `i` of block `b` is held at substep fraction `a` if it is pinned: the head's
+/// placement of its rest point (`head`), or its skinned root frame's.
+#[inline(always)]
+fn pinned_target(ctx: &Ctx, b: usize, i: usize, a: f32, head: &Affine3A) -> Option<L3> {
+    let lay = ctx.lay;
+    let row = b * lay.rows + i;
+    if !lay.pinned_row[row] {
+        return None;
+    }
+    if let Some(r) = ctx.roots {
+        return Some(r.target(lay.rows, b, i, a));
+    }
+    Some(lay.rest_local[row].transformed(head))
 }
 
 /// The water grid's prefilter for a row: which lanes may have a particle within `r_max`.
