@@ -219,15 +219,25 @@ pub fn flow_block(
     let real = &lay.real_lanes[b * water.len()..(b + 1) * water.len()];
     let n: [usize; W] = std::array::from_fn(|l| real.iter().map(|&m| ((m >> l) & 1) as usize).sum());
     let (state, v0) = (&state[..water.len()], &v0[..water.len()]);
-    let accel = |i: usize| {
-        let (v, v0) = (&state[i].v, &v0[i]);
-        let mut a = L3::ZERO;
-        for l in 0..W {
-            a.x[l] = (v.x[l] - v0.x[l]) / dt;
-            a.y[l] = (v.y[l] - v0.y[l]) / dt;
-            a.z[l] = (v.z[l] - v0.z[l]) / dt;
-        }
-        a
-    };
-    wet::flow_rows(water, |i| state[i].x, accel, &n, g, mobility, dt);
+    // The closures marked inline: left calls, they ran compiled without AVX2.
+    wet::flow_rows(
+        water,
+        #[inline(always)]
+        |i| state[i].x,
+        #[inline(always)]
+        |i| {
+            let (v, v0) = (&state[i].v, &v0[i]);
+            let mut a = L3::ZERO;
+            for l in 0..W {
+                a.x[l] = (v.x[l] - v0.x[l]) / dt;
+                a.y[l] = (v.y[l] - v0.y[l]) / dt;
+                a.z[l] = (v.z[l] - v0.z[l]) / dt;
+            }
+            a
+        },
+        &n,
+        g,
+        mobility,
+        dt,
+    );
 }

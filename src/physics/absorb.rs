@@ -59,7 +59,16 @@ impl WetRow<'_> {
             return;
         }
         let (water, capacity) = (self.water, self.capacity);
-        let sat = *self.sat.get_or_insert_with(|| wet::saturation_lanes(water, capacity));
+        // Written out, not `get_or_insert_with`: its closure was left a call compiled without
+        // AVX2.
+        let sat = match self.sat {
+            Some(s) => s,
+            None => {
+                let s = wet::saturation_lanes(water, capacity);
+                self.sat = Some(s);
+                s
+            }
+        };
         for l in 0..W {
             if inside[l] == 0.0 || sat[l] >= 1.0 {
                 continue;
