@@ -101,6 +101,46 @@ fn prefilter_stays_tight_when_particles_spread_wide() {
     );
 }
 
+/// Dense water (blobs of hundreds of drops within a centimetre, as a shower leaves in the
+/// hair) is where the prefilter marks runs of drops as one box: it still passes every query
+/// with a drop within reach, including queries exactly `r` from a drop along each axis, and
+/// stays about as tight.
+#[test]
+fn prefilter_never_rejects_a_neighbour_of_dense_water() {
+    let mut rng = Lcg(8);
+    let r = 0.008;
+    let mut pts = vec![];
+    for _ in 0..60 {
+        let c = cloud(&mut rng, 1, Vec3::ZERO, Vec3::splat(0.3))[0];
+        pts.extend(cloud(&mut rng, 300, c - 0.005, c + 0.005));
+    }
+    // Built twice, as the step does: the second build takes the points in the first's order.
+    let mut g = Grid::new(pts.len(), r);
+    g.build(&pts);
+    let pts: Vec<Vec3> = g.sorted().iter().map(|&j| pts[j as usize]).collect();
+    g.build(&pts);
+    let mut queries = cloud(&mut rng, 100_000, Vec3::splat(-0.01), Vec3::splat(0.31));
+    for p in pts.iter().step_by(7) {
+        for d in [Vec3::X, Vec3::Y, Vec3::Z] {
+            queries.extend([*p + d * r, *p - d * r]);
+        }
+    }
+    let (mut pass, mut near) = (0usize, 0usize);
+    for q in &queries {
+        let has = pts.iter().any(|p| (*p - *q).length_squared() <= r * r);
+        let may = g.may_have_near(*q, r);
+        assert!(may || !has, "prefilter rejected {q} with a neighbour");
+        pass += may as usize;
+        near += has as usize;
+    }
+    assert!(near > 5_000, "too few queries with a neighbour to judge: {near}");
+    assert!(
+        pass <= 4 * near,
+        "{pass} of {} queries pass, {near} have a neighbour",
+        queries.len()
+    );
+}
+
 #[test]
 fn grid_counting_sort_counts_every_point_once() {
     let mut rng = Lcg(11);

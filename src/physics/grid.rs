@@ -172,20 +172,34 @@ impl Grid {
 
     /// Sets the fine bits of the cells each point's cube of half-side `cell_min` touches (at
     /// most 3 x 3 x 3: fine cells are at least `cell_min`); each (x, y) is one run of bits.
+    ///
+    /// The points are taken in cell order, and a run of them that fits in a box of side
+    /// `cell_min` is marked as one: the box's cube holds each point's cube, and `fine_of` is
+    /// monotonic, so no cell a point's cube touches is left out; at most one fine cell more a
+    /// side is marked. Dense water marks far fewer boxes than points (a million drops in the
+    /// paper scene's hair: most of the build's time went to marking the same cells again).
     fn mark_fine(&mut self, points: &[Vec3]) {
-        let fd = self.fine_dims;
-        let words = (fd.element_product() as usize).div_ceil(64);
+        let words = (self.fine_dims.element_product() as usize).div_ceil(64);
         self.near.clear();
         self.near.resize(words, 0);
         let r = Vec3::splat(self.cell_min);
-        for &p in points {
-            let (a, b) = (self.fine_of(p - r), self.fine_of(p + r));
-            for x in a.x..=b.x {
-                for y in a.y..=b.y {
-                    let row = ((x * fd.y + y) * fd.z) as usize;
-                    set_bits(&mut self.near, row + a.z as usize, row + b.z as usize);
+        let mut run: Option<(Vec3, Vec3)> = None;
+        for &j in &self.order.sorted {
+            let p = points[j as usize];
+            if let Some((lo, hi)) = &mut run {
+                let (l, h) = (lo.min(p), hi.max(p));
+                if (h - l).cmple(r).all() {
+                    (*lo, *hi) = (l, h);
+                    continue;
                 }
+                let (a, b) = (self.fine_of(*lo - r), self.fine_of(*hi + r));
+                mark_box(&mut self.near, self.fine_dims, a, b);
             }
+            run = Some((p, p));
+        }
+        if let Some((lo, hi)) = run {
+            let (a, b) = (self.fine_of(lo - r), self.fine_of(hi + r));
+            mark_box(&mut self.near, self.fine_dims, a, b);
         }
     }
 
@@ -318,6 +332,18 @@ impl Grid {
     /// Number of points per cell (tests and GPU parity).
     pub fn cell_counts(&self) -> Vec<u32> {
         self.order.start.windows(2).map(|w| w[1] - w[0]).collect()
+    }
+}
+
+/// Sets the bits of fine cells `a..=b` (a box of them, `fd` a side): one run of bits per
+/// (x, y).
+#[inline(always)]
+fn mark_box(words: &mut [u64], fd: IVec3, a: IVec3, b: IVec3) {
+    for x in a.x..=b.x {
+        for y in a.y..=b.y {
+            let row = ((x * fd.y + y) * fd.z) as usize;
+            set_bits(words, row + a.z as usize, row + b.z as usize);
+        }
     }
 }
 
