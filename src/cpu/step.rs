@@ -456,7 +456,7 @@ impl CpuBackend {
             for s in 0..n_sub {
                 if wet {
                     let t = self.clock.start();
-                    self.water.as_mut().expect("wet").grid_build(); // pass water_grid
+                    self.water.as_mut().expect("wet").grid_build(self.pool.as_ref()); // pass water_grid
                     self.clock.stop(Stage::WaterGrid, t);
                 }
                 if bridging && s == 0 {
