@@ -36,6 +36,11 @@ impl Pool {
         })
     }
 
+    /// Worker threads.
+    pub fn threads(&self) -> usize {
+        self.pool.as_ref().expect("pool lives until drop").current_num_threads()
+    }
+
     /// Runs `f` on the pool (the caller waits).
     pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
         self.pool.as_ref().expect("pool lives until drop").install(f)

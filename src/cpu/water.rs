@@ -17,6 +17,10 @@ use glam::{Affine3A, Vec3};
 /// thread alone).
 const PARTICLES_PER_TASK: usize = 16_384;
 
+/// Reactions above which their sum per particle is shared among the pool's threads (each
+/// then reads them all).
+const REACTIONS_PER_TASK: usize = 65_536;
+
 /// The particles and their grid.
 #[derive(Debug)]
 pub struct Water {
@@ -258,7 +262,7 @@ impl Water {
     #[allow(clippy::too_many_arguments)]
     pub fn integrate<'a>(
         &mut self,
-        reactions: impl Iterator<Item = &'a [Reaction]>,
+        reactions: impl Iterator<Item = &'a [Reaction]> + Clone + Sync,
         p: &WaterParams,
         g: Vec3,
         wind: Vec3,
@@ -281,9 +285,21 @@ impl Water {
         } else {
             self.force.extend(self.vel.iter().map(|&v| p.drag * (wind - v)));
         }
-        for r in reactions.flatten() {
-            self.force[r.slot as usize] += Vec3::from(r.f);
-        }
+        // Each particle sums its reactions in the order given. With many, each task takes a
+        // range of particles and reads every reaction, keeping its own: the sums are the same,
+        // and the scattered adds are shared (a million drops: 117 ms a frame on one thread).
+        let total: usize = reactions.clone().map(|r| r.len()).sum();
+        let n = self.force.len();
+        let tasks = pool.map_or(1, |p| p.threads());
+        let pool_sum = pool.filter(|_| total > REACTIONS_PER_TASK && n > tasks);
+        super::pool::for_chunks(pool_sum, &mut self.force, n.div_ceil(tasks), |first, force| {
+            let range = first as u32..(first + force.len()) as u32;
+            for r in reactions.clone().flatten() {
+                if range.contains(&r.slot) {
+                    force[(r.slot - range.start) as usize] += Vec3::from(r.f);
+                }
+            }
+        });
         // Each particle then moves on its own: in chunks on the pool.
         let (force, mass) = (&self.force, &self.sorted_mass);
         let chunk = PARTICLES_PER_TASK;
