@@ -158,7 +158,7 @@ impl Water {
     /// gather and `integrate`'s sweep read memory in order instead of a cache miss per
     /// particle (at a million particles both took a tenth of a second a substep).
     /// The moves run in chunks on `pool` when there are more than [`PARTICLES_PER_TASK`]
-    /// particles (a million: 24 of the pass's 62 ms a frame on one thread).
+    /// particles (a million: 24 of the pass's 62 ms a frame, moved on one thread).
     pub fn grid_build(&mut self, pool: Option<&super::pool::Pool>) {
         self.grid.build(&self.pos);
         let massive = self.massive();
@@ -287,7 +287,8 @@ impl Water {
         }
         // Each particle sums its reactions in the order given. With many, each task takes a
         // range of particles and reads every reaction, keeping its own: the sums are the same,
-        // and the scattered adds are shared (a million drops: 117 ms a frame on one thread).
+        // and the scattered adds are shared (a million drops: most of the pass's 117 ms a frame,
+        // summed on one thread).
         let total: usize = reactions.clone().map(|r| r.len()).sum();
         let n = self.force.len();
         let tasks = pool.map_or(1, |p| p.threads());
