@@ -75,6 +75,20 @@ fn grid_handles_far_apart_points_by_growing_cells() {
 /// sort's cells grow with the box (here to several times the reach), but the prefilter reads
 /// a finer grid of cells of the reach, so it lets through a few times the points that truly
 /// have a neighbour, not the whole neighbourhood of the grown cells (which passed ~100 times).
+/// How many `queries` the prefilter of `g` (built over `pts`) passes, and how many truly have
+/// a point within `r`; fails on any query with a neighbour that the prefilter rejects.
+fn prefilter_counts(g: &Grid, pts: &[Vec3], queries: &[Vec3], r: f32) -> (usize, usize) {
+    let (mut pass, mut near) = (0usize, 0usize);
+    for q in queries {
+        let has = pts.iter().any(|p| (*p - *q).length_squared() <= r * r);
+        let may = g.may_have_near(*q, r);
+        assert!(may || !has, "prefilter rejected {q} with a neighbour");
+        pass += may as usize;
+        near += has as usize;
+    }
+    (pass, near)
+}
+
 #[test]
 fn prefilter_stays_tight_when_particles_spread_wide() {
     let mut rng = Lcg(21);
@@ -84,14 +98,7 @@ fn prefilter_stays_tight_when_particles_spread_wide() {
     let mut g = Grid::new(pts.len(), r);
     g.build(&pts);
     assert!(g.cell() > 2.0 * r, "the sort's cells grew: {}", g.cell());
-    let (mut pass, mut near) = (0usize, 0usize);
-    for q in &queries {
-        let has = pts.iter().any(|p| (*p - *q).length_squared() <= r * r);
-        let may = g.may_have_near(*q, r);
-        assert!(may || !has, "prefilter rejected {q} with a neighbour");
-        pass += may as usize;
-        near += has as usize;
-    }
+    let (pass, near) = prefilter_counts(&g, &pts, &queries, r);
     // 27 cells of side r around each particle hold 27 / (4/3 pi) = 6.4 times its sphere.
     assert!(near > 100, "too few queries with a neighbour to judge: {near}");
     assert!(
@@ -125,14 +132,7 @@ fn prefilter_never_rejects_a_neighbour_of_dense_water() {
             queries.extend([*p + d * r, *p - d * r]);
         }
     }
-    let (mut pass, mut near) = (0usize, 0usize);
-    for q in &queries {
-        let has = pts.iter().any(|p| (*p - *q).length_squared() <= r * r);
-        let may = g.may_have_near(*q, r);
-        assert!(may || !has, "prefilter rejected {q} with a neighbour");
-        pass += may as usize;
-        near += has as usize;
-    }
+    let (pass, near) = prefilter_counts(&g, &pts, &queries, r);
     assert!(near > 5_000, "too few queries with a neighbour to judge: {near}");
     assert!(
         pass <= 4 * near,

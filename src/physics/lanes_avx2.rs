@@ -1,11 +1,28 @@
-//! [`L3::bounds_of`] in AVX2 intrinsics, for the CPU kernel's AVX2 build: the lanes' bounds
-//! by two vector selects and three vector min (or max) steps per coordinate. The lane form
-//! compiled to a select and a compare per lane and cost about as much as the grid query it
-//! feeds (the paper scene with 1,000 particles, one thread: 0.6 ms of a 4.2 ms frame).
+//! A row's coordinates loaded as vectors, and [`L3::bounds_of`] in AVX2 intrinsics, for the
+//! CPU kernel's AVX2 build: the lanes' bounds by two vector selects and three vector min (or
+//! max) steps per coordinate, where the lane form compiled to a select and a compare per lane
+//! (the paper scene with 1,000 particles, one thread: 4.27 -> 4.18 ms a frame).
 
 use super::lanes::{Lane, L3};
 use glam::Vec3;
 use std::arch::x86_64::*;
+
+/// A row's three coordinates as three vectors.
+///
+/// # Safety
+/// The CPU must support AVX2 (callers check `is_x86_feature_detected!("avx2")` once).
+#[target_feature(enable = "avx2")]
+#[inline]
+pub unsafe fn load(x: &L3) -> (__m256, __m256, __m256) {
+    // SAFETY: each lane array is W = 8 contiguous f32; unaligned loads take any address.
+    unsafe {
+        (
+            _mm256_loadu_ps(x.x.as_ptr()),
+            _mm256_loadu_ps(x.y.as_ptr()),
+            _mm256_loadu_ps(x.z.as_ptr()),
+        )
+    }
+}
 
 /// The lanes' smallest and largest coordinates (as [`L3::bounds_of`], the same bits: each
 /// step is `a < b ? a : b`, the instruction's own rule) and the mask `1.0` on the lanes whose
@@ -33,14 +50,7 @@ pub unsafe fn bounds_and_mask(x: &L3, lanes: u32) -> (Vec3, Vec3, Lane) {
         let b = _mm_max_ps(a, _mm_movehl_ps(a, a));
         _mm_cvtss_f32(_mm_max_ss(b, _mm_shuffle_ps::<1>(b, b)))
     };
-    // SAFETY: each lane array is W = 8 contiguous f32; unaligned loads take any address.
-    let (px, py, pz) = unsafe {
-        (
-            _mm256_loadu_ps(x.x.as_ptr()),
-            _mm256_loadu_ps(x.y.as_ptr()),
-            _mm256_loadu_ps(x.z.as_ptr()),
-        )
-    };
+    let (px, py, pz) = load(x);
     let lo = |p: __m256| low(_mm256_blendv_ps(inf, p, on));
     let hi = |p: __m256| high(_mm256_blendv_ps(ninf, p, on));
     let mut mask = [0.0f32; 8];

@@ -19,14 +19,8 @@ impl Grid {
         if self.filtered && self.near.is_empty() {
             return 0;
         }
-        // SAFETY: each lane array is W = 8 contiguous f32.
-        let (px, py, pz) = unsafe {
-            (
-                _mm256_loadu_ps(x.x.as_ptr()),
-                _mm256_loadu_ps(x.y.as_ptr()),
-                _mm256_loadu_ps(x.z.as_ptr()),
-            )
-        };
+        // SAFETY: this function's own AVX2 requirement.
+        let (px, py, pz) = unsafe { crate::physics::lanes_avx2::load(x) };
         let (lo, hi) = (self.lo - r, self.hi + r);
         let within = |p: __m256, a: f32, b: f32| {
             _mm256_and_ps(
