@@ -4,7 +4,8 @@
 //! room for n particles; `PREFILTER=1`: the water grid's prefilter and candidate counts at the end;
 //! `GUIDES=n`: every n-th strand a guide; `VOLUME=1`: hair-hair volume; `WRITE=1`: also copy
 //! the vertices to the host each frame, timed apart; `INTEGRATOR=n`: the integrator by number,
-//! with `ITERATIONS=n` Newton iterations; `HASH=1`: a hash of the positions at the end; `CLUMP=1`: the clumping measures at the end).
+//! with `ITERATIONS=n` Newton iterations; `HASH=1`: a hash of the positions at the end; `CLUMP=1`: the clumping measures at the end;
+//! `GPU=1`: on the GPU backend, so a GPU change is held to the same hash).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -66,6 +67,9 @@ fn main() {
     }
     if std::env::var_os("VOLUME").is_some() {
         params.volume = wethair::Volume::ON;
+    }
+    if std::env::var_os("GPU").is_some() {
+        params.backend = wethair::Backend::GPU;
     }
     let mut sim = Simulation::new(&groom, params).expect("sim");
     // RAIN=1: the bench's rain over the head (100 drops a frame).

@@ -91,8 +91,10 @@ fn cohesion(passes: &[Pass]) -> &'static str {
     }
 }
 
-/// Adds the pull pass cohesion parked in this point's output velocity.
-const ADD_COHESION: &str = "    f += state_out[i].v.xyz;\n";
+/// Adds the pull pass cohesion parked in this point's output velocity, where it parked one
+/// (w = 1); elsewhere zero, as an unbridged point's pull was when cohesion wrote every point.
+const ADD_COHESION: &str =
+    "    let parked = state_out[i].v;\n    f += select(vec3<f32>(0.0), parked.xyz, parked.w != 0.0);\n";
 
 /// The hair module: the substep kernel for `passes` (and water_integrate when wet).
 pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
@@ -263,7 +265,7 @@ pub fn module(dev: &wgpu::Device, label: &str, src: &str) -> wgpu::ShaderModule 
 }
 
 /// One bind group layout entry kind.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 pub enum Slot {
     /// A uniform buffer.
     Uniform,
@@ -277,11 +279,17 @@ pub enum Slot {
 
 /// A compute bind group layout with `slots` at bindings 0, 1, ...
 pub fn layout(dev: &wgpu::Device, label: &str, slots: &[Slot]) -> wgpu::BindGroupLayout {
+    let numbered: Vec<(u32, Slot)> = slots.iter().enumerate().map(|(i, &s)| (i as u32, s)).collect();
+    layout_at(dev, label, &numbered)
+}
+
+/// A compute bind group layout with each slot at its own binding number: for a kernel that
+/// binds only some of a group its module declares (to stay within eight storage buffers).
+pub fn layout_at(dev: &wgpu::Device, label: &str, slots: &[(u32, Slot)]) -> wgpu::BindGroupLayout {
     let entries: Vec<wgpu::BindGroupLayoutEntry> = slots
         .iter()
-        .enumerate()
-        .map(|(i, s)| wgpu::BindGroupLayoutEntry {
-            binding: i as u32,
+        .map(|&(binding, s)| wgpu::BindGroupLayoutEntry {
+            binding,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty: wgpu::BindingType::Buffer {
                 ty: match s {
@@ -332,13 +340,20 @@ pub fn bind_resources(
     layout: &wgpu::BindGroupLayout,
     resources: Vec<wgpu::BindingResource>,
 ) -> wgpu::BindGroup {
+    let numbered = resources.into_iter().enumerate().map(|(i, r)| (i as u32, r)).collect();
+    bind_at(dev, label, layout, numbered)
+}
+
+/// A bind group with each resource at its own binding number (a [`layout_at`] layout's).
+pub fn bind_at(
+    dev: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    resources: Vec<(u32, wgpu::BindingResource)>,
+) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry> = resources
         .into_iter()
-        .enumerate()
-        .map(|(i, resource)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource,
-        })
+        .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
         .collect();
     dev.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(label),

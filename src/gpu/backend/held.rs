@@ -26,10 +26,10 @@ const SOAK: usize = 1;
 const DRY: usize = 2;
 const SATURATION: usize = 3;
 
-/// Held water's buffers and pipelines. Three bind groups keep every kernel within eight
+/// Held water's buffers and pipelines. The bind groups keep every kernel within eight
 /// storage buffers (wgpu's default per stage): 0, what all read (over state A or B); 1,
-/// wet_params, soak, dry and saturation_out's own; 2, flow and drip's (over particle buffer A or
-/// B).
+/// soak, dry and saturation_out's own, and wet_params' own beside it; 2, flow and drip's (over
+/// particle buffer A or B).
 #[derive(Debug)]
 pub(super) struct HeldGpu {
     /// The point records with each point's water (what the hair kernels bind).
@@ -46,20 +46,25 @@ pub(super) struct HeldGpu {
     soak_target: wgpu::Buffer,
     /// The velocities at the step's start (drip only; its size only with flow).
     v0: Option<wgpu::Buffer>,
+    /// Per point 1 where `points_wet` holds a record the water changed (wet_params' skip).
+    wet_record: wgpu::Buffer,
+    /// wet_params' velocity binding where there is no `v0`: one element, never written.
+    v_start_placeholder: Option<wgpu::Buffer>,
     /// Flow's two sends a point, then drip's per-point drops and per-workgroup offsets (drip
     /// only; [`drip_scratch_words`]).
     drip_scratch: Option<wgpu::Buffer>,
-    layouts: [wgpu::BindGroupLayout; 4],
+    /// Groups 0 to 3, then wet_params' group 1.
+    layouts: [wgpu::BindGroupLayout; 5],
     /// Group 0 over state A and state B; group 1; group 2 over particle buffer A and B.
     bg0: Option<[wgpu::BindGroup; 2]>,
     bg1: Option<wgpu::BindGroup>,
+    /// wet_params' group 1 (`layouts[4]`).
+    bg1_params: Option<wgpu::BindGroup>,
     bg2: Option<[wgpu::BindGroup; 2]>,
     /// Group 3 by [sorted particle buffer][output state buffer] (absorption only).
     bg3: Option<[[wgpu::BindGroup; 2]; 2]>,
     absorb_pipes: Vec<wgpu::ComputePipeline>,
     pipes: Vec<wgpu::ComputePipeline>,
-    /// keep_velocities (when water flows).
-    keep_pipe: Option<wgpu::ComputePipeline>,
     /// Flow's kernels (when water flows) and drip's (when it drips).
     flow_pipes: Vec<wgpu::ComputePipeline>,
     drip_pipes: Vec<wgpu::ComputePipeline>,
@@ -90,14 +95,18 @@ impl HeldGpu {
             pl::layout(d, "held own", &[ReadWrite, Read, ReadWrite, Read]),
             pl::layout(d, "held flow drip", &[ReadWrite, ReadWrite, ReadWrite, ReadWrite]),
             pl::layout(d, "held absorb", &[ReadWrite, Read, ReadWrite, ReadWrite]),
+            pl::layout_at(
+                d,
+                "held params",
+                &[(0, ReadWrite), (1, Read), (4, ReadWrite), (5, ReadWrite)],
+            ),
         ];
         let module = pl::module(d, "held", &pl::held_source(consts));
+        let params = [Some(&layouts[0]), Some(&layouts[4])];
+        let mut pipes = pl::pipelines_sparse(d, &module, &params, &HELD_ENTRIES[..1]);
         let own = [Some(&layouts[0]), Some(&layouts[1])];
-        let pipes = pl::pipelines_sparse(d, &module, &own, &HELD_ENTRIES);
+        pipes.extend(pl::pipelines_sparse(d, &module, &own, &HELD_ENTRIES[1..]));
         let moving = [Some(&layouts[0]), None, Some(&layouts[2])];
-        let keep_pipe = cfg
-            .flows()
-            .then(|| pl::pipelines_sparse(d, &module, &moving, &["keep_velocities"]).remove(0));
         let flow_pipes = if cfg.flows() {
             pl::pipelines_sparse(d, &module, &moving, &FLOW_ENTRIES)
         } else {
@@ -127,17 +136,20 @@ impl HeldGpu {
             v0: cfg
                 .drips()
                 .then(|| b::buffer(d, "held_v0", if cfg.flows() { n * 16 } else { 16 }, STORAGE)),
+            // Zeroed at creation: every record starts dry.
+            wet_record: b::buffer(d, "held_wet_record", n * 4, STORAGE),
+            v_start_placeholder: (!cfg.drips()).then(|| b::buffer(d, "held_v_start", 16, STORAGE)),
             drip_scratch: cfg
                 .drips()
                 .then(|| b::buffer(d, "held_drip", drip_scratch_words(n as u32, cfg.flows()) * 4, STORAGE)),
             layouts,
             bg0: None,
             bg1: None,
+            bg1_params: None,
             bg2: None,
             bg3: None,
             absorb_pipes,
             pipes,
-            keep_pipe,
             flow_pipes,
             drip_pipes,
             cfg,
@@ -169,6 +181,22 @@ impl HeldGpu {
             &self.layouts[1],
             &[&self.points_wet, &self.dry_mass, &self.ledger, &self.soak_target],
             None,
+        ));
+        let v_start = self
+            .v0
+            .as_ref()
+            .or(self.v_start_placeholder.as_ref())
+            .expect("one of the two");
+        self.bg1_params = Some(pl::bind_at(
+            d,
+            "held params",
+            &self.layouts[4],
+            vec![
+                (0, self.points_wet.as_entire_binding()),
+                (1, self.dry_mass.as_entire_binding()),
+                (4, self.wet_record.as_entire_binding()),
+                (5, v_start.as_entire_binding()),
+            ],
         ));
     }
 
@@ -267,17 +295,13 @@ impl HeldGpu {
         pass.dispatch_workgroups(gx, gy, 1);
     }
 
-    /// Pass wet_params, before the substeps.
+    /// Pass wet_params, before the substeps (the step's start is state `cur`).
     pub(super) fn encode_before(&self, pass: &mut wgpu::ComputePass, cur: usize, points: u32) {
-        self.dispatch(pass, WET_PARAMS, cur, points);
-        if let (Some(p), Some(bg2)) = (&self.keep_pipe, &self.bg2) {
-            // keep_velocities: the step's start is state `cur`; bg2's particle buffer is unused.
-            pass.set_pipeline(p);
-            pass.set_bind_group(0, &self.bg0.as_ref().expect("bound at create")[cur], &[]);
-            pass.set_bind_group(2, &bg2[0], &[]);
-            let (gx, gy) = groups(points);
-            pass.dispatch_workgroups(gx, gy, 1);
-        }
+        pass.set_pipeline(&self.pipes[WET_PARAMS]);
+        pass.set_bind_group(0, &self.bg0.as_ref().expect("bound at create")[cur], &[]);
+        pass.set_bind_group(1, self.bg1_params.as_ref().expect("bound at create"), &[]);
+        let (gx, gy) = groups(points);
+        pass.dispatch_workgroups(gx, gy, 1);
     }
 
     /// The once-per-step passes after the substeps, in the plan's order (flow, drip, dry),
@@ -347,11 +371,7 @@ impl HeldGpu {
         } else if self.changes() {
             after.push(HELD_ENTRIES[SATURATION]);
         }
-        let mut before = vec![HELD_ENTRIES[WET_PARAMS]];
-        if self.keep_pipe.is_some() {
-            before.push("keep_velocities");
-        }
-        (before, after)
+        (vec![HELD_ENTRIES[WET_PARAMS]], after)
     }
 
     /// Wets every point up to saturation `s` of its capacity (never down), booked as added;
@@ -411,9 +431,11 @@ impl HeldGpu {
             &self.dry_mass,
             &self.ledger,
             &self.soak_target,
+            &self.wet_record,
         ]
         .into_iter()
         .chain(&self.v0)
+        .chain(&self.v_start_placeholder)
         .chain(&self.drip_scratch)
         .map(|b| b.size() as usize)
         .sum()

@@ -1,8 +1,10 @@
 // Pass cohesion (cpu/bridges.rs `gather`; docs/WET_MODEL.md §5), in the hair module: each wet
 // point's pull toward its bridged neighbours at the substep's start (BDF2: at x + h v,
-// `explicit_point`), parked in state_out's
-// velocity, which the hair kernel (or hair_forces) adds in the CPU's place and then overwrites.
-// Every point is written: zero where no bridge acts.
+// `explicit_point`), parked in state_out's velocity with w = 1, which the hair kernel (or
+// hair_forces) adds in the CPU's place and then overwrites with w = 0. Points with no bridge
+// are not written: every writer of a state leaves w = 0 in its velocity, so their parked w
+// reads 0 and the kernel adds nothing (a write per point cost more than the pulls under light
+// rain).
 
 @group(3) @binding(0) var<storage, read> bridge: array<u32>;
 
@@ -24,8 +26,7 @@ fn cohesion(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg:
     let at = i * BR_WORDS;
     let mask = bridge[P.bridge_masks + i];
     if (mask == 0u) {
-        // Most points, under light rain: no read of the state.
-        state_out[i].v = vec4<f32>(0.0);
+        // Most points, under light rain: no read of the state, no write.
         return;
     }
     let xi = explicit_point(state_in[i]);
@@ -36,5 +37,5 @@ fn cohesion(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg:
             sum += d * bridge_scale(bitcast<f32>(bridge[at + BR_COEF + k]), length(d));
         }
     }
-    state_out[i].v = vec4<f32>(sum, 0.0);
+    state_out[i].v = vec4<f32>(sum, 1.0);
 }

@@ -21,7 +21,13 @@
 @group(1) @binding(1) var<storage, read> dry_mass: array<f32>;
 @group(1) @binding(2) var<storage, read_write> ledger: array<atomic<u32>, HELD_LEDGER_WORDS>;
 @group(1) @binding(3) var<storage, read> soak_target: array<u32>;
-// Group 2, flow and drip: each point's velocity at the step's start (keep_velocities writes
+// Group 1 of pass wet_params alone, whose layout leaves out bindings 2 and 3 (so that the pass
+// binds eight storage buffers, wgpu's default limit): per point 1 where points_wet holds a
+// record the water changed, else 0; each point's velocity at the step's start (group 2's
+// v0, bound here too; a one-element placeholder without flow).
+@group(1) @binding(4) var<storage, read_write> wet_record: array<u32>;
+@group(1) @binding(5) var<storage, read_write> v_start: array<vec4<f32>>;
+// Group 2, flow and drip: each point's velocity at the step's start (wet_params writes
 // it; flow and drip read it for the point's acceleration over the step); flow's and drip's
 // scratch (per point the drop it sheds, quanta, then per drip_count
 // workgroup its drops and, after drip_scan, the particle slot of its first); the particles
@@ -83,10 +89,13 @@ fn show_saturation(i: u32, q: u32) {
     state[i].x.w = min(saturation(q, capacity[i]), 1.0);
 }
 
-// Pass wet_params, part 1 (cpu/held.rs `refresh_params`), once per step before the
-// substeps: each free point's inverse mass from its dry mass plus its water (§3); each bend
-// spring's stiffness scaled by the mean saturation of its two ends (§4). A dry point keeps its
-// dry record.
+// Pass wet_params (cpu/held.rs `refresh_params` and `keep_velocities`), once per step before
+// the substeps: each free point's inverse mass from its dry mass plus its water (§3); each
+// bend spring's stiffness scaled by the mean saturation of its two ends (§4); with flow, each
+// point's velocity at the step's start, for flow's and drip's accelerations (only the
+// velocity: a copy of the whole state cost twice the traffic). A point whose ends hold no
+// water and whose record is already the dry one reads three words and writes nothing (as the
+// CPU skips rows that were and are dry): under light rain that is nearly every point.
 @compute @workgroup_size(WG)
 fn wet_params(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
               @builtin(local_invocation_index) lid: u32) {
@@ -94,29 +103,35 @@ fn wet_params(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
     if (i >= P.points) {
         return;
     }
-    var pt = points[i];
+    // Without flow the buffer is a one-element placeholder and no velocity is kept.
+    if (arrayLength(&v_start) == arrayLength(&held)) {
+        v_start[i] = state[i].v;
+    }
     let q = atomicLoad(&held[i]);
+    var q2 = 0u;
+    if (P.wet_bend_ratio < 1.0 && i + 2u < P.points) {
+        q2 = atomicLoad(&held[i + 2u]);
+    }
+    if (q == 0u && q2 == 0u && wet_record[i] == 0u) {
+        return;
+    }
+    var pt = points[i];
+    var wet = false;
     if (pt.inv_mass != 0.0 && q != 0u) {
         pt.inv_mass = 1.0 / (dry_mass[i] + f32(q) * WATER_QUANTUM);
+        wet = true;
     }
     if (P.wet_bend_ratio < 1.0 && i + 2u <= pt.last) {
-        let s = saturation(q, capacity[i]) + saturation(atomicLoad(&held[i + 2u]), capacity[i + 2u]);
+        let s = saturation(q, capacity[i]) + saturation(q2, capacity[i + 2u]);
         if (s != 0.0) {
             pt.bend_k = pt.bend_k * bend_scale(0.5 * s);
+            wet = true;
         }
     }
-    points_wet[i] = pt;
-}
-
-// Pass wet_params, part 2 (cpu/held.rs `keep_velocities`), with flow only: each point's
-// velocity at the step's start, for flow's and drip's accelerations. Only the velocity: a
-// copy of the whole state cost twice the traffic.
-@compute @workgroup_size(WG)
-fn keep_velocities(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
-                   @builtin(local_invocation_index) lid: u32) {
-    let i = linear_id(wid, nwg, lid);
-    if (i < P.points) {
-        v0[i] = state[i].v;
+    if (wet || wet_record[i] != 0u) {
+        // A record the water changes, or the dry record back where it did.
+        points_wet[i] = pt;
+        wet_record[i] = select(0u, 1u, wet);
     }
 }
 
