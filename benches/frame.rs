@@ -76,11 +76,22 @@ fn run_with(
     (median(times), mean, passes.join(" "), mib, held)
 }
 
-/// Whether section `name` runs: every section when none is named on the command line.
-/// Steps `warmup` frames, then `frames` more with the pass timers on: the median ms/frame, the
-/// particles at the end, and the pass times.
-fn timed_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> (f64, u32, Vec<PassTime>) {
+/// What [`timed_frames`] measured.
+struct Timed {
+    /// Median ms/frame.
+    ms: f64,
+    /// Particles at the end.
+    particles: u32,
+    /// Particles over the timed frames, mean (each frame's count after its step): where the
+    /// hair soaks drops up, what the frames actually carried.
+    mean_particles: f64,
+    passes: Vec<PassTime>,
+}
+
+/// Steps `warmup` frames, then `frames` more with the pass timers on.
+fn timed_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> Timed {
     let mut times = Vec::with_capacity(frames);
+    let mut carried = 0u64;
     for f in 0..warmup + frames {
         if f == warmup {
             sim.time_passes(true);
@@ -89,9 +100,15 @@ fn timed_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> (f64, u32
         sim.step(1.0 / 60.0).expect("step");
         if f >= warmup {
             times.push(t0.elapsed().as_secs_f64() * 1e3);
+            carried += sim.stats().particles as u64;
         }
     }
-    (median(times), sim.stats().particles, sim.pass_times())
+    Timed {
+        ms: median(times),
+        particles: sim.stats().particles,
+        mean_particles: carried as f64 / frames.max(1) as f64,
+        passes: sim.pass_times(),
+    }
 }
 
 fn section(name: &str) -> bool {
@@ -355,7 +372,12 @@ fn wet_model_costs(cores: u32, quick: bool) {
             water(&mut sim);
         }
         if backend == Backend::CPU {
-            let (ms, particles, t) = timed_frames(&mut sim, 5, frames);
+            let Timed {
+                ms,
+                particles,
+                passes: t,
+                ..
+            } = timed_frames(&mut sim, 5, frames);
             return Ok((ms, particles, t, "CPU".into()));
         }
         let (ms, particles, t) = gpu_frames(&mut sim, 5, frames);
@@ -447,14 +469,17 @@ fn gpu_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> (f64, u32, 
 /// How the water's cost grows with the particles (issue 15): the paper scene and a 100,000 x 16
 /// groom with 0 to 1,000,000 particles placed on the hair, with the paper's model and with the
 /// full model. "water" is the frame less the dry frame of the same run; "x per 10x" is each
-/// row's water over the row with a tenth of the particles (linear cost: at most 10).
+/// row's water over the row with a tenth of the particles (linear cost: at most 10). Where the
+/// hair soaks drops up (the full model) a row carries fewer particles than it was given, and
+/// some rows far fewer than others, so each row also gives the particles its timed frames
+/// carried (mean) and its water per thousand of them.
 fn particle_scaling(cores: u32, quick: bool) {
     use wethair::HeldWater;
     println!();
     println!("Cost against particles, CPU backend, {cores} threads (median ms/frame over the frames named; particles placed on the hair at the start):");
     println!();
-    println!("| scene | model | particles | frames | ms/frame | water (ms over dry) | water x per 10x particles | particles at end |");
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("| scene | model | particles | frames | ms/frame | water (ms over dry) | water x per 10x particles | particles carried (mean) | water per 1,000 carried, ms | particles at end |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     let paper = paper_scene(10_000, 6).expect("paper scene");
     let big = paper_scene(100_000, 16).expect("big scene");
     let mut split = Vec::new();
@@ -462,7 +487,7 @@ fn particle_scaling(cores: u32, quick: bool) {
         ("paper 10000x6", &paper, if quick { 10 } else { 40 }),
         ("100000x16", &big, if quick { 3 } else { 10 }),
     ] {
-        let time = |model: Option<bool>, particles: usize| -> (f64, u32, Vec<PassTime>) {
+        let time = |model: Option<bool>, particles: usize| -> Timed {
             let mut p = SimParams {
                 threads: cores,
                 ..SimParams::paper_scene_with_head()
@@ -478,16 +503,30 @@ fn particle_scaling(cores: u32, quick: bool) {
             }
             timed_frames(&mut sim, 2, frames)
         };
-        let (dry, _, t_dry) = time(None, 0);
-        println!("| {name} | dry | 0 | {frames} | {dry:.2} | – | – | 0 |");
+        let Timed {
+            ms: dry, passes: t_dry, ..
+        } = time(None, 0);
+        println!("| {name} | dry | 0 | {frames} | {dry:.2} | – | – | 0 | – | 0 |");
         split.push((name, "dry".to_string(), frames, t_dry));
         for (model, full) in [("paper", false), ("full", true)] {
             let mut last: Option<f64> = None;
             for particles in [1_000usize, 10_000, 100_000, 1_000_000] {
-                let (ms, held, t) = time(Some(full), particles);
+                let Timed {
+                    ms,
+                    particles: held,
+                    mean_particles: carried,
+                    passes: t,
+                } = time(Some(full), particles);
                 let water = ms - dry;
                 let growth = last.map_or("–".into(), |l| format!("{:.1}", water / l));
-                println!("| {name} | {model} | {particles} | {frames} | {ms:.2} | {water:.2} | {growth} | {held} |");
+                let per = if carried > 0.0 {
+                    format!("{:.3}", water / carried * 1e3)
+                } else {
+                    "–".into()
+                };
+                println!(
+                    "| {name} | {model} | {particles} | {frames} | {ms:.2} | {water:.2} | {growth} | {carried:.0} | {per} | {held} |"
+                );
                 last = Some(water.max(1e-3));
                 split.push((name, format!("{model}, {particles}"), frames, t));
             }

@@ -15,7 +15,7 @@ use super::adhesion::{Reaction, MIN_DISTANCE};
 use super::lanes::{Lane, L3, W};
 use std::arch::x86_64::*;
 
-/// Candidates a row tests before pulling those within reach (a row's list on the stack).
+/// The most particles within reach a row lists before it pulls them (the list is on the stack).
 const HIT_BATCH: usize = 32;
 
 /// Sum of the lanes in [`super::lanes::hsum`]'s order: halves first, then pairs.
