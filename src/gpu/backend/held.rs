@@ -1,7 +1,8 @@
 //! Held water on the GPU (docs/WET_MODEL.md §1, §3, §4, §7; `shaders/held.wgsl`): each point's
 //! water in quanta, its capacity and dry mass, the point records the hair kernels read while
-//! water is held (`points_wet`, rewritten by pass `wet_params` every step), the ledger block,
-//! and the kernels' encoding. Exists only when the scene has held water on.
+//! water is held (`points_wet`: pass `wet_params` rewrites each step the records the water
+//! changes or has left), the ledger block, and the kernels' encoding. Exists only when the
+//! scene has held water on.
 
 use super::super::buffers::{self as b, groups, held_ledger as hl, PointGpu, STORAGE};
 use super::super::pipelines::{self as pl, SceneConsts, Slot};
