@@ -265,7 +265,7 @@ pub fn module(dev: &wgpu::Device, label: &str, src: &str) -> wgpu::ShaderModule 
 }
 
 /// One bind group layout entry kind.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy)]
 pub enum Slot {
     /// A uniform buffer.
     Uniform,

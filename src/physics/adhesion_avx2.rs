@@ -27,6 +27,22 @@ fn hsum(a: __m256) -> f32 {
     _mm_cvtss_f32(_mm_add_ss(t, _mm_shuffle_ps::<1>(t, t)))
 }
 
+/// From a row's lanes (`hx`, `hy`, `hz`) to particle `slot` of `sorted`: the offset and its
+/// squared length, computed alike by the gather's test and its pull.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn offset_to(sorted: [&[f32]; 3], slot: u32, hx: __m256, hy: __m256, hz: __m256) -> ((__m256, __m256, __m256), __m256) {
+    let k = slot as usize;
+    let dx = _mm256_sub_ps(_mm256_set1_ps(sorted[0][k]), hx);
+    let dy = _mm256_sub_ps(_mm256_set1_ps(sorted[1][k]), hy);
+    let dz = _mm256_sub_ps(_mm256_set1_ps(sorted[2][k]), hz);
+    let d2 = _mm256_add_ps(
+        _mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
+        _mm256_mul_ps(dz, dz),
+    );
+    ((dx, dy, dz), d2)
+}
+
 /// [`super::adhesion::gather_runs_lanes`] on AVX2: the same arguments, effects and bits. One
 /// call per row: called per run, the kernel did not inline it and paid a call per run.
 ///
@@ -63,7 +79,6 @@ pub unsafe fn gather_runs_lanes(
         _mm256_set1_ps(r_max),
         _mm256_set1_ps(r_min - r_max),
     );
-    let (sx, sy, sz) = (sorted[0], sorted[1], sorted[2]);
     // Two phases: the candidates' reach test with the particles that pass listed without a
     // branch, then the pulls of the listed ones. Tested and pulled in one loop, a branch on
     // each candidate's test (about half pass) went each way at random; listed first, the
@@ -75,14 +90,7 @@ pub unsafe fn gather_runs_lanes(
         while r < runs.len() && n < HIT_BATCH {
             let end = runs[r].1;
             while slot < end && n < HIT_BATCH {
-                let k = slot as usize;
-                let dx = _mm256_sub_ps(_mm256_set1_ps(sx[k]), hx);
-                let dy = _mm256_sub_ps(_mm256_set1_ps(sy[k]), hy);
-                let dz = _mm256_sub_ps(_mm256_set1_ps(sz[k]), hz);
-                let d2 = _mm256_add_ps(
-                    _mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
-                    _mm256_mul_ps(dz, dz),
-                );
+                let (_, d2) = offset_to(sorted, slot, hx, hy, hz);
                 let inside = _mm256_and_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(d2, r2), m);
                 hits[n] = slot;
                 n += (_mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(inside, zero)) != 0) as usize;
@@ -94,14 +102,7 @@ pub unsafe fn gather_runs_lanes(
             }
         }
         for &slot in &hits[..n] {
-            let k = slot as usize;
-            let dx = _mm256_sub_ps(_mm256_set1_ps(sx[k]), hx);
-            let dy = _mm256_sub_ps(_mm256_set1_ps(sy[k]), hy);
-            let dz = _mm256_sub_ps(_mm256_set1_ps(sz[k]), hz);
-            let d2 = _mm256_add_ps(
-                _mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
-                _mm256_mul_ps(dz, dz),
-            );
+            let ((dx, dy, dz), d2) = offset_to(sorted, slot, hx, hy, hz);
             let within = _mm256_cmp_ps::<_CMP_LE_OQ>(d2, r2);
             // The mask's 0 or 1 where within r_max, else 0 (the lane form's `inside`).
             let inside = _mm256_and_ps(within, m);
