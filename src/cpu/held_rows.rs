@@ -62,16 +62,13 @@ pub fn refresh_rows(
             continue; // still the layout's values
         }
         *was_wet = wet;
-        // Each lane computed, then chosen (a branch per point was most of the pass). LLVM
-        // still compiles the choice as a branch a lane and the eight f64 divides as scalars;
-        // forms that made them vectors (in f32, or two `vdivpd` with the divides kept out of
-        // the choice) measured no faster: the refresh waits on its rows' loads.
-        let (kg, dry) = (wet::to_kg_lanes(&water[k]), &src.dry[r]);
+        // Each lane computed, then chosen (a branch per point was most of the pass).
+        let dry = &src.dry[r];
+        let wet_inv = wet::wet_inv_mass_lanes(&dry.mass, &water[k]);
         for l in 0..W {
             let dry_inv = dry.inv_mass[l];
             let q = water[k][l];
-            let wet_inv = (1.0 / (dry.mass[l] as f64 + kg[l])) as f32;
-            row.inv_mass[l] = if dry_inv == 0.0 || q == 0 { dry_inv } else { wet_inv };
+            row.inv_mass[l] = if dry_inv == 0.0 || q == 0 { dry_inv } else { wet_inv[l] };
         }
         if bends {
             let (s_a, s_b) = (sat(k), sat(k + 2));
@@ -106,12 +103,12 @@ pub fn dry_rows(water: &mut [[u32; W]], state: &[StateRow], law: DryLaw) -> u64 
         }
         // The row's rates as one vector: `(wind - v).length()` component by component as
         // glam computes it, so the bits are the same.
-        let mut k = [0.0f32; W];
-        for (l, k) in k.iter_mut().enumerate() {
+        let mut u = [0.0f32; W];
+        for (l, u) in u.iter_mut().enumerate() {
             let (ux, uy, uz) = (wind.x - r.v.x[l], wind.y - r.v.y[l], wind.z - r.v.z[l]);
-            let u = ((ux * ux) + (uy * uy) + (uz * uz)).sqrt();
-            *k = wet::evaporation_rate(u, tau, u_ref);
+            *u = ((ux * ux) + (uy * uy) + (uz * uz)).sqrt();
         }
+        let k = wet::evaporation_rate_lanes(&u, tau, u_ref);
         let e = wet::evaporate_lanes(w, &k, dt);
         for l in 0..W {
             w[l] -= e[l];

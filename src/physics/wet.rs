@@ -9,7 +9,7 @@
 //! amounts they move are rounded, once, to whole quanta.
 
 use super::lanes::{u32_as_f32, u32_as_f64, Lane, L3, W};
-use super::rounding::{floor_nonneg_lanes, round_nonneg, round_nonneg_lanes};
+use super::rounding::{floor_nonneg_lanes, round_nonneg};
 use glam::Vec3;
 
 /// The unit water is counted in, kg (a nanogram): a `u32` count holds up to 4.29 g, far above
@@ -95,10 +95,24 @@ pub fn saturation_lanes(held: &[u32; W], capacity: &[u32; W]) -> Lane {
     s
 }
 
-/// [`to_kg`] of a row of eight points, the same bits, as vectors.
+/// The inverse mass of a free point of dry mass `dry_mass` (kg) holding `held` quanta:
+/// `1 / (m_dry + m_w)`, in single precision as the GPU computes it (a relative error of a few
+/// parts in 10^7, far below any mass the groom is given to).
+#[inline]
+pub fn wet_inv_mass(dry_mass: f32, held: u32) -> f32 {
+    1.0 / (dry_mass + held as f32 * WATER_QUANTUM as f32)
+}
+
+/// [`wet_inv_mass`] of a row of eight points, the same bits, as vectors: one divide for the
+/// row, where the double-precision form it replaces was eight scalar ones.
 #[inline(always)]
-pub fn to_kg_lanes(q: &[u32; W]) -> [f64; W] {
-    u32_as_f64(q).map(|q| q * WATER_QUANTUM)
+pub fn wet_inv_mass_lanes(dry_mass: &Lane, held: &[u32; W]) -> Lane {
+    let q = u32_as_f32(held);
+    let mut inv = [0.0f32; W];
+    for l in 0..W {
+        inv[l] = 1.0 / (dry_mass[l] + q[l] * WATER_QUANTUM as f32);
+    }
+    inv
 }
 
 /// The factor on bending stiffness at saturation `s`: 1 dry, `wet_ratio` saturated, linear
@@ -221,48 +235,83 @@ pub fn evaporation_rate(u: f32, tau: f32, u_ref: f32) -> f32 {
     (1.0 + (u.abs() / u_ref).sqrt()) / tau
 }
 
+/// [`evaporation_rate`] of eight points at once, the same bits. Its own loop over the lanes:
+/// computed inside the loop that finds the speeds, it stayed scalar (a lane at a time, through
+/// the stack), and it was most of the drying pass.
+#[inline(always)]
+pub fn evaporation_rate_lanes(u: &Lane, tau: f32, u_ref: f32) -> Lane {
+    let mut k = [0.0f32; W];
+    for l in 0..W {
+        k[l] = (1.0 + (u[l].abs() / u_ref).sqrt()) / tau;
+    }
+    k
+}
+
 /// The quanta that evaporate from `held` in `h` seconds at rate `k`: `held (1 - e^(-k h))`
 /// to nearest (the exact decay, so the law does not depend on the step size), and at least
-/// one while any water and any rate are left, so hair dries completely.
+/// one while any water and any rate are left, so hair dries completely. A step's drying is
+/// tiny (`k h` about 1e-5 at the defaults) and takes [`evaporate_small`]'s single precision;
+/// larger parts take double precision.
 #[inline]
 pub fn evaporate(held: u32, k: f32, h: f32) -> u32 {
+    let x = k * h;
+    if small(x) {
+        return evaporate_small(held as f32, x, held);
+    }
     evaporated_part(held, one_minus_exp_neg(k as f64 * h as f64))
 }
 
-/// [`evaporate`] on a row of eight points at rates `k`: the same bits lane by lane, with the
-/// series of `1 - e^(-x)` run as vectors when every lane is below its limit (as a step's
-/// drying is), and the rest lane by lane. Always inlined, so the CPU's pass compiles it for
-/// AVX2 where it runs there (left to the inliner, it was sometimes called out of line).
+/// Below this `k h`, [`evaporate`] runs in single precision, as the GPU does.
+const F32_SERIES_BELOW: f32 = 1.0 / 1024.0;
+
+/// Whether [`evaporate`] takes `x = k h` in single precision: from 0 up to
+/// [`F32_SERIES_BELOW`] (not NaN, not negative).
+#[inline(always)]
+fn small(x: f32) -> bool {
+    (0.0..F32_SERIES_BELOW).contains(&x)
+}
+
+/// [`evaporate`] for `x = k h` below [`F32_SERIES_BELOW`], in single precision (`held_f` is
+/// `held` as `f32`): `1 - e^(-x)` by its series to the cube, whose first left-out term is under
+/// 4e-11 of the result (below an `f32`'s resolution), then `held` times it to nearest. The
+/// product is under 2^22, so its error is a quantum or two at the most, and it converts
+/// through `i32`. Eight lanes of it are one AVX2 vector each, where the double-precision form
+/// was two and its rounding more; the drying was a third of the settling pass on a groom
+/// under rain.
+#[inline(always)]
+fn evaporate_small(held_f: f32, x: f32, held: u32) -> u32 {
+    let frac = x * (1.0 - x * (0.5 - x * (1.0 / 6.0)));
+    let lost = held_f * frac;
+    // SAFETY: `lost` is finite and within 0..=2^22 (`x` is in 0..2^-10, `held_f` at most
+    // 2^32), so the truncation is exact in `i32`; unchecked, it is one vector
+    // instruction for eight lanes, where `as` (which saturates) was eight scalar ones.
+    let t: i32 = unsafe { lost.to_int_unchecked() };
+    let r = (t + (lost - t as f32 >= 0.5) as i32) as u32;
+    if r == 0 && held > 0 && frac > 0.0 {
+        1
+    } else {
+        r.min(held)
+    }
+}
+
+/// [`evaporate`] on a row of eight points at rates `k`: the same bits lane by lane, as
+/// vectors when every lane's `k h` is small (as a step's drying is), else lane by lane.
+/// Always inlined, so the CPU's pass compiles it for AVX2 where it runs there (left to the
+/// inliner, it was sometimes called out of line).
 #[inline(always)]
 pub fn evaporate_lanes(held: &[u32; W], k: &Lane, h: f32) -> [u32; W] {
-    let mut x = [0.0f64; W];
+    let mut x = [0.0f32; W];
     for l in 0..W {
-        x[l] = k[l] as f64 * h as f64;
+        x[l] = k[l] * h;
     }
-    let mut frac = [0.0f64; W];
-    if x.iter().all(|&x| x < SERIES_BELOW) {
-        for l in 0..W {
-            frac[l] = one_minus_exp_neg_series(x[l]);
-        }
-    } else {
-        for l in 0..W {
-            frac[l] = one_minus_exp_neg(x[l]);
-        }
+    // A fold, not `all`: no branch a lane.
+    if !x.iter().fold(true, |all, &x| all & small(x)) {
+        return std::array::from_fn(|l| evaporate(held[l], k[l], h));
     }
-    // evaporated_part lane by lane, its rounding as vectors.
-    let mut lost = [0.0f64; W];
-    for l in 0..W {
-        lost[l] = held[l] as f64 * frac[l];
-    }
-    let lost = round_nonneg_lanes(&lost);
+    let held_f = u32_as_f32(held);
     let mut e = [0u32; W];
     for l in 0..W {
-        let r = lost[l] as u32;
-        e[l] = if r == 0 && held[l] > 0 && frac[l] > 0.0 {
-            1
-        } else {
-            r.min(held[l])
-        };
+        e[l] = evaporate_small(held_f[l], x[l], held[l]);
     }
     e
 }
@@ -553,8 +602,9 @@ mod tests {
                 want,
                 "{held:?} {cap:?}"
             );
-            let kg: [u64; W] = std::array::from_fn(|l| to_kg(held[l]).to_bits());
-            assert_eq!(to_kg_lanes(&held).map(f64::to_bits), kg);
+            let m: Lane = std::array::from_fn(|l| 1e-9 * (1 + cap[l] % 1000) as f32);
+            let inv: [u32; W] = std::array::from_fn(|l| wet_inv_mass(m[l], held[l]).to_bits());
+            assert_eq!(wet_inv_mass_lanes(&m, &held).map(f32::to_bits), inv);
         }
     }
 
@@ -599,11 +649,14 @@ mod tests {
     }
 
     /// A row dries as its points do one by one, with every lane's rate small (the vector
-    /// series) and with one lane's past the series (each lane then by `one_minus_exp_neg`).
+    /// series in single precision), with rates past it (double precision) and with one lane's
+    /// far past the series (each lane then by `one_minus_exp_neg`).
     #[test]
     fn lanes_dry_as_each_point_alone() {
-        let held = [0u32, 1, 7, 1000, 123_456, 9_999_999, 1 << 30, 42];
+        let held = [0u32, 1, 7, 1000, 123_456, 9_999_999, 1 << 30, u32::MAX];
         for k in [
+            [1e-3f32, 5e-4, 0.02, 0.0, 8e-4, 1e-3, 3e-3, 0.05],
+            [1e-3f32, 5e-4, 0.02, -0.0, 8e-4, 1e-3, -3e-3, 0.05],
             [0.5f32, 1.0, 2.0, 0.25, 3.0, 1.5, 0.75, 0.0],
             [0.5f32, 1.0, 200.0, 0.25, 3.0, 1.5, 0.75, 0.0],
         ] {
@@ -611,6 +664,22 @@ mod tests {
             for l in 0..W {
                 assert_eq!(e[l], evaporate(held[l], k[l], 1.0 / 60.0), "lane {l}, rates {k:?}");
             }
+        }
+    }
+
+    /// A step's drying in single precision is within two quanta of the double-precision law
+    /// for any count, and the same to the quantum for counts a point holds at the defaults.
+    #[test]
+    fn single_precision_drying_keeps_the_law() {
+        let mut x = 1e-9f32;
+        while small(x) {
+            for held in [1u32, 999, 123_456, 30_000_000, 1 << 31, u32::MAX] {
+                let fast = evaporate(held, x, 1.0) as i64;
+                let exact = evaporated_part(held, one_minus_exp_neg(x as f64)) as i64;
+                let tol = if held <= 30_000_000 { 1 } else { 2 };
+                assert!((fast - exact).abs() <= tol, "x {x}, held {held}: {fast} vs {exact}");
+            }
+            x *= 1.37;
         }
     }
 
