@@ -189,11 +189,14 @@ pub const BRIDGE_MIN_PARTS: u32 = 20;
 
 /// Whether a point holding `held` of its `capacity` quanta takes part in liquid bridges:
 /// any water, and at least `capacity / BRIDGE_MIN_PARTS` rounded up (integers, so both
-/// backends decide alike). Written as `BRIDGE_MIN_PARTS held >= capacity` in 64 bits (the
-/// same test for a whole `held`), which runs as vectors where the divide did not.
+/// backends decide alike). Written as `BRIDGE_MIN_PARTS held >= capacity` (the same test for
+/// a whole `held`), which runs as vectors where the divide did not; in 32 bits, eight lanes a
+/// vector: where the product would pass `u32::MAX` it passes any capacity, so such a `held`
+/// bridges outright.
 #[inline(always)]
 pub fn can_bridge(held: u32, capacity: u32) -> bool {
-    (held > 0) & (held as u64 * BRIDGE_MIN_PARTS as u64 >= capacity as u64)
+    const NO_WRAP: u32 = u32::MAX / BRIDGE_MIN_PARTS;
+    (held > 0) & ((held > NO_WRAP) | (held.wrapping_mul(BRIDGE_MIN_PARTS) >= capacity))
 }
 
 /// The most bridges one point holds: a fibre in a bundle of parallel fibres touches at most six
