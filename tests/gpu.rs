@@ -938,9 +938,24 @@ fn held_water_flows_and_drips_as_on_the_cpu() {
 /// holds).
 #[test]
 fn held_water_absorbs_as_on_the_cpu() {
+    absorbs_as_on_the_cpu(Integrator::SYMPLECTIC_EULER);
+}
+
+/// The same under BDF2, whose adhesion (and so each point's demand) is taken at `x + h v`
+/// (physics/bdf2.rs `explicit_point`): the GPU's absorb pass recomputes each demand at that
+/// point too, as the CPU's gather computes it once.
+#[test]
+fn held_water_absorbs_under_bdf2_as_on_the_cpu() {
+    absorbs_as_on_the_cpu(Integrator::BDF2);
+}
+
+fn absorbs_as_on_the_cpu(integrator: Integrator) {
     let _serial = serial();
     let groom = paper_scene(4_000, 6).unwrap();
-    let mut params = SimParams::paper_scene_with_head();
+    let mut params = SimParams {
+        integrator,
+        ..SimParams::paper_scene_with_head()
+    };
     params.held_water = wethair::HeldWater {
         ..wethair::HeldWater::ON
     };

@@ -9,6 +9,7 @@ const COMMON: &str = include_str!("shaders/common.wgsl");
 const GRID: &str = include_str!("shaders/grid.wgsl");
 const GRID_MARKS: &str = include_str!("shaders/grid_marks.wgsl");
 const HAIR: &str = include_str!("shaders/hair.wgsl");
+const EXPLICIT_POINT: &str = include_str!("shaders/explicit_point.wgsl");
 const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
 const REACTION32: &str = include_str!("shaders/reaction32.wgsl");
 const REACTION64: &str = include_str!("shaders/reaction64.wgsl");
@@ -132,7 +133,7 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
         });
     }
     format!(
-        "{}{HAIR}\n{}{}\n// Passes of this scene, in the CPU's order.\n@compute @workgroup_size(WG)\n\
+        "{}{HAIR}\n{EXPLICIT_POINT}\n{}{}\n// Passes of this scene, in the CPU's order.\n@compute @workgroup_size(WG)\n\
          fn hair_substep(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,\n\
          \x20               @builtin(local_invocation_index) lid: u32) {{\n    let i = linear_id(wid, nwg, lid);\n\
          \x20   if (i >= P.points) {{\n        return;\n    }}\n    let pt = points[i];\n    let s = state_in[i];\n\
@@ -158,7 +159,7 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
     let wet = passes.contains(&Pass::Adhesion);
     let forces = has_forces(passes);
     let mut out = format!(
-        "{}{HAIR}\n{}{}\n{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
+        "{}{HAIR}\n{EXPLICIT_POINT}\n{}{}\n{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
          const COLLIDE: bool = {};\n{IMPLICIT}\n",
         prelude(c),
         if wet { adhesion(c) } else { String::new() },
@@ -198,7 +199,10 @@ pub fn water_source(c: SceneConsts) -> String {
 
 /// The held-water module (scenes with held water only).
 pub fn held_source(c: SceneConsts) -> String {
-    format!("{}{SCAN}\n{HELD}\n{GRID}\n{GRID_MARKS}\n{ABSORB}", prelude(c))
+    format!(
+        "{}{SCAN}\n{HELD}\n{GRID}\n{GRID_MARKS}\n{ABSORB}\n{EXPLICIT_POINT}",
+        prelude(c)
+    )
 }
 
 /// The liquid bridges' module (pass hair_grid; scenes with bridges only) over a hashed grid of

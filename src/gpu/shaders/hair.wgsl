@@ -60,16 +60,6 @@ fn bend_springs(i: u32, pt: Point, x: vec3<f32>, v: vec3<f32>, f: ptr<function, 
     }
 }
 
-// Where the explicit forces (adhesion, cohesion) are taken (physics/bdf2.rs `explicit_point`):
-// BDF2 at x0 + h v0, the step's end to O(h^2) (at x0 they would pump any oscillation they
-// drive); the other integrators at x0.
-fn explicit_point(st: State) -> vec3<f32> {
-    if (BDF2) {
-        return st.x.xyz + P.h * st.v.xyz;
-    }
-    return st.x.xyz;
-}
-
 // Where a pinned point goes this substep: its rest position under the head transform, or,
 // with skinned roots, the target pass pin_roots wrote over its rest position (roots.wgsl).
 fn pinned_target(pt: Point) -> vec3<f32> {

@@ -442,7 +442,8 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
         return;
     }
     let s = state[i];
-    let x = s.x.xyz;
+    // Where adhesion asked (BDF2's x + h v): the same inputs give the same demands.
+    let x = explicit_point(s);
     let sat = s.x.w;
     var span: Span;
     if (sat >= 1.0 || !near_span(x, P.r_max, &span)) {
