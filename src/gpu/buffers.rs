@@ -490,6 +490,14 @@ pub mod absorb_words {
     pub const GIVEN: u32 = 4;
     /// Words per particle.
     pub const WORDS: u32 = 5;
+
+    /// Words of the bits after the particles' records (from word `capacity * WORDS`): bit
+    /// `i % 32` of word `i / 32` is set by the hair kernel when point `i` had a particle within
+    /// `r_max` this substep, and cleared by `absorb`, which visits only those points (every
+    /// other point asked for nothing).
+    pub fn near_bits(points: u32) -> u32 {
+        points.div_ceil(32)
+    }
 }
 
 /// An attribute offset meaning "not written" (`Params::pos_off` and friends).

@@ -191,7 +191,7 @@ impl GpuBackend {
         let incoming = b::buffer(d, "water_incoming", cap * 32, STORAGE);
         // Absorption's per-particle scratch (a placeholder of 16 bytes without absorption).
         let absorb_bytes = if self.params.held_water.absorbs() {
-            cap * b::absorb_words::WORDS as u64 * 4
+            (cap * b::absorb_words::WORDS as u64 + b::absorb_words::near_bits(self.points) as u64) * 4
         } else {
             16
         };

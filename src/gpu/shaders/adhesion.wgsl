@@ -70,6 +70,12 @@ fn ask(k: u32, demand: u32) {
     atomicMax(&absorb_scratch[at + ABS_BEST], demand);
 }
 
+// Marks point i as having had a particle within r_max this substep (absorption only), so the
+// absorb pass visits it; absorb clears the bit (buffers::absorb_words::near_bits).
+fn mark_near(i: u32) {
+    atomicOr(&absorb_scratch[P.capacity * ABS_WORDS + i / 32u], 1u << (i % 32u));
+}
+
 // Pass adhesion: returns the force on the hair point at x and sets `near` when a particle is
 // within r_max (for wetting). With absorption, a particle pulls with the water it still holds
 // and the point (at saturation `sat`) asks it for water.
