@@ -143,7 +143,7 @@ fn all_modules() -> Vec<(String, String)> {
             let name = format!("hair {integrator:?} bridges bend={bend} colliders={colliders}");
             out.push((name, hair_source(c, &passes)));
         }
-        out.push((format!("bridges bend={bend}"), bridges_source(c, 2048)));
+        out.push((format!("bridges bend={bend}"), bridges_source(c, 2048, 1000)));
         out.push((format!("water bend={bend}"), water_source(c)));
         out.push((format!("output bend={bend}"), output_source(c)));
         out.push((format!("water output bend={bend}"), water_output_source(c)));

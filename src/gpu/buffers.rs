@@ -471,8 +471,12 @@ pub mod bridge_words {
     /// Words per point in all: its record, and after every point's record (at
     /// `Params::bridge_masks`), one word whose bit k is set when `NEAREST[k]` is a bridge this
     /// step (each among the other's nearest). The masks stand apart so that pass cohesion,
-    /// every substep, reads four bytes of a point that has no bridge.
-    pub const PER_POINT: u32 = WORDS + 1;
+    /// every substep, reads four bytes of a point that has no bridge. After the masks, one
+    /// word a point: 1 while it takes part in the bridges (as of this step's `bridge_count`),
+    /// so the later parts of pass hair_grid read four bytes of a point that does not, and
+    /// `bridge_count` clears a record only when its point has just left (a point that never
+    /// took part has a clear record already).
+    pub const PER_POINT: u32 = WORDS + 2;
 }
 
 /// Word offsets of one particle's record in the absorption scratch (`absorb`, per grid slot,

@@ -210,10 +210,12 @@ pub fn held_source(c: SceneConsts) -> String {
 }
 
 /// The liquid bridges' module (pass hair_grid; scenes with bridges only) over a hashed grid of
-/// `buckets` buckets (a power of two, a multiple of the scan block).
-pub fn bridges_source(c: SceneConsts, buckets: u32) -> String {
+/// `buckets` buckets (a power of two, a multiple of the scan block), for `points` hair points
+/// (the bridge buffer's size: its flags follow its masks).
+pub fn bridges_source(c: SceneConsts, buckets: u32, points: u32) -> String {
     format!(
-        "{}const BRIDGE_BUCKETS: u32 = {buckets}u;\nconst BRIDGE_BLOCKS: u32 = {}u;\n{SCAN}\n{ABSORB}\n{BRIDGES}",
+        "{}const BRIDGE_BUCKETS: u32 = {buckets}u;\nconst BRIDGE_BLOCKS: u32 = {}u;\nconst BRIDGE_POINTS: u32 = {points}u;\n\
+         {SCAN}\n{ABSORB}\n{BRIDGES}",
         prelude(c),
         buckets / super::buffers::SCAN_BLOCK,
     )

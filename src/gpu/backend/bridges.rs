@@ -97,7 +97,7 @@ impl BridgesGpu {
         let bg = [mk(0), mk(1)];
         let cohesion_layout = pl::layout(d, "cohesion", &[Read]);
         let cohesion_bg = pl::bind(d, "cohesion", &cohesion_layout, &[&bridge], None);
-        let module = pl::module(d, "bridges", &pl::bridges_source(consts, buckets));
+        let module = pl::module(d, "bridges", &pl::bridges_source(consts, buckets, points));
         let pipes = pl::pipelines(d, &module, &[&layout], &BRIDGE_ENTRIES);
         BridgesGpu {
             count,

@@ -17,7 +17,7 @@
 // block's sum; then the entries, point indices by bucket.
 @group(0) @binding(6) var<storage, read_write> bucket: array<u32>;
 // Per point, BR_WORDS words (buffers.rs `bridge_words`); then, from word P.bridge_masks, each
-// point's mask of mutual bridges.
+// point's mask of mutual bridges; then each point's flag: 1 while it takes part.
 @group(0) @binding(7) var<storage, read_write> bridge: array<u32>;
 
 const B_SUMS: u32 = BRIDGE_BUCKETS + 1u;
@@ -46,7 +46,20 @@ fn bucket_of(c: vec3<i32>) -> u32 {
     return hash_cell(c) & (BRIDGE_BUCKETS - 1u);
 }
 
-// Pass hair_grid, part 1: wet points per bucket; a point that is not wet forgets its nearest.
+// Point i's flag word: 1 while it takes part (set by bridge_count for the step).
+fn flag_at(i: u32) -> u32 {
+    return P.bridge_masks + BRIDGE_POINTS + i;
+}
+
+// Whether point i takes part this step, as bridge_count found (held water, capacities and
+// records do not change within pass hair_grid).
+fn taking_part(i: u32) -> bool {
+    return bridge[flag_at(i)] != 0u;
+}
+
+// Pass hair_grid, part 1: wet points per bucket, and each point's flag; a point that has just
+// stopped taking part forgets its nearest and its bridges (one that had not taken part has
+// neither, so most points read their water, capacity and flag, and write nothing).
 @compute @workgroup_size(WG)
 fn bridge_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                 @builtin(local_invocation_index) lid: u32) {
@@ -54,12 +67,16 @@ fn bridge_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     if (i >= P.points) {
         return;
     }
-    if (!bridge_point(i)) {
-        // Read first: most points stay dry, and a read costs less than a write.
-        if (bridge[i * BR_WORDS + BR_COUNT] != 0u) {
+    let part = bridge_point(i);
+    let was = bridge[flag_at(i)] != 0u;
+    if (part != was) {
+        bridge[flag_at(i)] = select(0u, 1u, part);
+    }
+    if (!part) {
+        if (was) {
             bridge[i * BR_WORDS + BR_COUNT] = 0u;
+            bridge[P.bridge_masks + i] = 0u;
         }
-        bridge[P.bridge_masks + i] = 0u;
         return;
     }
     atomicAdd(&bucket_count[bucket_of(bridge_cell(state[i].x.xyz))], 1u);
@@ -122,7 +139,7 @@ fn bridge_scan_add(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocat
 fn bridge_scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                   @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
-    if (i >= P.points || !bridge_point(i)) {
+    if (i >= P.points || !taking_part(i)) {
         return;
     }
     let b = bucket_of(bridge_cell(state[i].x.xyz));
@@ -179,7 +196,7 @@ fn visit(c: vec3<i32>, x: vec3<f32>, own: u32) {
 fn bridge_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                  @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
-    if (i >= P.points || !bridge_point(i)) {
+    if (i >= P.points || !taking_part(i)) {
         return;
     }
     let at = i * BR_WORDS;
@@ -243,7 +260,7 @@ fn bridge_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups)
 fn bridge_pairs(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                 @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
-    if (i >= P.points || !bridge_point(i)) {
+    if (i >= P.points || !taking_part(i)) {
         return;
     }
     let at = i * BR_WORDS;
@@ -294,7 +311,7 @@ fn bridge_stiffness(len: f32, s_i: f32, s_j: f32) -> f32 {
 fn bridge_coef(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                @builtin(local_invocation_index) lid: u32) {
     let i = linear_id(wid, nwg, lid);
-    if (i >= P.points || !bridge_point(i)) {
+    if (i >= P.points || !taking_part(i)) {
         return;
     }
     let at = i * BR_WORDS;
