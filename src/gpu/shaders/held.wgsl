@@ -350,9 +350,10 @@ fn drip_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
     }
     workgroupBarrier();
     if (i < P.points) {
-        let pt = points[i];
         var q = drip_excess(atomicLoad(&held[i]), capacity[i]);
-        if (q > 0u && P.flow_mobility > 0.0 && runs_on(i, pt, g_eff(i))) {
+        // The point's record only for a point with a drop (nearly none): read for every
+        // point, it was most of the pass's bytes.
+        if (q > 0u && P.flow_mobility > 0.0 && runs_on(i, points[i], g_eff(i))) {
             q = 0u;
         }
         drip_scratch[i] = q;
