@@ -1162,6 +1162,61 @@ fn liquid_bridges_clump_as_on_the_cpu() {
     }
 }
 
+/// Liquid bridges let go as the hair dries, on the GPU as on the CPU: a soaked groom with a
+/// short drying time clumps, then its points fall below the bridging share of their capacity
+/// one by one, and each must lose its nearest and its bridges then (`bridge_count` clears a
+/// point's record only when it has just left; one left with its old record would keep pulling
+/// and being pulled). The clumping relaxes on both backends alike, and the positions agree
+/// within the chaos bound.
+#[test]
+fn liquid_bridges_let_go_as_the_hair_dries_as_on_the_cpu() {
+    let _serial = serial();
+    let groom = paper_scene(1_000, 6).unwrap();
+    let mut params = SimParams::paper_scene_with_head();
+    params.held_water = wethair::HeldWater {
+        absorb_rate: 0.0,
+        flow_mobility: 0.0,
+        dry_time: 0.25,
+        ..wethair::HeldWater::ON
+    };
+    let Some(mut g) = gpu(&groom, params.clone()) else {
+        return;
+    };
+    let mut c = cpu(&groom, params.clone());
+    let mut nudged = cpu(&groom, params.clone());
+    nudged
+        .set_head_transform(glam::Mat4::from_translation(Vec3::splat(1e-7)))
+        .unwrap();
+    for s in [&mut g, &mut c, &mut nudged] {
+        s.soak(1.0).unwrap();
+    }
+    let mut clumped = 0.0;
+    for f in 0..150 {
+        for s in [&mut g, &mut c, &mut nudged] {
+            s.step(1.0 / 60.0).unwrap();
+        }
+        if f == 29 {
+            clumped = c.stats().clumping_along;
+        }
+    }
+    let (kg, kc) = (g.stats().clumping_along, c.stats().clumping_along);
+    let len = groom.max_strand_length();
+    let d = max_diff(&g.positions(), &c.positions());
+    let floor = max_diff(&nudged.positions(), &c.positions());
+    eprintln!(
+        "drying bridges: clumping at 0.5 s {clumped:.4e}, at 2.5 s GPU {kg:.4e} CPU {kc:.4e}; GPU {d:.3e} m from the CPU, floor {floor:.3e} m"
+    );
+    assert!(
+        kc > 1.02 * clumped,
+        "the CPU's clumps let go as it dries: {clumped} -> {kc}"
+    );
+    assert!((kg - kc).abs() <= 0.02 * kc, "clumping GPU {kg}, CPU {kc}");
+    assert!(
+        d < (1e-3 * len).max(4.0 * floor),
+        "GPU {d} m from the CPU (strand {len} m, floor {floor} m)"
+    );
+}
+
 /// A groom whose point records outgrow one storage binding of the device (lavapipe allows
 /// 128 MiB: 2.8 million points of 48 bytes) is refused at creation with a capacity error that
 /// names the buffer and the limit, not a validation error from inside wgpu; AUTO then runs it
