@@ -97,14 +97,15 @@ fn cohesion(passes: &[Pass]) -> &'static str {
 const ADD_COHESION: &str =
     "    let parked = state_out[i].v;\n    f += select(vec3<f32>(0.0), parked.xyz, parked.w != 0.0);\n";
 
-/// Pass adhesion in the substep kernel: the pull, the wetting, and with absorption the mark
-/// that sends the point to the absorb pass.
-const ADHESION_CALL: &str = "    var near = 0.0;\n    f += adhesion(x, wet, &near);\n    \
-     wet += (1.0 - wet) * P.wet_gain * near;\n    if (near != 0.0 && P.absorbs != 0u) {\n        mark_near(i);\n    }\n";
-
-/// [`ADHESION_CALL`] in implicit Euler's and BDF2's `hair_forces`, at BDF2's explicit point.
-const ADHESION_FORCES_CALL: &str = "    var near = 0.0;\n    f += adhesion(explicit_point(s), wet, &near);\n    \
-     wet += (1.0 - wet) * P.wet_gain * near;\n    if (near != 0.0 && P.absorbs != 0u) {\n        mark_near(i);\n    }\n";
+/// Pass adhesion in a hair kernel, taken at `point` (`x`, or `explicit_point(s)` in
+/// `hair_forces`): the pull, the wetting, and with absorption the mark that sends the point to
+/// the absorb pass.
+fn adhesion_call(point: &str) -> String {
+    format!(
+        "    var near = 0.0;\n    f += adhesion({point}, wet, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n    \
+         if (near != 0.0 && P.absorbs != 0u) {{\n        mark_near(i);\n    }}\n"
+    )
+}
 
 /// The hair module: the substep kernel for `passes` (and water_integrate when wet).
 pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
@@ -113,12 +114,13 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
         return implicit_source(c, passes);
     }
     let mut body = String::new();
+    let adhesion_at_x = adhesion_call("x");
     for p in passes {
         body.push_str(match p {
             Pass::Drag => "    drag(v, &f);\n",
             Pass::StretchSprings => "    stretch_springs(i, pt, x, v, &f);\n",
             Pass::BendSprings => "    bend_springs(i, pt, x, v, &f);\n",
-            Pass::Adhesion => ADHESION_CALL,
+            Pass::Adhesion => &adhesion_at_x,
             Pass::Cohesion => ADD_COHESION,
             Pass::Integrate => "    integrate(pt, &x, &v, f);\n",
             Pass::Collide => {
@@ -179,7 +181,7 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
     if forces {
         let mut body = String::new();
         if wet {
-            body.push_str(ADHESION_FORCES_CALL);
+            body.push_str(&adhesion_call("explicit_point(s)"));
         }
         if passes.contains(&Pass::Cohesion) {
             body.push_str(ADD_COHESION);
