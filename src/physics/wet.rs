@@ -233,7 +233,7 @@ pub fn bridge_scale(c: f32, r: f32, d_b: f32) -> f32 {
 
 /// The drying rate at air speed `u` past the point (m/s), 1/s: `(1 / tau) (1 + sqrt(u / u_ref))`
 /// (forced convection over a cylinder: mass transfer grows as the square root of speed).
-#[inline]
+#[inline(always)]
 pub fn evaporation_rate(u: f32, tau: f32, u_ref: f32) -> f32 {
     (1.0 + (u.abs() / u_ref).sqrt()) / tau
 }
@@ -245,7 +245,7 @@ pub fn evaporation_rate(u: f32, tau: f32, u_ref: f32) -> f32 {
 pub fn evaporation_rate_lanes(u: &Lane, tau: f32, u_ref: f32) -> Lane {
     let mut k = [0.0f32; W];
     for l in 0..W {
-        k[l] = (1.0 + (u[l].abs() / u_ref).sqrt()) / tau;
+        k[l] = evaporation_rate(u[l], tau, u_ref);
     }
     k
 }
