@@ -98,9 +98,15 @@ pub fn saturation_lanes(held: &[u32; W], capacity: &[u32; W]) -> Lane {
 /// The inverse mass of a free point of dry mass `dry_mass` (kg) holding `held` quanta:
 /// `1 / (m_dry + m_w)`, in single precision as the GPU computes it (a relative error of a few
 /// parts in 10^7, far below any mass the groom is given to).
-#[inline]
+#[inline(always)]
 pub fn wet_inv_mass(dry_mass: f32, held: u32) -> f32 {
-    1.0 / (dry_mass + held as f32 * WATER_QUANTUM as f32)
+    inv_mass_of(dry_mass, held as f32)
+}
+
+/// [`wet_inv_mass`] with the water already as `f32` (its conversion vectorised apart).
+#[inline(always)]
+fn inv_mass_of(dry_mass: f32, held_f: f32) -> f32 {
+    1.0 / (dry_mass + held_f * WATER_QUANTUM as f32)
 }
 
 /// [`wet_inv_mass`] of a row of eight points, the same bits, as vectors: one divide for the
@@ -110,7 +116,7 @@ pub fn wet_inv_mass_lanes(dry_mass: &Lane, held: &[u32; W]) -> Lane {
     let q = u32_as_f32(held);
     let mut inv = [0.0f32; W];
     for l in 0..W {
-        inv[l] = 1.0 / (dry_mass[l] + q[l] * WATER_QUANTUM as f32);
+        inv[l] = inv_mass_of(dry_mass[l], q[l]);
     }
     inv
 }

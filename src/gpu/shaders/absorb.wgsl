@@ -25,3 +25,14 @@ fn absorb_demand(q: u32, d2: f32, sat: f32) -> u32 {
     }
     return u32(floor(P.absorb_take * f32(q) * absorb_weight(sqrt(d2)) * max(1.0 - sat, 0.0)));
 }
+
+// Point i's word and bit among the marks after the particles' absorption records
+// (buffers::absorb_words::near_bits): the hair kernel sets the bit where a particle was
+// within r_max, and absorb visits only the points marked, clearing each.
+fn near_word(i: u32) -> u32 {
+    return P.capacity * ABS_WORDS + i / 32u;
+}
+
+fn near_bit(i: u32) -> u32 {
+    return 1u << (i % 32u);
+}

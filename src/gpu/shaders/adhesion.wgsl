@@ -71,9 +71,9 @@ fn ask(k: u32, demand: u32) {
 }
 
 // Marks point i as having had a particle within r_max this substep (absorption only), so the
-// absorb pass visits it; absorb clears the bit (buffers::absorb_words::near_bits).
+// absorb pass visits it; absorb clears the bit.
 fn mark_near(i: u32) {
-    atomicOr(&absorb_scratch[P.capacity * ABS_WORDS + i / 32u], 1u << (i % 32u));
+    atomicOr(&absorb_scratch[near_word(i)], near_bit(i));
 }
 
 // Pass adhesion: returns the force on the hair point at x and sets `near` when a particle is

@@ -444,12 +444,12 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
     }
     // Only a point the hair kernel marked had a particle within reach, so only it can have
     // asked: the rest leave after one word shared by 32 points, not their state.
-    let bits = P.capacity * ABS_WORDS + i / 32u;
-    let bit = 1u << (i % 32u);
-    if ((atomicLoad(&absorb_scratch[bits]) & bit) == 0u) {
+    let word = near_word(i);
+    let bit = near_bit(i);
+    if ((atomicLoad(&absorb_scratch[word]) & bit) == 0u) {
         return;
     }
-    atomicAnd(&absorb_scratch[bits], ~bit);
+    atomicAnd(&absorb_scratch[word], ~bit);
     let s = state[i];
     // Where adhesion asked (BDF2's x + h v): the same inputs give the same demands.
     let x = explicit_point(s);
