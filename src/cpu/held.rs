@@ -66,8 +66,7 @@ impl Held {
             .params
             .iter()
             .map(|p| DryRow {
-                mass: [0.0; W],
-                inv_mass: p.inv_mass,
+                mass: [f32::INFINITY; W],
                 bend_k: p.bend.k,
             })
             .collect();
@@ -76,9 +75,11 @@ impl Held {
             let (b, l) = lay.lane_of(s);
             let first = lay.strand_first[s] as usize;
             for i in 0..lay.strand_points(s) {
-                let m = lay.mass[first + i];
-                dry[b * lay.rows + i].mass[l] = m;
-                capacity[b * lay.rows + i][l] = wet::capacity(m, cfg.capacity_ratio);
+                let (m, r) = (lay.mass[first + i], b * lay.rows + i);
+                if lay.params[r].inv_mass[l] > 0.0 {
+                    dry[r].mass[l] = m;
+                }
+                capacity[r][l] = wet::capacity(m, cfg.capacity_ratio);
             }
         }
         let flows = cfg.flows();

@@ -10,16 +10,17 @@ use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::wet;
 use glam::Vec3;
 
-/// A row's dry values that its wet parameters are computed from, kept together: the refresh
-/// then reads one compact record a row, not two cache lines of the layout's 224-byte
-/// parameter row besides the masses.
+/// A row's dry values that its wet parameters are computed from, kept together in one cache
+/// line: the refresh then reads one compact record a row, not two cache lines of the
+/// layout's 224-byte parameter row besides the masses.
 #[derive(Clone, Copy, Debug, Default)]
-#[repr(C, align(32))]
+#[repr(C, align(64))]
 pub struct DryRow {
-    /// Dry mass per point, kg (0 on padding lanes).
+    /// Dry mass per point, kg; infinite where the layout's inverse mass is 0 (pinned points,
+    /// padding lanes), so `1 / (mass + water)` is the layout's inverse mass, bit for bit, at
+    /// every point without water (the layout's is `1 / mass` in single precision) and 0 at
+    /// every point that does not move.
     pub mass: Lane,
-    /// The layout's inverse mass (0 pinned).
-    pub inv_mass: Lane,
     /// The layout's bend stiffness, N/m.
     pub bend_k: Lane,
 }
@@ -64,12 +65,7 @@ pub fn refresh_rows(
         *was_wet = wet;
         // Each lane computed, then chosen (a branch per point was most of the pass).
         let dry = &src.dry[r];
-        let wet_inv = wet::wet_inv_mass_lanes(&dry.mass, &water[k]);
-        for l in 0..W {
-            let dry_inv = dry.inv_mass[l];
-            let q = water[k][l];
-            row.inv_mass[l] = if dry_inv == 0.0 || q == 0 { dry_inv } else { wet_inv[l] };
-        }
+        row.inv_mass = wet::wet_inv_mass_lanes(&dry.mass, &water[k]);
         if bends {
             let (s_a, s_b) = (sat(k), sat(k + 2));
             for l in 0..W {

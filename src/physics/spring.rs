@@ -23,15 +23,18 @@ pub enum DampingModel {
 /// than divide by ~0 (real grooms carry near-degenerate segments).
 pub const MIN_LENGTH: f32 = 1.0e-12;
 
-/// Per-lane spring constants: rest length, stiffness (N/m) and damping (N·s/m).
+/// Per-lane spring constants: rest length, damping (N·s/m) and stiffness (N/m). Stiffness
+/// last: in [`super::lanes::ParamRow`] the bend spring's stiffness then sits next to the
+/// inverse mass, the two fields held water rewrites each step (a compile-time check there
+/// holds the order).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SpringLanes {
     /// Rest length, m.
     pub rest: Lane,
-    /// Stiffness, N/m (0 disables the spring in that lane).
-    pub k: Lane,
     /// Damping, N·s/m.
     pub c: Lane,
+    /// Stiffness, N/m (0 disables the spring in that lane).
+    pub k: Lane,
 }
 
 /// Adds eq. 1's force to `fa` (on point a) and subtracts it from `fb` (on point b).
