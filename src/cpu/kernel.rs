@@ -303,12 +303,26 @@ fn block_substep_impl<const AXIAL: bool>(
             let prev = &mut worker.prev[..p];
             let lambda = &mut worker.lambda[..2 * p];
             lambda.fill([0.0; W]);
-            for i in 0..p {
+            // The rows without a pinned lane, then those with one (see the symplectic Euler
+            // arm for why two loops).
+            let pinned = &lay.pinned_row[base..base + p];
+            let (g, h) = (ctx.g, ctx.h);
+            for i in (0..p).filter(|&i| !pinned[i]) {
                 let r = &mut rows[i];
-                // The pinned target only where the row has one (see the symplectic Euler arm).
-                let t = if lay.pinned_row[base + i] { target(i) } else { None };
-                let (w, g, h) = (&params[i].inv_mass, ctx.g, ctx.h);
-                xpbd::predict_row(&mut r.x, &mut r.v, &mut prev[i], &f[i], w, t.as_ref(), g, h);
+                xpbd::predict_row(&mut r.x, &mut r.v, &mut prev[i], &f[i], &params[i].inv_mass, None, g, h);
+            }
+            for i in (0..p).filter(|&i| pinned[i]) {
+                let (r, t) = (&mut rows[i], target(i));
+                xpbd::predict_row(
+                    &mut r.x,
+                    &mut r.v,
+                    &mut prev[i],
+                    &f[i],
+                    &params[i].inv_mass,
+                    t.as_ref(),
+                    g,
+                    h,
+                );
             }
             for _ in 0..ctx.solver_iterations.max(1) {
                 for i in 0..p - 1 {
@@ -345,20 +359,23 @@ fn block_substep_impl<const AXIAL: bool>(
             }
         }
         _ => {
-            for i in 0..p {
+            // Two loops, the rows without a pinned lane and then those with one (the order of
+            // rows does not matter here): in one loop with the target an `Option`, LLVM
+            // computed every row's target (a read of its 96-byte rest row and a transform) and
+            // kept it on the pinned rows only, which in lock step cost the big groom 10-15 %
+            // of its block kernel; two calls in one loop were merged back into that. Not
+            // through `target`: a closure used in three places was left a call per row,
+            // compiled without AVX2.
+            let pinned = &lay.pinned_row[base..base + p];
+            let (g, h) = (ctx.g, ctx.h);
+            for i in (0..p).filter(|&i| !pinned[i]) {
                 let r = &mut rows[i];
-                // Not through `target`: a closure used in three places was left a call per
-                // row, compiled without AVX2. And two calls, not one with an `Option`: with
-                // one, LLVM computed every row's pinned target (a read of its 96-byte rest
-                // row and a transform) and threw it away on all but the pinned rows, which in
-                // lock step cost the big groom 10-15 % of its block kernel.
-                let (w, g, h) = (&params[i].inv_mass, ctx.g, ctx.h);
-                if lay.pinned_row[base + i] {
-                    let t = pinned_target(ctx, b, i, a, head);
-                    symplectic_euler_row(&mut r.x, &mut r.v, &f[i], w, t.as_ref(), g, h);
-                } else {
-                    symplectic_euler_row(&mut r.x, &mut r.v, &f[i], w, None, g, h);
-                }
+                symplectic_euler_row(&mut r.x, &mut r.v, &f[i], &params[i].inv_mass, None, g, h);
+            }
+            for i in (0..p).filter(|&i| pinned[i]) {
+                let r = &mut rows[i];
+                let t = pinned_target(ctx, b, i, a, head);
+                symplectic_euler_row(&mut r.x, &mut r.v, &f[i], &params[i].inv_mass, t.as_ref(), g, h);
             }
         }
     }
