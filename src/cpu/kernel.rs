@@ -272,7 +272,15 @@ fn block_substep_impl<const AXIAL: bool>(
                 fi.x[l] += acc.x[l];
                 fi.y[l] += acc.y[l];
                 fi.z[l] += acc.z[l];
-                wet[i][l] += (1.0 - wet[i][l]) * w.wet_gain * near[l];
+            }
+            // The wetness only where it grows (the paper model, a lane within reach): adding
+            // zero leaves it as it is, and its row is otherwise never read here (in lock step
+            // a cache miss a row; with held water, whose wetness is the saturation, every
+            // passing row's).
+            if w.wet_gain > 0.0 && near.iter().any(|&n| n > 0.0) {
+                for l in 0..W {
+                    wet[i][l] += (1.0 - wet[i][l]) * w.wet_gain * near[l];
+                }
             }
         }
     }
