@@ -286,5 +286,32 @@ mod tests {
         held.water[lay.rows + 3][2] = 0;
         held.refresh_params(&lay, None);
         assert_eq!(bits(&held.params), bits(&lay.params), "dried");
+        // Every point soaked, pinned roots and padding lanes too: those keep an inverse
+        // mass of 0 (their dry record's mass is infinite), the others grow heavier.
+        let groom = crate::groom::paper_scene(13, 6).unwrap();
+        let lay = Layout::new(&groom, &params);
+        let mut held = Held::new(&lay, params.held_water);
+        for (w, c) in held.water.iter_mut().zip(&held.capacity) {
+            *w = c.map(|c| c.max(1));
+        }
+        held.may_absorb();
+        held.refresh_params(&lay, None);
+        let (mut fixed, mut free) = (0, 0);
+        for (wet, dry) in held.params.iter().zip(&lay.params) {
+            for l in 0..W {
+                if dry.inv_mass[l] == 0.0 {
+                    assert_eq!(wet.inv_mass[l].to_bits(), 0, "a pinned or padding lane stays fixed");
+                    fixed += 1;
+                } else {
+                    assert!(wet.inv_mass[l] < dry.inv_mass[l] && wet.inv_mass[l] > 0.0);
+                    free += 1;
+                }
+            }
+        }
+        // 13 roots, and 3 padding lanes of the second block's 6 rows.
+        assert!(
+            fixed >= 13 + 3 * 6 && free > 0,
+            "pinned points and padding lanes were tried"
+        );
     }
 }
