@@ -311,8 +311,7 @@ fn block_substep_impl<const AXIAL: bool>(
             let prev = &mut worker.prev[..p];
             let lambda = &mut worker.lambda[..2 * p];
             lambda.fill([0.0; W]);
-            // The rows without a pinned lane, then those with one (see the symplectic Euler
-            // arm for why two loops).
+            // The rows without a pinned lane, then those with one (as symplectic Euler's).
             let pinned = &lay.pinned_row[base..base + p];
             let (g, h) = (ctx.g, ctx.h);
             for i in (0..p).filter(|&i| !pinned[i]) {
@@ -321,16 +320,8 @@ fn block_substep_impl<const AXIAL: bool>(
             }
             for i in (0..p).filter(|&i| pinned[i]) {
                 let (r, t) = (&mut rows[i], target(i));
-                xpbd::predict_row(
-                    &mut r.x,
-                    &mut r.v,
-                    &mut prev[i],
-                    &f[i],
-                    &params[i].inv_mass,
-                    t.as_ref(),
-                    g,
-                    h,
-                );
+                let w = &params[i].inv_mass;
+                xpbd::predict_row(&mut r.x, &mut r.v, &mut prev[i], &f[i], w, t.as_ref(), g, h);
             }
             for _ in 0..ctx.solver_iterations.max(1) {
                 for i in 0..p - 1 {
@@ -367,13 +358,10 @@ fn block_substep_impl<const AXIAL: bool>(
             }
         }
         _ => {
-            // Two loops, the rows without a pinned lane and then those with one (the order of
-            // rows does not matter here): in one loop with the target an `Option`, LLVM
-            // computed every row's target (a read of its 96-byte rest row and a transform) and
-            // kept it on the pinned rows only, which in lock step cost the big groom 10-15 %
-            // of its block kernel; two calls in one loop were merged back into that. Not
-            // through `target`: a closure used in three places was left a call per row,
-            // compiled without AVX2.
+            // The rows without a pinned lane integrate with no target (a simpler body: on the
+            // big groom under rain one loop over all rows with the target an `Option` took 4-6 %
+            // more), then the pinned rows. Not through `target`: a closure used in three
+            // places was left a call per row, compiled without AVX2.
             let pinned = &lay.pinned_row[base..base + p];
             let (g, h) = (ctx.g, ctx.h);
             for i in (0..p).filter(|&i| !pinned[i]) {
@@ -428,15 +416,21 @@ fn block_substep_impl<const AXIAL: bool>(
 /// placement of its rest point (`head`), or its skinned root frame's.
 #[inline(always)]
 fn pinned_target(ctx: &Ctx, b: usize, i: usize, a: f32, head: &Affine3A) -> Option<L3> {
-    let lay = ctx.lay;
-    let row = b * lay.rows + i;
-    if !lay.pinned_row[row] {
-        return None;
+    let row = b * ctx.lay.rows + i;
+    ctx.lay.pinned_row[row].then(|| pinned_place(ctx, b, i, row, a, head))
+}
+
+/// [`pinned_target`] of a pinned row. Never inlined: inlined, LLVM computed it for every row
+/// (a read of the row's 96-byte rest row and a transform) and kept it on the pinned rows
+/// only, whatever the loop around it, which in lock step cost the big groom 10-20 % of its
+/// block kernel. A call is not speculated, and it is made on pinned rows only (a strand's
+/// first point or two).
+#[inline(never)]
+fn pinned_place(ctx: &Ctx, b: usize, i: usize, row: usize, a: f32, head: &Affine3A) -> L3 {
+    match ctx.roots {
+        Some(r) => r.target(ctx.lay.rows, b, i, a),
+        None => ctx.lay.rest_local[row].transformed(head),
     }
-    if let Some(r) = ctx.roots {
-        return Some(r.target(lay.rows, b, i, a));
-    }
-    Some(lay.rest_local[row].transformed(head))
 }
 
 /// The water grid's prefilter for a row: which lanes may have a particle within `r_max`.

@@ -25,9 +25,10 @@ pub const MIN_LENGTH: f32 = 1.0e-12;
 
 /// Per-lane spring constants: rest length, damping (N·s/m) and stiffness (N/m). Stiffness
 /// last: in [`super::lanes::ParamRow`] the bend spring's stiffness then sits next to the
-/// inverse mass, the two fields held water rewrites each step (a compile-time check there
-/// holds the order).
+/// inverse mass, the two fields held water rewrites each step (`repr(C)`, and a compile-time
+/// check there, hold the order).
 #[derive(Clone, Copy, Debug, Default)]
+#[repr(C)]
 pub struct SpringLanes {
     /// Rest length, m.
     pub rest: Lane,
