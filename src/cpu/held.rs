@@ -3,6 +3,7 @@
 //! dry mass plus its water, and the ledger. The passes after the substeps are `settle.rs`;
 //! the laws per row, `held_rows.rs`. Exists only when the scene has held water switched on.
 
+use super::aligned_rows::AlignedRows;
 use super::avx2::{cpu_has_avx2, run_avx2_or_base};
 use super::held_rows::{self, BlockScratch, DryRow, ParamSource};
 use super::layout::{Layout, ParamRow, StateRow};
@@ -19,9 +20,9 @@ pub(super) const BLOCKS_PER_TASK: usize = 32;
 #[derive(Debug)]
 pub struct Held {
     /// Water per point, quanta (0 on padding lanes).
-    pub water: Vec<[u32; W]>,
+    pub water: AlignedRows<[u32; W]>,
     /// Capacity per point, quanta (0 on padding lanes).
-    pub capacity: Vec<[u32; W]>,
+    pub capacity: AlignedRows<[u32; W]>,
     /// Per row, the dry values the wet parameters are computed from.
     dry: Vec<DryRow>,
     /// The layout's row parameters with each free point's inverse mass from its dry mass plus
@@ -70,7 +71,7 @@ impl Held {
                 bend_k: p.bend.k,
             })
             .collect();
-        let mut capacity = vec![[0u32; W]; n_rows];
+        let mut capacity = AlignedRows::filled([0u32; W], n_rows);
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
             let first = lay.strand_first[s] as usize;
@@ -84,7 +85,7 @@ impl Held {
         }
         let flows = cfg.flows();
         Held {
-            water: vec![[0; W]; n_rows],
+            water: AlignedRows::filled([0; W], n_rows),
             capacity,
             dry,
             params: lay.params.clone(),

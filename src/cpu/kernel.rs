@@ -213,6 +213,13 @@ fn block_substep_impl<const AXIAL: bool>(
             if lanes == 0 {
                 continue;
             }
+            // The wetness row this row may grow below, asked for now: the query and the
+            // gather run while it comes (in lock step it is a cache miss, and waiting on it
+            // at the end was 6 % of the big groom's kernel under rain). One line: `wet` is
+            // `AlignedRows`.
+            if w.wet_gain > 0.0 {
+                super::prefetch::line(&wet[i]);
+            }
             // Row path: one query for the lanes' bounds, each particle against all lanes at once.
             // Morton-ordered strands keep most rows compact; a row too wide for MAX_RUNS columns
             // goes lane by lane.

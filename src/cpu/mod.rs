@@ -1,6 +1,7 @@
 //! The CPU backend: strand-major SIMD blocks, a per-simulation worker pool, and the step
 //! pipeline. It is also the reference the GPU backend is tested against.
 
+mod aligned_rows;
 pub(crate) mod avx2;
 pub mod bridges;
 pub mod cohesion;

@@ -11,6 +11,7 @@
 //! Run one after another, the sweeps read the big groom's water, capacities, velocities and
 //! parameters five times a step (17 ms of a 70 ms step under rain on 2 threads).
 
+use super::aligned_rows::AlignedRows;
 use super::avx2::run_avx2_or_base as avx2;
 use super::held::Held;
 use super::held_rows::{self, BlockScratch, DryLaw, ParamSource};
@@ -69,7 +70,7 @@ impl Rows<'_> {
 /// The per-row buffers of [`Held`] the pass writes, taken out of it while the laws read
 /// its constants (and put back).
 struct Bufs {
-    water: Vec<[u32; W]>,
+    water: AlignedRows<[u32; W]>,
     params: Vec<ParamRow>,
     was_wet: Vec<bool>,
     v0: Vec<L3>,

@@ -5,6 +5,7 @@
 //! block while it sits in cache ("fused" order). With water, particles couple blocks, so every
 //! substep visits all blocks before the particles move. Both orders run the same block kernel.
 
+use super::aligned_rows::AlignedRows;
 use super::avx2::cpu_has_avx2;
 use super::kernel::{block_substep, AbsorbCtx, Ctx, WaterCtx, Worker};
 use super::layout::{Layout, StateRow};
@@ -43,7 +44,7 @@ pub struct CpuBackend {
     /// Positions and velocities, per row.
     pub state: Vec<StateRow>,
     /// Wetness per row (empty until water is first added).
-    pub wet: Vec<Lane>,
+    pub wet: AlignedRows<Lane>,
     /// Water particles (None until first added).
     pub water: Option<Water>,
     /// Water held by the hair (None unless the scene has it).
@@ -143,9 +144,9 @@ impl CpuBackend {
             .then(|| super::bridges::Bridges::new(&lay, hw.bridge_tension, hw.bridge_length_for(&params.water)));
         // With held water, the wetness attribute is the saturation from the start.
         let wet = if held.is_some() {
-            vec![[0.0; W]; state.len()]
+            AlignedRows::filled([0.0; W], state.len())
         } else {
-            Vec::new()
+            AlignedRows::default()
         };
         let history = if integrator == Integrator::BDF2 {
             vec![Bdf2Row::default(); state.len()]
@@ -232,7 +233,7 @@ impl CpuBackend {
             ("worker_forces", self.workers.iter().map(|w| bytes(&w.f)).sum()),
         ];
         if !self.wet.is_empty() {
-            out.push(("wetness", bytes(&self.wet)));
+            out.push(("wetness", self.wet.capacity() * std::mem::size_of::<Lane>()));
         }
         if let Some(f) = &self.followers {
             let d = &f.data;
@@ -290,7 +291,7 @@ impl CpuBackend {
         let hw = &self.params.held_water;
         self.water = Some(Water::new(&self.params.water, self.domain, hw.enabled));
         if self.wet.is_empty() {
-            self.wet = vec![[0.0; W]; self.state.len()];
+            self.wet = AlignedRows::filled([0.0; W], self.state.len());
         }
         for w in &mut self.workers {
             w.reactions = Vec::with_capacity(cap);
