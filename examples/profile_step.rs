@@ -5,6 +5,7 @@
 //! `GUIDES=n`: every n-th strand a guide; `VOLUME=1`: hair-hair volume; `WRITE=1`: also copy
 //! the vertices to the host each frame, timed apart; `INTEGRATOR=n`: the integrator by number,
 //! with `ITERATIONS=n` Newton iterations; `HASH=1`: a hash of the positions at the end; `CLUMP=1`: the clumping measures at the end;
+//! `SOAK=s`: with the full model, every point soaked to saturation `s` before the first step;
 //! `GPU=1`: on the GPU backend, so a GPU change is held to the same hash).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
@@ -79,6 +80,11 @@ fn main() {
     if particles > 0 {
         sim.add_water(&on_hair(groom.positions(), particles, &mut Lcg(2024)), &[])
             .expect("water");
+    }
+    // SOAK=s: every point soaked to saturation s first (the full model: FULL=1).
+    if let Some(s) = std::env::var_os("SOAK") {
+        sim.soak(s.to_str().and_then(|s| s.parse().ok()).expect("SOAK=saturation"))
+            .expect("soak");
     }
     // PASSES=1: print the step's own per-pass timers after the run.
     let passes = std::env::var_os("PASSES").is_some() && sim.time_passes(true);
