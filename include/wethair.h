@@ -704,7 +704,8 @@ typedef struct WetHairStats {
   float last_step_ms;
   // Largest point speed in the last step, m/s.
   float max_speed;
-  // Mean distance from each strand tip to the nearest other tip, m (computed on request).
+  // Mean distance from each strand tip to the nearest other tip, m (computed on request by
+  // `wethair_sim_get_stats`; -1 from `wethair_sim_get_counters`).
   float clumping;
   // Worker threads.
   uint32_t threads;
@@ -715,7 +716,8 @@ typedef struct WetHairStats {
   // Since 0.2.0: the clumping measure along the strands, m: the mean distance from a point
   // to the nearest other strand's point at the same place along its strand, averaged over
   // the quarter points (tips included). Long hair bundles along its length even where the
-  // tips still fan out; this sees it. Computed on request.
+  // tips still fan out; this sees it. Computed on request (-1 from
+  // `wethair_sim_get_counters`).
   float clumping_along;
   // Since 0.2.0, with held water (else 0): where the water went, in whole
   // `WETHAIR_WATER_QUANTUM_KG` units, exactly: `water_added` equals `water_in_particles +
@@ -1209,11 +1211,24 @@ WetHairResult wethair_sim_get_vertex_buffer(struct WetHairSim *sim, float *dst, 
 // `written` is writable.
 WetHairResult wethair_sim_get_water(const struct WetHairSim *sim, float *dst, uint32_t capacity, uint32_t *written);
 
-// Fills `out` with counters and measures. The host sets `out->struct_size` first.
+// Fills `out` with counters and measures. The host sets `out->struct_size` first. The
+// measures are taken now: the clumping measures search the strands (6.5 ms on a 10,000-strand
+// groom, 75 ms on 100,000, on 2 CPU threads), and on the GPU backend the state is read back.
+// For every frame, call `wethair_sim_get_counters`.
 //
 // # Safety
 // `sim` is valid; `out` is writable.
 WetHairResult wethair_sim_get_stats(const struct WetHairSim *sim, struct WetHairStats *out);
+
+// Since 0.6.0: fills `out` with the counters of `wethair_sim_get_stats` (counts, timing, the
+// integrator and substeps, the water ledger) without its measures: `clumping`,
+// `clumping_along`, `error_estimate` and `error_estimate_max` are -1. No search, and no read
+// back of the state on the GPU backend: cheap enough for every frame. The host sets
+// `out->struct_size` first.
+//
+// # Safety
+// `sim` is valid; `out` is writable.
+WetHairResult wethair_sim_get_counters(const struct WetHairSim *sim, struct WetHairStats *out);
 
 // Says which backend runs `sim`, on which device, and why AUTO fell back to the CPU. The host
 // sets `out->struct_size` first.

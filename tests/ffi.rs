@@ -578,6 +578,10 @@ fn sim_calls_check_everything_and_write_nothing_on_failure() {
         assert_eq!(wethair_sim_get_stats(s, &mut st), WETHAIR_ERROR_STRUCT_SIZE);
         assert_eq!(st.steps, 99);
         assert_eq!(wethair_sim_get_stats(null(), &mut st), WETHAIR_ERROR_NULL_POINTER);
+        assert_eq!(wethair_sim_get_counters(s, &mut st), WETHAIR_ERROR_STRUCT_SIZE);
+        assert_eq!(st.steps, 99);
+        assert_eq!(wethair_sim_get_counters(null(), &mut st), WETHAIR_ERROR_NULL_POINTER);
+        assert_eq!(wethair_sim_get_counters(s, null_mut()), WETHAIR_ERROR_NULL_POINTER);
 
         // Vertex buffer: too small or NULL writes nothing, `written` included.
         let need = 300 * 7;

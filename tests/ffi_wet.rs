@@ -32,6 +32,28 @@ fn wet_desc(groom: *const WetHairGroom) -> WetHairSimDesc {
     d
 }
 
+/// `wethair_sim_get_counters`, checked against `st` (the same frame's stats): every counter
+/// the same, every measure -1.
+fn counters_match(sim: *const WetHairSim, st: &WetHairStats) {
+    let mut c = std::mem::MaybeUninit::<WetHairStats>::zeroed();
+    let c = unsafe {
+        (*c.as_mut_ptr()).struct_size = std::mem::size_of::<WetHairStats>() as u32;
+        assert_eq!(wethair_sim_get_counters(sim, c.as_mut_ptr()), WETHAIR_OK);
+        c.assume_init()
+    };
+    let measures = |s: &WetHairStats| [s.clumping, s.clumping_along, s.error_estimate, s.error_estimate_max];
+    assert_eq!(measures(&c), [-1.0; 4], "counters take no measure");
+    assert!(st.clumping > 0.0 && st.clumping_along > 0.0, "stats measure: {st:?}");
+    let counted = WetHairStats {
+        clumping: st.clumping,
+        clumping_along: st.clumping_along,
+        error_estimate: st.error_estimate,
+        error_estimate_max: st.error_estimate_max,
+        ..c
+    };
+    assert_eq!(format!("{counted:?}"), format!("{st:?}"), "the counters are the stats'");
+}
+
 fn stats(sim: *const WetHairSim) -> WetHairStats {
     let mut st = std::mem::MaybeUninit::<WetHairStats>::zeroed();
     unsafe {
@@ -92,6 +114,7 @@ fn ledger_through_c(backend: wethair::Backend) {
     for _ in 0..120 {
         assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
         let st = stats(s);
+        counters_match(s, &st);
         assert_eq!(
             st.water_added,
             st.water_in_particles + st.water_held + st.water_left + st.water_evaporated,
@@ -108,6 +131,21 @@ fn ledger_through_c(backend: wethair::Backend) {
         WETHAIR_OK
     );
     assert!(old[64..].iter().all(|&b| b == 0xa5), "written past the host's 64 bytes");
+    let mut old = [0xa5u8; 112];
+    old[..4].copy_from_slice(&64u32.to_ne_bytes());
+    assert_eq!(
+        unsafe { wethair_sim_get_counters(s, old.as_mut_ptr() as *mut WetHairStats) },
+        WETHAIR_OK
+    );
+    assert!(
+        old[64..].iter().all(|&b| b == 0xa5),
+        "counters written past the host's 64 bytes"
+    );
+    assert_eq!(
+        u64::from_ne_bytes(old[24..32].try_into().unwrap()),
+        120,
+        "steps counted"
+    );
     unsafe {
         wethair_sim_destroy(s);
         wethair_groom_destroy(g);

@@ -79,12 +79,13 @@ fn every_call_after_a_lost_device_returns_device() {
         let mut buf = vec![-7.0f32; 32 * 6 * 7];
         let (mut written, mut wn) = (5usize, 5u32);
         let mut water = vec![-7.0f32; 300];
-        let calls: [(&str, WetHairResult); 10] = [
+        let calls: [(&str, WetHairResult); 11] = [
             ("add_water", wethair_sim_add_water(s, p.as_ptr(), v.as_ptr(), 100)),
             ("set_head_transform", wethair_sim_set_head_transform(s, m.as_ptr())),
             ("clear_water", wethair_sim_clear_water(s)),
             ("reset", wethair_sim_reset(s)),
             ("get_stats", wethair_sim_get_stats(s, &mut stats)),
+            ("get_counters", wethair_sim_get_counters(s, &mut stats)),
             ("step", wethair_sim_step(s, 1.0 / 60.0)),
             (
                 "get_vertex_buffer",

@@ -205,16 +205,23 @@ public:
     }
     /// Particle positions, xyz interleaved.
     std::vector<float> water() const {
-        std::vector<float> v(3 * static_cast<size_t>(stats().particles));
+        std::vector<float> v(3 * static_cast<size_t>(counters().particles));
         uint32_t n = 0;
         detail::check(wethair_sim_get_water(h_.get(), v.data(), static_cast<uint32_t>(v.size() / 3), &n));
         v.resize(3 * static_cast<size_t>(n));
         return v;
     }
-    /// Counters and measures.
+    /// Counters and measures (the measures are taken now: a search over the strands, and
+    /// on the GPU a read back).
     WetHairStats stats() const {
         auto s = detail::sized<WetHairStats>();
         detail::check(wethair_sim_get_stats(h_.get(), &s));
+        return s;
+    }
+    /// The counters alone (the measures -1): cheap enough for every frame.
+    WetHairStats counters() const {
+        auto s = detail::sized<WetHairStats>();
+        detail::check(wethair_sim_get_counters(h_.get(), &s));
         return s;
     }
     /// Where the step runs and why.

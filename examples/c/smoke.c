@@ -188,6 +188,14 @@ int main(int argc, char **argv) {
         }
     }
     WetHairStats sd = wh_stats(dry), sw = wh_stats(wet);
+    /* The counters alone (cheap enough for every frame): the stats' counters, no measures. */
+    WetHairStats cw = {0};
+    cw.struct_size = sizeof cw;
+    wh_check(wethair_sim_get_counters(wet, &cw), "wethair_sim_get_counters");
+    if (cw.particles != sw.particles || cw.steps != sw.steps || cw.clumping != -1.0f || cw.clumping_along != -1.0f) {
+        fprintf(stderr, "counters differ from the stats' counters\n");
+        return 1;
+    }
     printf("smoke: %u strands x 6 points, %u frames, %u threads\n", sd.strands, frames, sd.threads);
     printf("clumping (mean tip-to-nearest-tip, m): dry %.5f  wet %.5f  ratio %.3f  (%u particles held, %llu ran off)\n",
            sd.clumping, sw.clumping, sw.clumping / sd.clumping, sw.particles, (unsigned long long)sw.particles_removed);

@@ -46,7 +46,11 @@ int main() {
                 std::fprintf(stderr, "non-finite vertex\n");
                 return 1;
             }
-        WetHairStats sd = dry.stats(), sw = wet.stats();
+        WetHairStats sd = dry.stats(), sw = wet.stats(), cw = wet.counters();
+        if (cw.particles != sw.particles || cw.steps != sw.steps || cw.clumping != -1.0f) {
+            std::fprintf(stderr, "counters differ from the stats' counters\n");
+            return 1;
+        }
         std::printf("C++ wrapper (wethair %s): %u strands x %u points; clumping dry %.5f m, wet %.5f m (ratio %.3f), %u particles held\n",
                     wethair::version(), strands, points / strands, sd.clumping, sw.clumping, sw.clumping / sd.clumping,
                     sw.particles);

@@ -368,7 +368,10 @@ pub unsafe extern "C" fn wethair_sim_get_water(
     })
 }
 
-/// Fills `out` with counters and measures. The host sets `out->struct_size` first.
+/// Fills `out` with counters and measures. The host sets `out->struct_size` first. The
+/// measures are taken now: the clumping measures search the strands (6.5 ms on a 10,000-strand
+/// groom, 75 ms on 100,000, on 2 CPU threads), and on the GPU backend the state is read back.
+/// For every frame, call `wethair_sim_get_counters`.
 ///
 /// # Safety
 /// `sim` is valid; `out` is writable.
@@ -378,34 +381,58 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
         let s = nonnull!(sim, "sim");
         let out = check_out_size!(out, WetHairStats, "out");
         s.0.device_ok()?;
-        let st = s.0.stats();
         let ledger = s.0.try_water_ledger()?.unwrap_or_default();
-        out.write(WetHairStats {
-            struct_size: std::mem::size_of::<WetHairStats>() as u32,
-            strands: st.strands,
-            points: st.points,
-            particles: st.particles,
-            particles_removed: st.particles_removed,
-            steps: st.steps,
-            last_step_ms: st.last_step_ms,
-            max_speed: st.max_speed,
-            clumping: st.clumping,
-            threads: st.threads,
-            integrator: st.integrator as u32,
-            backend: st.backend as u32,
-            clumping_along: st.clumping_along,
-            water_added: ledger.added,
-            water_in_particles: ledger.in_particles,
-            water_held: ledger.held,
-            water_left: ledger.left,
-            water_evaporated: ledger.evaporated,
-            error_estimate: st.error_estimate.map_or(-1.0, |e| e.rms),
-            error_estimate_max: st.error_estimate.map_or(-1.0, |e| e.max),
-            substeps: st.substeps,
-            reserved: 0,
-        });
+        out.write(stats_out(&s.0.stats(), &ledger));
         Ok(())
     })
+}
+
+/// Since 0.6.0: fills `out` with the counters of `wethair_sim_get_stats` (counts, timing, the
+/// integrator and substeps, the water ledger) without its measures: `clumping`,
+/// `clumping_along`, `error_estimate` and `error_estimate_max` are -1. No search, and no read
+/// back of the state on the GPU backend: cheap enough for every frame. The host sets
+/// `out->struct_size` first.
+///
+/// # Safety
+/// `sim` is valid; `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_get_counters(sim: *const WetHairSim, out: *mut WetHairStats) -> WetHairResult {
+    boundary!({
+        let s = nonnull!(sim, "sim");
+        let out = check_out_size!(out, WetHairStats, "out");
+        s.0.device_ok()?;
+        let ledger = s.0.try_water_ledger()?.unwrap_or_default();
+        out.write(stats_out(&s.0.counters(), &ledger));
+        Ok(())
+    })
+}
+
+/// The C record of `st` and the water ledger.
+fn stats_out(st: &crate::sim::Stats, ledger: &crate::engine::WaterLedger) -> WetHairStats {
+    WetHairStats {
+        struct_size: std::mem::size_of::<WetHairStats>() as u32,
+        strands: st.strands,
+        points: st.points,
+        particles: st.particles,
+        particles_removed: st.particles_removed,
+        steps: st.steps,
+        last_step_ms: st.last_step_ms,
+        max_speed: st.max_speed,
+        clumping: st.clumping,
+        threads: st.threads,
+        integrator: st.integrator as u32,
+        backend: st.backend as u32,
+        clumping_along: st.clumping_along,
+        water_added: ledger.added,
+        water_in_particles: ledger.in_particles,
+        water_held: ledger.held,
+        water_left: ledger.left,
+        water_evaporated: ledger.evaporated,
+        error_estimate: st.error_estimate.map_or(-1.0, |e| e.rms),
+        error_estimate_max: st.error_estimate.map_or(-1.0, |e| e.max),
+        substeps: st.substeps,
+        reserved: 0,
+    }
 }
 
 /// Says which backend runs `sim`, on which device, and why AUTO fell back to the CPU. The host

@@ -575,7 +575,8 @@ pub struct WetHairStats {
     pub last_step_ms: f32,
     /// Largest point speed in the last step, m/s.
     pub max_speed: f32,
-    /// Mean distance from each strand tip to the nearest other tip, m (computed on request).
+    /// Mean distance from each strand tip to the nearest other tip, m (computed on request by
+    /// `wethair_sim_get_stats`; -1 from `wethair_sim_get_counters`).
     pub clumping: f32,
     /// Worker threads.
     pub threads: u32,
@@ -586,7 +587,8 @@ pub struct WetHairStats {
     /// Since 0.2.0: the clumping measure along the strands, m: the mean distance from a point
     /// to the nearest other strand's point at the same place along its strand, averaged over
     /// the quarter points (tips included). Long hair bundles along its length even where the
-    /// tips still fan out; this sees it. Computed on request.
+    /// tips still fan out; this sees it. Computed on request (-1 from
+    /// `wethair_sim_get_counters`).
     pub clumping_along: f32,
     /// Since 0.2.0, with held water (else 0): where the water went, in whole
     /// `WETHAIR_WATER_QUANTUM_KG` units, exactly: `water_added` equals `water_in_particles +

@@ -41,7 +41,8 @@ pub struct Stats {
     pub last_step_ms: f32,
     /// Largest point speed in the last step, m/s.
     pub max_speed: f32,
-    /// Mean distance from each strand tip to the nearest other tip, m (drops as hair clumps).
+    /// Mean distance from each strand tip to the nearest other tip, m (drops as hair clumps);
+    /// -1 from [`Simulation::counters`], which does not measure it.
     pub clumping: f32,
     /// Worker threads.
     pub threads: u32,
@@ -52,11 +53,13 @@ pub struct Stats {
     pub backend: Backend,
     /// Mean distance from a strand's point to the nearest other strand's point at the same
     /// place along its strand, averaged over the quarter points (tips included), m: the
-    /// clumping of long hair, which bundles along its length before its tips gather.
+    /// clumping of long hair, which bundles along its length before its tips gather; -1 from
+    /// [`Simulation::counters`].
     pub clumping_along: f32,
     /// How far the positions are from the exact solution of the model, m, estimated on every
     /// N-th strand ([`SimParams::error_estimate_stride`]); `None` when off, and while water
-    /// couples strands (particles, liquid bridges: see `sim/estimate.rs`).
+    /// couples strands (particles, liquid bridges: see `sim/estimate.rs`), and from
+    /// [`Simulation::counters`].
     pub error_estimate: Option<ErrorEstimate>,
     /// The substeps the last step ran: the error budget's choice ([`SimParams::tolerance`]),
     /// else [`SimParams::substeps`].
@@ -794,13 +797,34 @@ impl Simulation {
         self.host.strand_first[1..].iter().map(|&e| x[e as usize - 1]).collect()
     }
 
-    /// Counters and measures (the clumping measures are computed now, O(strands), on the CPU
-    /// backend's worker pool; on the GPU this reads back the state and waits for the device).
+    /// Counters and measures. The measures are taken now: the clumping measures are five
+    /// nearest-point searches over the strands (on the CPU backend's worker pool: 6.5 ms on
+    /// the 10,000-strand paper scene and 75 ms on 100,000 strands, on 2 threads), and on the
+    /// GPU this reads the state back and waits for the device. For every frame, read
+    /// [`Simulation::counters`].
     pub fn stats(&self) -> Stats {
-        let (strands, points) = self.stats_counts();
-        let c = self.engine.counters();
+        let c = self.counters();
         let x = self.positions(); // one read back for both measures
         let (clumping, clumping_along) = self.clumping_of(&x);
+        Stats {
+            clumping,
+            clumping_along,
+            // Particles couple strands (drips from held water among them): no estimate now.
+            error_estimate: self
+                .shadow
+                .as_ref()
+                .filter(|_| c.particles == 0)
+                .and_then(|sh| sh.estimate(&x)),
+            ..c
+        }
+    }
+
+    /// The counters of [`Simulation::stats`] without its measures (`clumping` and
+    /// `clumping_along` are -1, `error_estimate` is `None`): no search, and on the GPU no read
+    /// back of the state, so a host may read them every frame.
+    pub fn counters(&self) -> Stats {
+        let (strands, points) = self.stats_counts();
+        let c = self.engine.counters();
         Stats {
             strands,
             points,
@@ -809,17 +833,12 @@ impl Simulation {
             steps: self.steps,
             last_step_ms: self.last_step_ms,
             max_speed: self.max_speed,
-            clumping,
-            clumping_along,
+            clumping: -1.0,
+            clumping_along: -1.0,
             threads: c.threads,
             integrator: self.last_integrator,
             backend: self.engine.kind(),
-            // Particles couple strands (drips from held water among them): no estimate now.
-            error_estimate: self
-                .shadow
-                .as_ref()
-                .filter(|_| c.particles == 0)
-                .and_then(|sh| sh.estimate(&x)),
+            error_estimate: None,
             substeps: self.last_substeps,
         }
     }

@@ -89,6 +89,9 @@ def test_weather_emitters_add_drops(paper):
             sim.step(DT)
         assert sim.stats().particles > 0
         assert sim.water().shape == (sim.stats().particles, 3)
+        c = sim.counters()
+        assert (c.particles, c.steps) == (sim.stats().particles, 20)
+        assert c.clumping == -1.0 and sim.stats().clumping > 0
         sim.set_spray(None)
         sim.set_rain(center=(0, 0, 0.4), rate=300)
         sim.set_rain(None)

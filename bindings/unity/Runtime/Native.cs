@@ -388,6 +388,7 @@ namespace WetHair
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vertex_buffer(SimulationHandle sim, float* dst, UIntPtr capacity, out UIntPtr written);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_water(SimulationHandle sim, float* dst, uint capacity, out uint written);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_stats(SimulationHandle sim, WetHairStats* stats);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_counters(SimulationHandle sim, WetHairStats* stats);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_backend_info(SimulationHandle sim, WetHairBackendInfo* info);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vulkan_buffer(SimulationHandle sim, WetHairVulkanBuffer* buffer);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_get_vulkan_water(SimulationHandle sim, WetHairVulkanWater* water);

@@ -229,13 +229,26 @@ namespace WetHair
         }
 #endif
 
-        /// <summary>Counters and measures.</summary>
+        /// <summary>Counters and measures (the measures are taken now: a search over the
+        /// strands, and on the GPU a read back). For every frame, read <see cref="Counters"/>.</summary>
         public WetHairStats Stats
         {
             get
             {
                 var s = new WetHairStats { struct_size = (uint)sizeof(WetHairStats) };
                 WetHairException.Check(Native.wethair_sim_get_stats(handle, &s));
+                return s;
+            }
+        }
+
+        /// <summary>The counters of <see cref="Stats"/> without its measures (those are -1):
+        /// cheap enough for every frame.</summary>
+        public WetHairStats Counters
+        {
+            get
+            {
+                var s = new WetHairStats { struct_size = (uint)sizeof(WetHairStats) };
+                WetHairException.Check(Native.wethair_sim_get_counters(handle, &s));
                 return s;
             }
         }

@@ -65,6 +65,9 @@ static class Drive
                 var st = sim.Stats;
                 Console.WriteLine("stepped 30 frames: " + st.points + " points, " + st.particles + " particles held, clumping " + st.clumping.ToString("F5") + " m, " + written + " floats read");
                 if (st.steps != 30) return Fail("steps " + st.steps);
+                var counters = sim.Counters;
+                if (counters.steps != 30 || counters.particles != st.particles || counters.clumping != -1.0f)
+                    return Fail("counters: steps " + counters.steps + ", clumping " + counters.clumping);
 
                 // The error path: a NaN dt raises WetHairException(InvalidArgument).
                 try

@@ -47,6 +47,7 @@ _PROTOTYPES = {
     "wethair_sim_get_vertex_buffer": (R, [vp, f32p, C.c_size_t, P(C.c_size_t)]),
     "wethair_sim_get_water": (R, [vp, f32p, C.c_uint32, u32p]),
     "wethair_sim_get_stats": (R, [vp, P(S.WetHairStats)]),
+    "wethair_sim_get_counters": (R, [vp, P(S.WetHairStats)]),
     "wethair_sim_get_backend_info": (R, [vp, P(S.WetHairBackendInfo)]),
     "wethair_sim_soak": (R, [vp, C.c_float]),
     "wethair_sim_set_wind": (R, [vp, P(S.WetHairWind)]),

@@ -295,8 +295,16 @@ class Simulation(Handle):
         return out[: n.value]
 
     def stats(self) -> Stats:
+        """Counters and measures (the measures are taken now: a search over the strands)."""
+        return self._stats(lib.wethair_sim_get_stats)
+
+    def counters(self) -> Stats:
+        """The counters of :meth:`stats` without its measures (those are -1): for every frame."""
+        return self._stats(lib.wethair_sim_get_counters)
+
+    def _stats(self, fill) -> Stats:
         s = S.WetHairStats(struct_size=C.sizeof(S.WetHairStats))
-        check(lib.wethair_sim_get_stats(self.handle, C.byref(s)))
+        check(fill(self.handle, C.byref(s)))
         vals = {f: getattr(s, f) for f in Stats.__dataclass_fields__}
         vals["integrator"] = Integrator(vals["integrator"])
         vals["backend"] = Backend(vals["backend"])
