@@ -218,7 +218,8 @@ public:
         detail::check(wethair_sim_get_stats(h_.get(), &s));
         return s;
     }
-    /// The counters alone (the measures -1): cheap enough for every frame.
+    /// The counters alone (the measures -1): no search and no read of the positions, for
+    /// every frame (on the GPU it waits for the last step).
     WetHairStats counters() const {
         auto s = detail::sized<WetHairStats>();
         detail::check(wethair_sim_get_counters(h_.get(), &s));

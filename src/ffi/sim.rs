@@ -389,8 +389,10 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
 
 /// Since 0.6.0: fills `out` with the counters of `wethair_sim_get_stats` (counts, timing, the
 /// integrator and substeps, the water ledger) without its measures: `clumping`,
-/// `clumping_along`, `error_estimate` and `error_estimate_max` are -1. No search, and no read
-/// back of the state on the GPU backend: cheap enough for every frame. The host sets
+/// `clumping_along`, `error_estimate` and `error_estimate_max` are -1. No search and no read of
+/// the positions: on the CPU backend a few loads (and the ledger's sums, with held water), for
+/// every frame; on the GPU backend it waits for the last step (a 32-byte status read, and with
+/// held water each point's water and the particles for the ledger). The host sets
 /// `out->struct_size` first.
 ///
 /// # Safety

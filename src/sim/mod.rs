@@ -820,8 +820,9 @@ impl Simulation {
     }
 
     /// The counters of [`Simulation::stats`] without its measures (`clumping` and
-    /// `clumping_along` are -1, `error_estimate` is `None`): no search, and on the GPU no read
-    /// back of the state, so a host may read them every frame.
+    /// `clumping_along` are -1, `error_estimate` is `None`): no search and no read of the
+    /// positions, so a host may read them every frame. On the GPU backend it still waits for
+    /// the last step (the particle count is in a 32-byte status the device writes).
     pub fn counters(&self) -> Stats {
         let (strands, points) = self.stats_counts();
         let c = self.engine.counters();

@@ -242,7 +242,8 @@ namespace WetHair
         }
 
         /// <summary>The counters of <see cref="Stats"/> without its measures (those are -1):
-        /// cheap enough for every frame.</summary>
+        /// no search and no read of the positions, for every frame (on the GPU it waits for the
+        /// last step).</summary>
         public WetHairStats Counters
         {
             get
