@@ -338,3 +338,32 @@ fn the_soaked_chain_converges_to_the_wet_reference_and_the_estimate_sees_it() {
         "the water's weight and limpness move the chain {water_moves:.2e} m, errors {errs:?}"
     );
 }
+
+/// `Simulation::counters` is `stats` without its measures: every counter the same, the
+/// clumping measures -1 and no estimate, where `stats` measures all three.
+#[test]
+fn counters_are_the_stats_without_their_measures() {
+    let sc = paper_slice(8, 0, 1.0);
+    let params = SimParams {
+        error_estimate_stride: 2,
+        ..sc.params.clone()
+    };
+    let mut sim = Simulation::new(&sc.groom, params).unwrap();
+    for _ in 0..3 {
+        sim.step(1.0 / 60.0).unwrap();
+    }
+    let (st, c) = (sim.stats(), sim.counters());
+    assert!(
+        st.clumping > 0.0 && st.clumping_along > 0.0 && st.error_estimate.is_some(),
+        "{st:?}"
+    );
+    assert_eq!((c.clumping, c.clumping_along, c.error_estimate), (-1.0, -1.0, None));
+    let measured = wethair::Stats {
+        clumping: st.clumping,
+        clumping_along: st.clumping_along,
+        error_estimate: st.error_estimate,
+        ..c
+    };
+    assert_eq!(measured, st, "the same counters");
+    assert_eq!(c.steps, 3);
+}
