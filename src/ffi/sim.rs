@@ -377,14 +377,7 @@ pub unsafe extern "C" fn wethair_sim_get_water(
 /// `sim` is valid; `out` is writable.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut WetHairStats) -> WetHairResult {
-    boundary!({
-        let s = nonnull!(sim, "sim");
-        let out = check_out_size!(out, WetHairStats, "out");
-        s.0.device_ok()?;
-        let ledger = s.0.try_water_ledger()?.unwrap_or_default();
-        out.write(stats_out(&s.0.stats(), &ledger));
-        Ok(())
-    })
+    boundary!({ write_stats(sim, out, Simulation::stats) })
 }
 
 /// Since 0.6.0: fills `out` with the counters of `wethair_sim_get_stats` (counts, timing, the
@@ -399,14 +392,25 @@ pub unsafe extern "C" fn wethair_sim_get_stats(sim: *const WetHairSim, out: *mut
 /// `sim` is valid; `out` is writable.
 #[no_mangle]
 pub unsafe extern "C" fn wethair_sim_get_counters(sim: *const WetHairSim, out: *mut WetHairStats) -> WetHairResult {
-    boundary!({
-        let s = nonnull!(sim, "sim");
-        let out = check_out_size!(out, WetHairStats, "out");
-        s.0.device_ok()?;
-        let ledger = s.0.try_water_ledger()?.unwrap_or_default();
-        out.write(stats_out(&s.0.counters(), &ledger));
-        Ok(())
-    })
+    boundary!({ write_stats(sim, out, Simulation::counters) })
+}
+
+/// The body of both stats entry points: checks `sim` and `out`, then writes `take(sim)` with
+/// the water ledger (nothing written on failure).
+///
+/// # Safety
+/// As the entry points': `sim` is valid; `out` is writable.
+unsafe fn write_stats(
+    sim: *const WetHairSim,
+    out: *mut WetHairStats,
+    take: fn(&Simulation) -> crate::sim::Stats,
+) -> Result<(), Fail> {
+    let s = nonnull!(sim, "sim");
+    let out = check_out_size!(out, WetHairStats, "out");
+    s.0.device_ok()?;
+    let ledger = s.0.try_water_ledger()?.unwrap_or_default();
+    out.write(stats_out(&take(&s.0), &ledger));
+    Ok(())
 }
 
 /// The C record of `st` and the water ledger.
