@@ -6,6 +6,7 @@
 //! the vertices to the host each frame, timed apart; `INTEGRATOR=n`: the integrator by number,
 //! with `ITERATIONS=n` Newton iterations; `HASH=1`: a hash of the positions at the end; `CLUMP=1`: the clumping measures at the end;
 //! `SOAK=s`: with the full model, every point soaked to saturation `s` before the first step;
+//! `FAR=1`: the particles 100 m above the head, out of the hair's reach (the lock step's own cost);
 //! `GPU=1`: on the GPU backend, so a GPU change is held to the same hash).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
@@ -72,12 +73,20 @@ fn main() {
     if std::env::var_os("GPU").is_some() {
         params.backend = wethair::Backend::GPU;
     }
+    if std::env::var_os("FAR").is_some() {
+        params.water.domain_radius = 1000.0; // FAR=1, below
+    }
     let mut sim = Simulation::new(&groom, params).expect("sim");
     // RAIN=1: the bench's rain over the head (100 drops a frame).
     if std::env::var_os("RAIN").is_some() {
         sim.set_rain(Some(wethair::scenes::rain_over_head())).expect("rain");
     }
-    if particles > 0 {
+    // FAR=1: the particles at rest 100 m above the head (the domain grown to hold them),
+    // where no hair reaches them during the run: the cost of the water's lock step alone.
+    if std::env::var_os("FAR").is_some() {
+        let at = vec![glam::Vec3::new(0.0, 0.0, 100.0); particles];
+        sim.add_water(&at, &[]).expect("far water");
+    } else if particles > 0 {
         sim.add_water(&on_hair(groom.positions(), particles, &mut Lcg(2024)), &[])
             .expect("water");
     }

@@ -26,6 +26,8 @@ pub struct Worker {
     /// Reactions on particles from this chunk's blocks, in block order (then the order the
     /// kernel found them); summed per particle after every chunk is done.
     pub(super) reactions: Vec<adhesion::Reaction>,
+    /// Each block's run of `reactions` and the slots it touches, in block order.
+    pub(super) spans: Vec<super::water::ReactionSpan>,
     pub(super) max_v2: f32,
     pub(super) nonfinite: bool,
     /// Banded system of one block (implicit Euler and BDF2 only).

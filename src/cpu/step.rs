@@ -11,7 +11,7 @@ use super::kernel::{block_substep, AbsorbCtx, Ctx, WaterCtx, Worker};
 use super::layout::{Layout, StateRow};
 use super::pool::chunks_or_empty;
 use super::settle::{DropSink, SettleOut};
-use super::water::Water;
+use super::water::{ReactionSpan, Water};
 use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
 use crate::physics::bdf2::{Bdf2Blend, Bdf2Clock, Bdf2Row};
@@ -260,7 +260,11 @@ impl CpuBackend {
             out.push(("water_grid", w.grid.bytes() + w.sorted.iter().map(bytes).sum::<usize>()));
             out.push((
                 "water_reactions",
-                self.workers.iter().map(|k| bytes(&k.reactions)).sum::<usize>() + bytes(&w.force),
+                self.workers
+                    .iter()
+                    .map(|k| bytes(&k.reactions) + bytes(&k.spans))
+                    .sum::<usize>()
+                    + bytes(&w.force),
             ));
         }
         out
@@ -293,8 +297,11 @@ impl CpuBackend {
         if self.wet.is_empty() {
             self.wet = AlignedRows::filled([0.0; W], self.state.len());
         }
+        // A chunk holds at most this many blocks (`run_blocks`), each one span.
+        let per_chunk = self.lay.blocks.div_ceil(self.workers.len()).max(1);
         for w in &mut self.workers {
             w.reactions = Vec::with_capacity(cap);
+            w.spans = Vec::with_capacity(per_chunk);
             if hw.absorbs() {
                 w.demands = Vec::with_capacity(cap);
             }
@@ -486,7 +493,7 @@ impl CpuBackend {
                 let t = self.clock.start();
                 // Workers hold contiguous block ranges in order, so their lists one after
                 // another are every block's reactions in block order, whatever the thread count.
-                let reactions = self.workers.iter().map(|w| &w.reactions[..]);
+                let reactions = self.workers.iter().map(|w| (&w.reactions[..], &w.spans[..]));
                 water.integrate(
                     reactions,
                     &self.params.water,
@@ -624,6 +631,7 @@ impl CpuBackend {
                    worker: &mut Worker,
                    next: &mut [Vec3]| {
             worker.reactions.clear();
+            worker.spans.clear();
             worker.demands.clear();
             let first = k * per_chunk;
             for (j, rows_b) in state.chunks_mut(rows).enumerate() {
@@ -637,12 +645,16 @@ impl CpuBackend {
                 } else {
                     &mut history[j * rows..(j + 1) * rows]
                 };
+                let start = worker.reactions.len();
                 for s in subs.clone() {
                     if axial {
                         block_substep::<true>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
                     } else {
                         block_substep::<false>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
                     }
+                }
+                if let Some(span) = ReactionSpan::of(&worker.reactions, start) {
+                    worker.spans.push(span);
                 }
                 // The bridges' positions for the next substep (bridges run in lock step: one
                 // substep here); this chunk's run of them starts at its first block's.
