@@ -27,7 +27,7 @@ pub struct Worker {
     /// kernel found them); summed per particle after every chunk is done.
     pub(super) reactions: Vec<adhesion::Reaction>,
     /// Each block's run of `reactions` and the slots it touches, in block order.
-    pub(super) spans: Vec<super::water::ReactionSpan>,
+    pub(super) spans: Vec<super::slot_spans::SlotSpan>,
     pub(super) max_v2: f32,
     pub(super) nonfinite: bool,
     /// Banded system of one block (implicit Euler and BDF2 only).
@@ -38,6 +38,8 @@ pub struct Worker {
     pub(super) lambda: Vec<Lane>,
     /// Absorption demands from this chunk's blocks, in block order (held water only).
     pub(super) demands: Vec<absorb::Demand>,
+    /// Each block's run of `demands` and the slots it names, in block order.
+    pub(super) demand_spans: Vec<super::slot_spans::SlotSpan>,
 }
 
 impl Worker {

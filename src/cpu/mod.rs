@@ -19,6 +19,7 @@ pub mod pool;
 mod prefetch;
 mod roots;
 mod settle;
+mod slot_spans;
 pub mod step;
 #[cfg(target_arch = "x86_64")]
 mod transpose;

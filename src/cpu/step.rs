@@ -11,7 +11,8 @@ use super::kernel::{block_substep, AbsorbCtx, Ctx, WaterCtx, Worker};
 use super::layout::{Layout, StateRow};
 use super::pool::chunks_or_empty;
 use super::settle::{DropSink, SettleOut};
-use super::water::{ReactionSpan, Water};
+use super::slot_spans::SlotSpan;
+use super::water::Water;
 use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
 use crate::physics::bdf2::{Bdf2Blend, Bdf2Clock, Bdf2Row};
@@ -304,6 +305,7 @@ impl CpuBackend {
             w.spans = Vec::with_capacity(per_chunk);
             if hw.absorbs() {
                 w.demands = Vec::with_capacity(cap);
+                w.demand_spans = Vec::with_capacity(per_chunk);
             }
         }
     }
@@ -482,12 +484,13 @@ impl CpuBackend {
                 if !wet {
                     continue;
                 }
+                let chunk_rows = self.blocks_per_chunk() * self.lay.rows;
                 let water = self.water.as_mut().expect("wet");
                 if let (Some(held), true) = (&mut self.held, self.params.held_water.absorbs()) {
                     let t = self.clock.start();
                     let last = (crate::physics::wet::to_quanta(self.params.water.particle_mass as f64) as f64
                         * crate::physics::wet::ABSORB_LAST_FRACTION) as u32;
-                    water.absorb(self.workers.iter().map(|w| &w.demands[..]), &mut held.water, last);
+                    water.absorb(&mut self.workers, &mut held.water, chunk_rows, last, self.pool.as_ref());
                     self.clock.stop(Stage::Absorb, t); // pass absorb
                 }
                 let t = self.clock.start();
@@ -572,7 +575,7 @@ impl CpuBackend {
         let water = if wet { self.water.as_ref() } else { None };
         let held = self.held.as_ref();
         let rows = self.lay.rows;
-        let per_chunk = self.active_blocks.div_ceil(self.workers.len()).max(1);
+        let per_chunk = self.blocks_per_chunk();
         // The bridges' positions at the substep's start, and each chunk's run of where its
         // blocks write theirs for the next.
         let (cohesion, next) = match self.bridges.as_mut().filter(|_| bridging) {
@@ -633,6 +636,7 @@ impl CpuBackend {
             worker.reactions.clear();
             worker.spans.clear();
             worker.demands.clear();
+            worker.demand_spans.clear();
             let first = k * per_chunk;
             for (j, rows_b) in state.chunks_mut(rows).enumerate() {
                 let wet_b = if wet.is_empty() {
@@ -645,7 +649,7 @@ impl CpuBackend {
                 } else {
                     &mut history[j * rows..(j + 1) * rows]
                 };
-                let start = worker.reactions.len();
+                let (start, asked) = (worker.reactions.len(), worker.demands.len());
                 for s in subs.clone() {
                     if axial {
                         block_substep::<true>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
@@ -653,8 +657,12 @@ impl CpuBackend {
                         block_substep::<false>(&ctx, first + j, s, rows_b, wet_b, hist_b, worker);
                     }
                 }
-                if let Some(span) = ReactionSpan::of(&worker.reactions, start) {
+                let (reactions, demands) = (&worker.reactions, &worker.demands);
+                if let Some(span) = SlotSpan::of(reactions[start..].iter().map(|r| r.slot), reactions.len()) {
                     worker.spans.push(span);
+                }
+                if let Some(span) = SlotSpan::of(demands[asked..].iter().map(|d| d.slot), demands.len()) {
+                    worker.demand_spans.push(span);
                 }
                 // The bridges' positions for the next substep (bridges run in lock step: one
                 // substep here); this chunk's run of them starts at its first block's.
@@ -692,6 +700,12 @@ impl CpuBackend {
             Some(pool) => pool.install(body),
             None => body(),
         }
+    }
+
+    /// Blocks in each worker's chunk (the last may hold fewer): the active blocks shared
+    /// evenly, so that each chunk's lists name only its own blocks' points.
+    fn blocks_per_chunk(&self) -> usize {
+        self.active_blocks.div_ceil(self.workers.len()).max(1)
     }
 
     /// Host index of the first strand with a point that [`blown_up`] (the kernel's test), or

@@ -2,6 +2,8 @@
 //! gravity, drag, the hair's reaction forces and colliders, and removal when they leave the
 //! domain. Nothing here is allocated until the host first adds water.
 
+use super::kernel::Worker;
+use super::slot_spans::{for_each_in_range, SlotSpan};
 use crate::error::{Error, Result};
 use crate::params::WaterParams;
 use crate::physics::absorb::Demand;
@@ -17,39 +19,13 @@ use glam::{Affine3A, Vec3};
 /// thread alone).
 const PARTICLES_PER_TASK: usize = 16_384;
 
-/// Reactions above which their sum per particle is shared among the pool's threads (each
-/// then reads them all).
+/// Reactions (or absorption demands) above which their sums per particle are shared among
+/// the pool's threads.
 const REACTIONS_PER_TASK: usize = 65_536;
 
-/// The grid slots one block's reactions touch: a run of a chunk's reaction list, ending at
-/// `end`, whose slots all lie in `lo..=hi`. A task that sums a range of particles skips the
-/// runs that touch none of them (a block's particles sit in a few neighbouring cells, and
-/// cells are numbered along x first, so most runs fall in one task's range).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ReactionSpan {
-    /// One past the run's last reaction, in its list.
-    pub end: u32,
-    /// Lowest slot in the run.
-    pub lo: u32,
-    /// Highest slot in the run.
-    pub hi: u32,
-}
-
-impl ReactionSpan {
-    /// The span of `reactions[start..]` (what a block just added to its chunk's list), or
-    /// `None` when it added none.
-    pub fn of(reactions: &[Reaction], start: usize) -> Option<ReactionSpan> {
-        let added = &reactions[start..];
-        let first = added.first()?.slot;
-        let (lo, hi) = added
-            .iter()
-            .fold((first, first), |(lo, hi), r| (lo.min(r.slot), hi.max(r.slot)));
-        Some(ReactionSpan {
-            end: reactions.len() as u32,
-            lo,
-            hi,
-        })
-    }
+/// Each chunk's absorption demands with their blocks' spans, in block order.
+fn demand_lists(workers: &[Worker]) -> impl Iterator<Item = (&[Demand], &[SlotSpan])> + Clone {
+    workers.iter().map(|w| (&w.demands[..], &w.demand_spans[..]))
 }
 
 /// The particles and their grid.
@@ -240,11 +216,19 @@ impl Water {
     /// refuses. A particle left with less than `last`
     /// quanta goes whole to the point that asked it for most (first found on a tie).
     /// Integers throughout: the particles lose exactly what the hair gains, whatever the order.
-    pub fn absorb<'a>(
+    ///
+    /// With many demands the pool shares it: the sums per particle by ranges of particles
+    /// (each task reading the blocks' runs that meet its range, in list order, so the largest
+    /// asker on a tie is the same), the grants by chunks of blocks (a chunk's demands name
+    /// only its own points, so each point takes its grants in the same order), then what each
+    /// particle gave by ranges again. Each demand holds what it was granted afterwards.
+    pub fn absorb(
         &mut self,
-        demands: impl Iterator<Item = &'a [Demand]> + Clone,
+        workers: &mut [Worker],
         held: &mut [[u32; W]],
+        chunk_rows: usize,
         last: u32,
+        pool: Option<&super::pool::Pool>,
     ) {
         let n = self.sorted_mass.len();
         self.demand.clear();
@@ -253,31 +237,80 @@ impl Water {
         self.given.resize(n, 0);
         self.best.clear();
         self.best.resize(n, (0, 0));
-        for d in demands.clone().flatten() {
-            let k = d.slot as usize;
-            self.demand[k] += d.quanta as u64;
-            if d.quanta > self.best[k].1 {
-                self.best[k] = (d.point, d.quanta);
+        let total: usize = workers.iter().map(|w| w.demands.len()).sum();
+        let tasks = pool.map_or(1, |p| p.threads());
+        let shared = pool.filter(|_| total > REACTIONS_PER_TASK && n > tasks);
+        let size = n.div_ceil(tasks).max(1);
+        {
+            let workers = &*workers;
+            super::pool::for_chunks2(shared, &mut self.demand, &mut self.best, size, |first, demand, best| {
+                let range = first as u32..(first + demand.len()) as u32;
+                for_each_in_range(
+                    demand_lists(workers),
+                    range,
+                    |d| d.slot,
+                    |d| {
+                        let k = d.slot as usize - first;
+                        demand[k] += d.quanta as u64;
+                        if d.quanta > best[k].1 {
+                            best[k] = (d.point, d.quanta);
+                        }
+                    },
+                );
+            });
+        }
+        // A point takes a grant up to `HELD_LIMIT` (what it refuses stays in the particle).
+        let (mass, demand) = (&self.sorted_mass, &self.demand);
+        let grants = |k: usize, w: &mut Worker, held: &mut [[u32; W]]| {
+            let first_point = k * chunk_rows * W;
+            for d in &mut w.demands {
+                let g = wet::grant(mass[d.slot as usize], d.quanta, demand[d.slot as usize]);
+                let p = d.point as usize - first_point;
+                let (r, l) = (p / W, p % W);
+                let q = g.min(wet::HELD_LIMIT.saturating_sub(held[r][l]));
+                held[r][l] += q;
+                d.quanta = q;
+            }
+        };
+        match shared {
+            Some(pool) => pool.install(|| {
+                use rayon::prelude::*;
+                workers
+                    .par_iter_mut()
+                    .zip(held.par_chunks_mut(chunk_rows))
+                    .enumerate()
+                    .for_each(|(k, (w, h))| grants(k, w, h))
+            }),
+            None => {
+                for (k, (w, h)) in workers.iter_mut().zip(held.chunks_mut(chunk_rows)).enumerate() {
+                    grants(k, w, h);
+                }
             }
         }
-        // A point takes a grant up to `limit` (what it refuses stays in the particle).
-        let mut take = |point: u32, q: u32, limit: u32| -> u32 {
-            let (r, l) = (point as usize / W, point as usize % W);
-            let q = q.min(limit.saturating_sub(held[r][l]));
-            held[r][l] += q;
-            q
-        };
-        for d in demands.flatten() {
-            let k = d.slot as usize;
-            let g = wet::grant(self.sorted_mass[k], d.quanta, self.demand[k]);
-            self.given[k] += take(d.point, g, wet::HELD_LIMIT) as u64;
+        {
+            let workers = &*workers;
+            super::pool::for_chunks(shared, &mut self.given, size, |first, given| {
+                let range = first as u32..(first + given.len()) as u32;
+                for_each_in_range(
+                    demand_lists(workers),
+                    range,
+                    |d| d.slot,
+                    |d| {
+                        given[d.slot as usize - first] += d.quanta as u64;
+                    },
+                );
+            });
         }
         // Remainders are small (under a thousandth of a particle each), so they are not held
         // to the limit; only the count's own end bounds them.
         for k in 0..n {
             let left = self.sorted_mass[k] - self.given[k] as u32;
-            if self.best[k].1 > 0 && left > 0 && left < last {
-                self.given[k] += take(self.best[k].0, left, u32::MAX) as u64;
+            let (point, asked) = self.best[k];
+            if asked > 0 && left > 0 && left < last {
+                let (r, l) = (point as usize / W, point as usize % W);
+                let q = left.min(u32::MAX - held[r][l]);
+                held[r][l] += q;
+                self.given[k] += q as u64;
             }
         }
         // `sorted_mass` keeps the water the substep's pull was reckoned with: the particle
@@ -294,7 +327,7 @@ impl Water {
     #[allow(clippy::too_many_arguments)]
     pub fn integrate<'a>(
         &mut self,
-        reactions: impl Iterator<Item = (&'a [Reaction], &'a [ReactionSpan])> + Clone + Sync,
+        reactions: impl Iterator<Item = (&'a [Reaction], &'a [SlotSpan])> + Clone + Sync,
         p: &WaterParams,
         g: Vec3,
         wind: Vec3,
@@ -329,21 +362,15 @@ impl Water {
         let pool_sum = pool.filter(|_| total > REACTIONS_PER_TASK && n > tasks);
         super::pool::for_chunks(pool_sum, &mut self.force, n.div_ceil(tasks), |first, force| {
             let range = first as u32..(first + force.len()) as u32;
-            for (list, spans) in reactions.clone() {
-                debug_assert_eq!(spans.last().map_or(0, |s| s.end as usize), list.len());
-                let mut from = 0;
-                for span in spans {
-                    let to = span.end as usize;
-                    if span.hi >= range.start && span.lo < range.end {
-                        for r in &list[from..to] {
-                            if range.contains(&r.slot) {
-                                force[(r.slot - range.start) as usize] += Vec3::from(r.f);
-                            }
-                        }
-                    }
-                    from = to;
-                }
-            }
+            let start = range.start;
+            for_each_in_range(
+                reactions.clone(),
+                range,
+                |r| r.slot,
+                |r| {
+                    force[(r.slot - start) as usize] += Vec3::from(r.f);
+                },
+            );
         });
         // Each particle then moves on its own: in chunks on the pool.
         let (force, mass) = (&self.force, &self.sorted_mass);
@@ -410,22 +437,5 @@ impl Water {
         self.removed = 0;
         self.added = 0;
         self.left = 0;
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::ReactionSpan;
-    use crate::physics::adhesion::Reaction;
-
-    /// A block's span is the slots it added, ending where its list ends; a block that added
-    /// none has no span.
-    #[test]
-    fn a_span_bounds_the_slots_a_block_added() {
-        let r = |slot| Reaction { slot, f: [0.0; 3] };
-        let list = vec![r(90), r(7), r(12), r(40), r(9)];
-        assert_eq!(ReactionSpan::of(&list, 5), None);
-        assert_eq!(ReactionSpan::of(&list, 2), Some(ReactionSpan { end: 5, lo: 9, hi: 40 }));
-        assert_eq!(ReactionSpan::of(&list, 0), Some(ReactionSpan { end: 5, lo: 7, hi: 90 }));
     }
 }
