@@ -8,7 +8,7 @@ use wethair::ffi::*;
 use wethair::groom::paper_scene;
 use wethair::physics::collide::Shape;
 use wethair::scenes::{shower, Lcg};
-use wethair::{Backend, Error, Integrator, SimParams, Simulation};
+use wethair::{Backend, Error, HeldWater, Integrator, SimParams, Simulation, WaterLedger};
 use WetHairResult::*;
 
 use crate::common::{backends, serial};
@@ -162,33 +162,62 @@ fn cpu_results_do_not_depend_on_the_thread_count_with_water() {
     }
 }
 
+/// A hundred thousand drops on the paper scene's hair (`held_water`: the wet model), stepped
+/// two frames on `threads`: the hair's positions and the drops' (sorted) as bits, and the
+/// water ledger where the model keeps one.
+fn hundred_thousand_drops(threads: u32, held_water: HeldWater) -> (Vec<u32>, Vec<u32>, Option<WaterLedger>) {
+    let groom = paper_scene(10_000, 6).unwrap();
+    let mut params = SimParams::paper_scene_with_head();
+    params.threads = threads;
+    params.backend = Backend::CPU;
+    params.held_water = held_water;
+    params.water.capacity = 100_000;
+    let mut sim = Simulation::new(&groom, params).unwrap();
+    let drops = wethair::scenes::on_hair(groom.positions(), 100_000, &mut Lcg(3));
+    sim.add_water(&drops, &[]).unwrap();
+    for _ in 0..2 {
+        sim.step(1.0 / 60.0).unwrap();
+    }
+    let mut w = sim.water_positions().unwrap();
+    w.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap());
+    let bits = |v: &[Vec3]| -> Vec<u32> { v.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect() };
+    (bits(&sim.positions()), bits(&w), sim.water_ledger())
+}
+
 /// Many particles take the shared paths of the water's passes: the grid's moves into cell
 /// order in chunks (over 16,384 particles) and the reactions summed by ranges of particles
 /// (over 65,536 a substep). Positions and particles come out the same on 1, 2 and 3 threads.
 #[test]
 fn cpu_results_do_not_depend_on_the_thread_count_with_a_hundred_thousand_drops() {
     let _s = serial();
-    let groom = paper_scene(10_000, 6).unwrap();
     let run = |threads: u32| {
-        let mut params = SimParams::paper_scene_with_head();
-        params.threads = threads;
-        params.backend = Backend::CPU;
-        params.water.capacity = 100_000;
-        let mut sim = Simulation::new(&groom, params).unwrap();
-        let drops = wethair::scenes::on_hair(groom.positions(), 100_000, &mut Lcg(3));
-        sim.add_water(&drops, &[]).unwrap();
-        for _ in 0..2 {
-            sim.step(1.0 / 60.0).unwrap();
-        }
-        let mut w = sim.water_positions().unwrap();
-        w.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap());
-        let bits = |v: &[Vec3]| -> Vec<u32> { v.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect() };
-        (bits(&sim.positions()), bits(&w))
+        let (x, w, _) = hundred_thousand_drops(threads, HeldWater::OFF);
+        (x, w)
     };
     let one = run(1);
     assert!(one.1.len() > 3 * 90_000, "the drops stay: {}", one.1.len() / 3);
     for threads in [2, 3] {
         assert!(run(threads) == one, "{threads} threads differ from 1");
+    }
+}
+
+/// The same drops with the wet model ask for water from 1.6 million (point, drop) pairs in
+/// the first substep: absorption shares its sums and grants among the pool's threads (over
+/// 65,536 demands). Positions, drops and the ledger come out the same on 1, 2 and 3 threads.
+#[test]
+fn absorption_shared_among_threads_gives_the_same_bits() {
+    let _s = serial();
+    let run = |threads: u32| {
+        let (x, w, ledger) = hundred_thousand_drops(threads, HeldWater::ON);
+        (x, w, ledger.expect("the wet model keeps a ledger"))
+    };
+    let one = run(1);
+    assert!(one.2.held > 0, "the hair drank: {:?}", one.2);
+    for threads in [2, 3] {
+        let other = run(threads);
+        assert!(other.0 == one.0, "{threads} threads: positions differ from 1");
+        assert!(other.1 == one.1, "{threads} threads: drops differ from 1");
+        assert_eq!(other.2, one.2, "{threads} threads: ledger");
     }
 }
 

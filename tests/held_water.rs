@@ -142,40 +142,6 @@ fn held_water_gives_the_same_bits_on_any_thread_count() {
     }
 }
 
-/// A hundred thousand drops on the paper scene's hair ask for water from 1.6 million (point,
-/// drop) pairs in the first substep: absorption shares its sums and grants among the pool's
-/// threads (over 65,536 demands). Positions, drops and the ledger come out the same on 1, 2
-/// and 3 threads.
-#[test]
-fn absorption_shared_among_threads_gives_the_same_bits() {
-    let groom = paper_scene(10_000, 6).unwrap();
-    let run = |threads: u32| {
-        let mut p = SimParams::paper_scene_with_head();
-        p.threads = threads;
-        p.backend = Backend::CPU;
-        p.held_water = HeldWater::ON;
-        p.water.capacity = 100_000;
-        let mut sim = Simulation::new(&groom, p).unwrap();
-        let drops = wethair::scenes::on_hair(groom.positions(), 100_000, &mut wethair::scenes::Lcg(3));
-        sim.add_water(&drops, &[]).unwrap();
-        for _ in 0..2 {
-            sim.step(1.0 / 60.0).unwrap();
-        }
-        let mut w = sim.water_positions().unwrap();
-        w.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap());
-        let bits = |v: &[Vec3]| -> Vec<u32> { v.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect() };
-        (bits(&sim.positions()), bits(&w), sim.water_ledger().unwrap())
-    };
-    let one = run(1);
-    assert!(one.2.held > 0, "the hair drank: {:?}", one.2);
-    for threads in [2, 3] {
-        let other = run(threads);
-        assert!(other.0 == one.0, "{threads} threads: positions differ from 1");
-        assert!(other.1 == one.1, "{threads} threads: drops differ from 1");
-        assert_eq!(other.2, one.2, "{threads} threads: ledger");
-    }
-}
-
 #[test]
 fn wetness_is_the_saturation() {
     let groom = paper_scene(20, 6).unwrap();
