@@ -27,8 +27,8 @@ use glam::{IVec3, Vec3};
 /// spans at most 2 cells a side (8 buckets to read, against 27 at one reach) for 2.4 times
 /// the volume of candidates. Most hair points lie far from any drop, so the bucket reads
 /// dominate: on an H200 the large groom with 1,000 particles took 1.27 ms a step in the hair
-/// kernel at two reaches and 3.36 at one (README, "The water's GPU cost, taken apart"). The
-/// mark table's argument (above) needs a query's reach to be at most half a cell.
+/// kernel at two reaches and 3.36 at one (docs/PERFORMANCE.md, "The water's GPU cost, taken
+/// apart"). The mark table's argument (above) needs a query's reach to be at most half a cell.
 pub const WATER_CELL_R: f32 = 2.0;
 
 /// How far past half a cell a particle still marks the neighbour across the nearer face, in
