@@ -85,13 +85,15 @@ struct Timed {
     /// Particles over the timed frames, mean (each frame's count after its step): where the
     /// hair soaks drops up, what the frames actually carried.
     mean_particles: f64,
+    /// Adhesion pairs a timed frame, mean (`Stats::adhesion_pairs`: the water's work).
+    mean_pairs: f64,
     passes: Vec<PassTime>,
 }
 
 /// Steps `warmup` frames, then `frames` more with the pass timers on.
 fn timed_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> Timed {
     let mut times = Vec::with_capacity(frames);
-    let mut carried = 0u64;
+    let (mut carried, mut pairs) = (0u64, 0u64);
     for f in 0..warmup + frames {
         if f == warmup {
             sim.time_passes(true);
@@ -102,13 +104,15 @@ fn timed_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> Timed {
             times.push(t0.elapsed().as_secs_f64() * 1e3);
             // The counters alone: `stats` would also measure the clumping, a search over the
             // strands between two timed steps that leaves the next step a cold cache.
-            carried += sim.counters().particles as u64;
+            let c = sim.counters();
+            (carried, pairs) = (carried + c.particles as u64, pairs + c.adhesion_pairs);
         }
     }
     Timed {
         ms: median(times),
         particles: sim.counters().particles,
         mean_particles: carried as f64 / frames.max(1) as f64,
+        mean_pairs: pairs as f64 / frames.max(1) as f64,
         passes: sim.pass_times(),
     }
 }
@@ -474,14 +478,18 @@ fn gpu_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> (f64, u32, 
 /// row's water over the row with a tenth of the particles (linear cost: at most 10). Where the
 /// hair soaks drops up (the full model) a row carries fewer particles than it was given, and
 /// some rows far fewer than others, so each row also gives the particles its timed frames
-/// carried (mean) and its water per thousand of them.
+/// carried (mean) and its water per thousand of them. Where the hair clumps harder into denser
+/// water, each particle meets more hair and the pairs grow faster than the particles; so each
+/// row also gives the adhesion pairs a frame (the step's own count, read between frames at no
+/// cost: `Stats::adhesion_pairs`), their growth, and the water's cost per million of them,
+/// which stays flat where the cost is linear in the work.
 fn particle_scaling(cores: u32, quick: bool) {
     use wethair::HeldWater;
     println!();
     println!("Cost against particles, CPU backend, {cores} threads (median ms/frame over the frames named; particles placed on the hair at the start):");
     println!();
-    println!("| scene | model | particles | frames | ms/frame | water (ms over dry) | water x per 10x particles | particles carried (mean) | water per 1,000 carried, ms | particles at end |");
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("| scene | model | particles | frames | ms/frame | water (ms over dry) | water x per 10x particles | particles carried (mean) | water per 1,000 carried, ms | adhesion pairs a frame (mean) | pairs x per 10x particles | water per million pairs, ms | particles at end |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let paper = paper_scene(10_000, 6).expect("paper scene");
     let big = paper_scene(100_000, 16).expect("big scene");
     let mut split = Vec::new();
@@ -508,28 +516,36 @@ fn particle_scaling(cores: u32, quick: bool) {
         let Timed {
             ms: dry, passes: t_dry, ..
         } = time(None, 0);
-        println!("| {name} | dry | 0 | {frames} | {dry:.2} | – | – | 0 | – | 0 |");
+        println!("| {name} | dry | 0 | {frames} | {dry:.2} | – | – | 0 | – | 0 | – | – | 0 |");
         split.push((name, "dry".to_string(), frames, t_dry));
         for (model, full) in [("paper", false), ("full", true)] {
-            let mut last: Option<f64> = None;
+            let (mut last, mut last_pairs): (Option<f64>, Option<f64>) = (None, None);
             for particles in [1_000usize, 10_000, 100_000, 1_000_000] {
                 let Timed {
                     ms,
                     particles: held,
                     mean_particles: carried,
+                    mean_pairs: pairs,
                     passes: t,
                 } = time(Some(full), particles);
                 let water = ms - dry;
-                let growth = last.map_or("–".into(), |l| format!("{:.1}", water / l));
-                let per = if carried > 0.0 {
-                    format!("{:.3}", water / carried * 1e3)
-                } else {
-                    "–".into()
+                let ratio = |now: f64, before: Option<f64>| before.map_or("–".into(), |b| format!("{:.1}", now / b));
+                let per = |of: f64, unit: f64| {
+                    if of > 0.0 {
+                        format!("{:.3}", water / of * unit)
+                    } else {
+                        "–".into()
+                    }
                 };
                 println!(
-                    "| {name} | {model} | {particles} | {frames} | {ms:.2} | {water:.2} | {growth} | {carried:.0} | {per} | {held} |"
+                    "| {name} | {model} | {particles} | {frames} | {ms:.2} | {water:.2} | {} | {carried:.0} | {} | {pairs:.0} | {} | {} | {held} |",
+                    ratio(water, last),
+                    per(carried, 1e3),
+                    ratio(pairs, last_pairs),
+                    per(pairs, 1e6),
                 );
                 last = Some(water.max(1e-3));
+                last_pairs = Some(pairs.max(1.0));
                 split.push((name, format!("{model}, {particles}"), frames, t));
             }
         }

@@ -43,6 +43,11 @@ pub struct Counters {
     pub particles_removed: u64,
     /// Worker threads (0 on the GPU).
     pub threads: u32,
+    /// Hair-particle pairs the last step's adhesion pulled, summed over its substeps: the
+    /// water's work, which its cost follows (the benches divide one by the other). The CPU
+    /// counts a row of up to eight points, one per strand, and a particle within `r_max` of
+    /// any of them as one pair; 0 on the GPU, which does not count them.
+    pub adhesion_pairs: u64,
 }
 
 /// Time one stage of the step took since timing was switched on

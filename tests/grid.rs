@@ -280,3 +280,53 @@ fn stats_clumping_is_the_measures_on_any_thread_count() {
     }
     assert_eq!(seen[0], seen[1], "one thread against three");
 }
+
+/// The step's count of adhesion pairs (`Stats::adhesion_pairs`, what the benches divide the
+/// water's cost by) equals brute force: hair points set at least 2 `r_max` apart, so a
+/// particle reaches at most one point of any row, and one substep, so the hair and the
+/// particles are where they were placed when the pairs are found. The same count on 1 and 3
+/// threads; none with the particles out of reach.
+#[test]
+fn adhesion_pairs_counted_by_the_step_equal_brute_force() {
+    use wethair::{groom::Groom, Backend, SimParams, Simulation};
+    let base = SimParams {
+        backend: Backend::CPU,
+        ..SimParams::paper()
+    };
+    let r = base.water.r_max;
+    // 12 strands of 5 points on a 4 × 3 lattice, 2.5 r_max apart across, 3 r_max along.
+    let (strands, points) = (12usize, 5usize);
+    let hair: Vec<Vec3> = (0..strands)
+        .flat_map(|s| {
+            let (x, y) = ((s % 4) as f32 * 2.5 * r, (s / 4) as f32 * 2.5 * r);
+            (0..points).map(move |i| Vec3::new(x, y, -3.0 * r * i as f32))
+        })
+        .collect();
+    let groom = Groom::new(hair.clone(), &[points as u32; 12], None, None, 1e-3).unwrap();
+    let mut rng = Lcg(7);
+    let drops = cloud(
+        &mut rng,
+        200,
+        Vec3::new(-r, -r, -13.0 * r),
+        Vec3::new(8.5 * r, 6.0 * r, r),
+    );
+    let brute = drops
+        .iter()
+        .map(|p| hair.iter().filter(|&&x| (*p - x).length_squared() <= r * r).count() as u64)
+        .sum::<u64>();
+    assert!(brute > 20, "the drops reach the hair: {brute} pairs");
+    for (threads, shift) in [(1u32, 0.0f32), (3, 0.0), (1, 1.0)] {
+        let mut p = base.clone();
+        (p.threads, p.substeps, p.gravity) = (threads, 1, Vec3::ZERO);
+        let mut sim = Simulation::new(&groom, p).unwrap();
+        let placed: Vec<Vec3> = drops.iter().map(|d| *d + Vec3::X * shift).collect();
+        sim.add_water(&placed, &[]).unwrap();
+        sim.step(1.0 / 240.0).unwrap();
+        let want = if shift == 0.0 { brute } else { 0 };
+        assert_eq!(
+            sim.counters().adhesion_pairs,
+            want,
+            "{threads} threads, drops moved {shift} m"
+        );
+    }
+}

@@ -178,6 +178,7 @@ impl Engine for CpuBackend {
             particles: self.water.as_ref().map_or(0, |w| w.len()) as u32,
             particles_removed: self.water.as_ref().map_or(0, |w| w.removed),
             threads: self.threads() as u32,
+            adhesion_pairs: self.adhesion_pairs,
         }
     }
 

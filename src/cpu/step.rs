@@ -91,6 +91,8 @@ pub struct CpuBackend {
     pub(super) followers: Option<super::followers::CpuFollowers>,
     /// Blocks the step runs (all but while a lower simulated fraction leaves guides out).
     pub(super) active_blocks: usize,
+    /// The last step's adhesion pairs over its substeps (`Counters::adhesion_pairs`).
+    pub(super) adhesion_pairs: u64,
 }
 
 /// Chunks of blocks per worker thread. With water the work is uneven (the rows near
@@ -183,6 +185,7 @@ impl CpuBackend {
             output_blend: None,
             followers: None,
             active_blocks: 0,
+            adhesion_pairs: 0,
         };
         cpu.active_blocks = cpu.lay.blocks;
         if params.skinned_roots {
@@ -462,6 +465,7 @@ impl CpuBackend {
         // BDF2 takes the explicit forces at x + h v (physics/bdf2.rs `explicit_lead`).
         let ahead = crate::physics::bdf2::explicit_lead(self.integrator, h);
         let mut report = StepReport::default();
+        self.adhesion_pairs = 0;
         if wet || bridging {
             for s in 0..n_sub {
                 if wet {
@@ -484,6 +488,8 @@ impl CpuBackend {
                 if !wet {
                     continue;
                 }
+                // Each pair left one reaction: counting them reads eight lengths.
+                self.adhesion_pairs += self.workers.iter().map(|w| w.reactions.len() as u64).sum::<u64>();
                 let chunk_rows = self.blocks_per_chunk() * self.lay.rows;
                 let water = self.water.as_mut().expect("wet");
                 if let (Some(held), true) = (&mut self.held, self.params.held_water.absorbs()) {

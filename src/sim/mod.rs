@@ -64,6 +64,9 @@ pub struct Stats {
     /// The substeps the last step ran: the error budget's choice ([`SimParams::tolerance`]),
     /// else [`SimParams::substeps`].
     pub substeps: u32,
+    /// Hair-particle pairs the last step's adhesion pulled, over its substeps: the work the
+    /// water's cost follows (see [`crate::engine::Counters::adhesion_pairs`]; 0 on the GPU).
+    pub adhesion_pairs: u64,
 }
 
 /// Per-point data in the host's order, for diagnostics that both backends share.
@@ -841,6 +844,7 @@ impl Simulation {
             backend: self.engine.kind(),
             error_estimate: None,
             substeps: self.last_substeps,
+            adhesion_pairs: c.adhesion_pairs,
         }
     }
 

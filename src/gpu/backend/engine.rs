@@ -143,6 +143,7 @@ impl Engine for GpuBackend {
             particles: st.particles,
             particles_removed: removed,
             threads: 0,
+            adhesion_pairs: 0,
         }
     }
 
