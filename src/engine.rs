@@ -46,7 +46,8 @@ pub struct Counters {
     /// Hair-particle pairs the last step's adhesion pulled, summed over its substeps: the
     /// water's work, which its cost follows (the benches divide one by the other). The CPU
     /// counts a row of up to eight points, one per strand, and a particle within `r_max` of
-    /// any of them as one pair; 0 on the GPU, which does not count them.
+    /// any of them as one pair (a row too wide for one query, point by point); 0 after a
+    /// reset, and on the GPU, which does not count them.
     pub adhesion_pairs: u64,
 }
 

@@ -285,7 +285,7 @@ fn stats_clumping_is_the_measures_on_any_thread_count() {
 /// water's cost by) equals brute force: hair points set at least 2 `r_max` apart, so a
 /// particle reaches at most one point of any row, and one substep, so the hair and the
 /// particles are where they were placed when the pairs are found. The same count on 1 and 3
-/// threads; none with the particles out of reach.
+/// threads; none with the particles out of reach, and none after a reset.
 #[test]
 fn adhesion_pairs_counted_by_the_step_equal_brute_force() {
     use wethair::{groom::Groom, Backend, SimParams, Simulation};
@@ -327,6 +327,12 @@ fn adhesion_pairs_counted_by_the_step_equal_brute_force() {
             sim.counters().adhesion_pairs,
             want,
             "{threads} threads, drops moved {shift} m"
+        );
+        sim.reset().unwrap();
+        assert_eq!(
+            sim.counters().adhesion_pairs,
+            0,
+            "a reset forgets the last step's pairs"
         );
     }
 }

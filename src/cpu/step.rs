@@ -325,6 +325,7 @@ impl CpuBackend {
         self.state = self.lay.rest_state(head);
         self.output_blend = None;
         self.bdf2.0 = Bdf2Clock::default();
+        self.adhesion_pairs = 0;
         self.wet.iter_mut().for_each(|w| *w = [0.0; W]);
         if let Some(h) = &mut self.held {
             h.reset(&self.lay);
@@ -488,7 +489,7 @@ impl CpuBackend {
                 if !wet {
                     continue;
                 }
-                // Each pair left one reaction: counting them reads eight lengths.
+                // Each pair left one reaction: counting them reads each worker's list length.
                 self.adhesion_pairs += self.workers.iter().map(|w| w.reactions.len() as u64).sum::<u64>();
                 let chunk_rows = self.blocks_per_chunk() * self.lay.rows;
                 let water = self.water.as_mut().expect("wet");
