@@ -302,7 +302,7 @@ fn adhesion_pairs_counted_by_the_step_equal_brute_force() {
             (0..points).map(move |i| Vec3::new(x, y, -3.0 * r * i as f32))
         })
         .collect();
-    let groom = Groom::new(hair.clone(), &[points as u32; 12], None, None, 1e-3).unwrap();
+    let groom = Groom::new(hair.clone(), &vec![points as u32; strands], None, None, 1e-3).unwrap();
     let mut rng = Lcg(7);
     let drops = cloud(
         &mut rng,
