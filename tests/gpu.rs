@@ -1107,6 +1107,7 @@ fn liquid_bridges_clump_as_on_the_cpu() {
         for k in [
             "bridge_count",
             "bridge_scan_sums",
+            "bridge_search_setup",
             "bridge_search",
             "bridge_pairs",
             "bridge_coef",

@@ -109,6 +109,7 @@ pub fn constants() -> Vec<(&'static str, Const)> {
     use Const::*;
     vec![
         ("WG", U32(buffers::WG)),
+        ("MAX_GROUPS_X", U32(buffers::MAX_GROUPS_X)),
         ("SCAN_BLOCK", U32(buffers::SCAN_BLOCK)),
         ("DRIP_WG", U32(buffers::DRIP_WG)),
         ("GRID_COUNT_HEADER", U32(buffers::GRID_COUNT_HEADER)),

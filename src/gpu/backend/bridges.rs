@@ -8,12 +8,13 @@ use super::super::pipelines::{self as pl, SceneConsts, Slot};
 use crate::physics::wet::BRIDGE_SEARCH_TURNS;
 
 /// Pass hair_grid's kernels, in order.
-pub(super) const BRIDGE_ENTRIES: [&str; 8] = [
+pub(super) const BRIDGE_ENTRIES: [&str; 9] = [
     "bridge_count",
     "bridge_scan_blocks",
     "bridge_scan_sums",
     "bridge_scan_add",
     "bridge_scatter",
+    "bridge_search_setup",
     "bridge_search",
     "bridge_pairs",
     "bridge_coef",
@@ -28,10 +29,14 @@ pub(super) struct HeldBuffers<'a> {
 /// The liquid bridges' buffers and pipelines.
 #[derive(Debug)]
 pub(super) struct BridgesGpu {
-    /// Wet points per bucket (zero between builds).
+    /// Wet points per bucket, and the points listed to search (zero between builds).
     count: wgpu::Buffer,
-    /// Bucket starts, scan block sums, entries (`bridges.wgsl`).
+    /// Bucket starts, scan block sums, entries, the list of searching points (`bridges.wgsl`).
     bucket: wgpu::Buffer,
+    /// The search's indirect dispatch size, written by `bridge_search_setup`.
+    search_dispatch: wgpu::Buffer,
+    /// `search_dispatch` as storage (bridge_search_setup only).
+    dispatch_bg: wgpu::BindGroup,
     /// Per point: nearest, bridges and coefficients (`buffers::bridge_words`).
     bridge: wgpu::Buffer,
     /// Scan blocks of the bucket table.
@@ -62,13 +67,17 @@ impl BridgesGpu {
         // all, so the table never grows), and whole scan blocks.
         let buckets = (2 * points).next_power_of_two().max(SCAN_BLOCK);
         let blocks = buckets / SCAN_BLOCK;
-        let count = b::buffer(d, "bridge_count", buckets as u64 * 4, STORAGE);
+        let count = b::buffer(d, "bridge_count", (buckets as u64 + 1) * 4, STORAGE);
+        // Starts, block sums, entries, then the search list's length and the list.
         let bucket = b::buffer(
             d,
             "bridge_bucket",
-            (buckets as u64 + 1 + blocks as u64 + points as u64) * 4,
+            (buckets as u64 + 1 + blocks as u64 + 2 * points as u64 + 1) * 4,
             STORAGE,
         );
+        let search_dispatch = b::buffer(d, "bridge_dispatch", 16, STORAGE | wgpu::BufferUsages::INDIRECT);
+        let dispatch_layout = pl::layout(d, "bridge dispatch", &[Slot::ReadWrite]);
+        let dispatch_bg = pl::bind(d, "bridge dispatch", &dispatch_layout, &[&search_dispatch], None);
         let bridge = b::buffer(d, "bridge", points as u64 * bridge_words::PER_POINT as u64 * 4, STORAGE);
         use Slot::*;
         let layout = pl::layout(
@@ -98,10 +107,20 @@ impl BridgesGpu {
         let cohesion_layout = pl::layout(d, "cohesion", &[Read]);
         let cohesion_bg = pl::bind(d, "cohesion", &cohesion_layout, &[&bridge], None);
         let module = pl::module(d, "bridges", &pl::bridges_source(consts, buckets, points));
-        let pipes = pl::pipelines(d, &module, &[&layout], &BRIDGE_ENTRIES);
+        // Only the setup binds group 1: the other kernels leave whatever an earlier pass set
+        // there (the held-water passes bind theirs) out of their layouts.
+        let pipes = BRIDGE_ENTRIES
+            .iter()
+            .flat_map(|&e| match e {
+                "bridge_search_setup" => pl::pipelines(d, &module, &[&layout, &dispatch_layout], &[e]),
+                _ => pl::pipelines(d, &module, &[&layout], &[e]),
+            })
+            .collect();
         BridgesGpu {
             count,
             bucket,
+            search_dispatch,
+            dispatch_bg,
             bridge,
             blocks,
             bg,
@@ -127,6 +146,12 @@ impl BridgesGpu {
             match BRIDGE_ENTRIES[k] {
                 "bridge_scan_blocks" | "bridge_scan_add" => pass.dispatch_workgroups(self.blocks, 1, 1),
                 "bridge_scan_sums" => pass.dispatch_workgroups(1, 1, 1),
+                "bridge_search_setup" => {
+                    pass.set_bind_group(1, &self.dispatch_bg, &[]);
+                    pass.dispatch_workgroups(1, 1, 1)
+                }
+                // Over the listed points only (about an eighth), not all.
+                "bridge_search" => pass.dispatch_workgroups_indirect(&self.search_dispatch, 0),
                 _ => pass.dispatch_workgroups(gx, gy, 1),
             }
         }
@@ -143,6 +168,6 @@ impl BridgesGpu {
 
     /// Bytes held.
     pub(super) fn bytes(&self) -> usize {
-        (self.count.size() + self.bucket.size() + self.bridge.size()) as usize
+        (self.count.size() + self.bucket.size() + self.bridge.size() + self.search_dispatch.size()) as usize
     }
 }

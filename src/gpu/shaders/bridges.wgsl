@@ -1,7 +1,8 @@
 // Liquid bridges on the GPU, pass hair_grid (cpu/bridges.rs `find_pairs`; docs/WET_MODEL.md
 // §5), once per step over the state at its start: a hashed grid of the wet free points
 // (bridge_count, bridge_scan_blocks, bridge_scan_sums, bridge_scan_add, bridge_scatter), this
-// turn's searches for each point's nearest wet points of other strands (bridge_search), the
+// turn's searches for each point's nearest wet points of other strands (bridge_search_setup,
+// bridge_search), the
 // mutual pairs (bridge_pairs) and their coefficients (bridge_coef). Pass cohesion, which pulls,
 // is in the hair module (cohesion.wgsl): it binds the hair's state. Points are numbered as the
 // host numbers them, as the CPU's search turns and tie-breaks count them.
@@ -11,10 +12,13 @@
 @group(0) @binding(2) var<storage, read> held: array<u32>;
 @group(0) @binding(3) var<storage, read> capacity: array<u32>;
 @group(0) @binding(4) var<storage, read> state: array<State>;
-// Wet points per bucket; zero between builds (the scatter counts them back down).
+// Wet points per bucket; zero between builds (the scatter counts them back down). One more
+// word, at BRIDGE_BUCKETS: the points listed to search this step (zeroed when the list is
+// taken, bridge_search_setup).
 @group(0) @binding(5) var<storage, read_write> bucket_count: array<atomic<u32>>;
 // [0, BRIDGE_BUCKETS]: each bucket's first entry (the last word: the total); then each scan
-// block's sum; then the entries, point indices by bucket.
+// block's sum; then the entries, point indices by bucket; then how many points search this
+// step, and those points (in any order: each search writes its own point's record only).
 @group(0) @binding(6) var<storage, read_write> bucket: array<u32>;
 // Per point, BR_WORDS words (buffers.rs `bridge_words`); then, from word P.bridge_masks, each
 // point's mask of mutual bridges; then each point's flag: 1 while it takes part.
@@ -22,6 +26,14 @@
 
 const B_SUMS: u32 = BRIDGE_BUCKETS + 1u;
 const B_ENTRIES: u32 = B_SUMS + BRIDGE_BLOCKS;
+// The search's indirect dispatch size: bound only for bridge_search_setup, as a buffer cannot
+// be storage and indirect in one dispatch.
+@group(1) @binding(0) var<storage, read_write> search_dispatch: array<u32, 3>;
+
+const B_SEARCHES: u32 = B_ENTRIES + BRIDGE_POINTS;
+const B_SEARCH_LIST: u32 = B_SEARCHES + 1u;
+const SEARCH_LISTED: u32 = BRIDGE_BUCKETS;
+
 // Farther than any distance: the empty slots of a search.
 const FAR: f32 = 3.4028235e38;
 
@@ -57,9 +69,16 @@ fn taking_part(i: u32) -> bool {
     return bridge[flag_at(i)] != 0u;
 }
 
-// Pass hair_grid, part 1: wet points per bucket, and each point's flag; a point that has just
-// stopped taking part forgets its nearest and its bridges (one that had not taken part has
-// neither, so most points read their water, capacity and flag, and write nothing).
+// Whether point i, taking part, searches this step: its turn (wet::bridge_search_turn), or it
+// has no neighbour (found none, or has just become wet).
+fn searches(i: u32) -> bool {
+    return i % BRIDGE_SEARCH_TURNS == P.bridge_turn || bridge[i * BR_WORDS + BR_COUNT] == 0u;
+}
+
+// Pass hair_grid, part 1: wet points per bucket, each point's flag, and the list of the points
+// that search; a point that has just stopped taking part forgets its nearest and its bridges
+// (one that had not taken part has neither, so most points read their water, capacity and
+// flag, and write nothing).
 @compute @workgroup_size(WG)
 fn bridge_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                 @builtin(local_invocation_index) lid: u32) {
@@ -80,6 +99,9 @@ fn bridge_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
         return;
     }
     atomicAdd(&bucket_count[bucket_of(bridge_cell(state[i].x.xyz))], 1u);
+    if (searches(i)) {
+        bucket[B_SEARCH_LIST + atomicAdd(&bucket_count[SEARCH_LISTED], 1u)] = i;
+    }
 }
 
 // Pass hair_grid, part 2a: exclusive prefix sum of the counts within blocks of SCAN_BLOCK
@@ -188,21 +210,36 @@ fn visit(c: vec3<i32>, x: vec3<f32>, own: u32) {
     }
 }
 
-// Pass hair_grid, part 4: this turn's points (and every wet point with no neighbour yet) find
-// their MAX_BRIDGES nearest wet points of other strands within the bridge length, as
-// HashGrid::for_each_near_by visits them: the own cell first, then the cells whose nearest
-// face is not beyond the farthest kept. Written in index order.
+// Pass hair_grid, part 4a: takes the list of searching points for bridge_search (its length,
+// and a dispatch of its size, groups() in buffers.rs), and zeroes its count for the next build.
+@compute @workgroup_size(1)
+fn bridge_search_setup() {
+    let n = atomicLoad(&bucket_count[SEARCH_LISTED]);
+    atomicStore(&bucket_count[SEARCH_LISTED], 0u);
+    bucket[B_SEARCHES] = n;
+    let g = max((n + WG - 1u) / WG, 1u);
+    if (g <= MAX_GROUPS_X) {
+        search_dispatch = array<u32, 3>(g, 1u, 1u);
+    } else {
+        search_dispatch = array<u32, 3>(MAX_GROUPS_X, (g + MAX_GROUPS_X - 1u) / MAX_GROUPS_X, 1u);
+    }
+}
+
+// Pass hair_grid, part 4b: the listed points (this turn's, and every wet point with no
+// neighbour yet), a thread each, so every lane of a subgroup searches (dispatched over all
+// points, seven in eight lanes sat idle) find their MAX_BRIDGES nearest wet points of other
+// strands within the bridge length, as HashGrid::for_each_near_by visits them: the own cell
+// first, then the cells whose nearest face is not beyond the farthest kept. Written in index
+// order.
 @compute @workgroup_size(WG)
 fn bridge_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                  @builtin(local_invocation_index) lid: u32) {
-    let i = linear_id(wid, nwg, lid);
-    if (i >= P.points || !taking_part(i)) {
+    let k = linear_id(wid, nwg, lid);
+    if (k >= bucket[B_SEARCHES]) {
         return;
     }
+    let i = bucket[B_SEARCH_LIST + k];
     let at = i * BR_WORDS;
-    if (i % BRIDGE_SEARCH_TURNS != P.bridge_turn && bridge[at + BR_COUNT] != 0u) {
-        return;
-    }
     best_n = 0u;
     for (var k = 0u; k < MAX_BRIDGES; k++) {
         best_d[k] = FAR;
