@@ -7,7 +7,8 @@
 //! with `ITERATIONS=n` Newton iterations; `HASH=1`: a hash of the positions at the end; `CLUMP=1`: the clumping measures at the end;
 //! `SOAK=s`: with the full model, every point soaked to saturation `s` before the first step;
 //! `FAR=1`: the particles 100 m above the head, out of the hair's reach (the lock step's own cost);
-//! `GPU=1`: on the GPU backend, so a GPU change is held to the same hash).
+//! `GPU=1`: on the GPU backend, so a GPU change is held to the same hash; `LEDGER=1`: where the
+//! water is at the end, as shares of what was added, and the drops in flight and gone).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -199,6 +200,24 @@ fn main() {
             "clumping {:.6} m at the tips, {:.6} m along the strands",
             st.clumping, st.clumping_along
         );
+    }
+    // LEDGER=1: where the water is at the end (full model), as shares of what was added; the
+    // drops in flight, those gone out of the domain, and the last step's adhesion pairs.
+    if std::env::var_os("LEDGER").is_some() {
+        if let Some(l) = sim.water_ledger() {
+            let share = |q: u64| 100.0 * q as f64 / l.added.max(1) as f64;
+            let st = sim.stats();
+            println!(
+                "water: {:.2} % held, {:.2} % in particles, {:.2} % left, {:.2} % evaporated; {} drops in flight, {} gone, {} adhesion pairs in the last step",
+                share(l.held),
+                share(l.in_particles),
+                share(l.left),
+                share(l.evaporated),
+                st.particles,
+                st.particles_removed,
+                st.adhesion_pairs
+            );
+        }
     }
     println!("{:.3} ms/frame, {} particles held", ms, sim.stats().particles);
 }
