@@ -2,10 +2,10 @@
 // §5), once per step over the state at its start: a hashed grid of the wet free points
 // (bridge_count, bridge_scan_blocks, bridge_scan_sums, bridge_scan_add, bridge_scatter), this
 // turn's searches for each point's nearest wet points of other strands (bridge_search_setup,
-// bridge_search), the
-// mutual pairs (bridge_pairs) and their coefficients (bridge_coef). Pass cohesion, which pulls,
-// is in the hair module (cohesion.wgsl): it binds the hair's state. Points are numbered as the
-// host numbers them, as the CPU's search turns and tie-breaks count them.
+// bridge_search), the mutual pairs (bridge_pairs) and their coefficients (bridge_coef). Pass
+// cohesion, which pulls, is in the hair module (cohesion.wgsl): it binds the hair's state.
+// Points are numbered as the host numbers them, as the CPU's search turns and tie-breaks count
+// them.
 
 @group(0) @binding(0) var<uniform> P: Params;
 @group(0) @binding(1) var<storage, read> points: array<Point>;
@@ -225,12 +225,12 @@ fn bridge_search_setup() {
     }
 }
 
-// Pass hair_grid, part 4b: the listed points (this turn's, and every wet point with no
-// neighbour yet), a thread each, so every lane of a subgroup searches (dispatched over all
-// points, seven in eight lanes sat idle) find their MAX_BRIDGES nearest wet points of other
-// strands within the bridge length, as HashGrid::for_each_near_by visits them: the own cell
-// first, then the cells whose nearest face is not beyond the farthest kept. Written in index
-// order.
+// Pass hair_grid, part 4b: each listed point (this turn's, and every wet point with no
+// neighbour yet) finds its MAX_BRIDGES nearest wet points of other strands within the bridge
+// length, as HashGrid::for_each_near_by visits them: the own cell first, then the cells whose
+// nearest face is not beyond the farthest kept. Written in index order. A thread per listed
+// point, so every lane of a subgroup searches (dispatched over all points, seven lanes in
+// eight sat idle).
 @compute @workgroup_size(WG)
 fn bridge_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                  @builtin(local_invocation_index) lid: u32) {
