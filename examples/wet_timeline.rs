@@ -43,6 +43,7 @@ fn main() {
             dry_time: tau,
             bridge_tension: kappa,
             capacity_ratio: 0.01,
+            free_ratio: 0.02,
             drip_mass: 3.0e-5,
             ..HeldWater::ON
         },
@@ -61,7 +62,7 @@ fn main() {
     for f in 0..frames {
         if f as f32 * dt >= soak_at {
             if soaks && !soaked {
-                wet.soak(1.0).unwrap();
+                wet.soak(2.0).unwrap();
                 soaked = true;
             }
             if showers && sprayed < 1000 {

@@ -433,14 +433,16 @@ typedef struct WetHairMaterial {
   float bend_damping;
 } WetHairMaterial;
 
-// The full wet model (docs/WET_MODEL.md). The GPU backend runs all of it but the liquid
-// bridges: with `bridge_tension` above 0 a GPU desc is refused and AUTO runs on the CPU. Off (`enabled` 0, the default) a simulation runs the paper's model.
-// Rates of 0 switch their part off; no part costs anything while off.
+// The full wet model (docs/WET_MODEL.md), on both backends. Off (`enabled` 0, the default)
+// a simulation runs the paper's model. Rates of 0 switch their part off; no part costs
+// anything while off. The water held between the fibres is
+// `WetHairSimDesc::held_water_free_ratio` (since 0.6.0: this struct cannot grow).
 typedef struct WetHairHeldWater {
   // 1: hair points hold water (weight, limpness, absorption, bridges, flow, drip, drying);
   // 0: off. Other values are refused.
   uint32_t enabled;
-  // Water a kilogram of dry hair holds when saturated, kg/kg, 0..=100. Default 0.3.
+  // Water a kilogram of dry hair takes into its fibres when saturated, kg/kg, 0..=100.
+  // Default 0.3.
   float capacity_ratio;
   // Drying time constant in still air, s; 0 never dries. Default 1200.
   float dry_time;
@@ -457,7 +459,7 @@ typedef struct WetHairHeldWater {
   float bridge_length;
   // Mobility of held water along a strand, 1/s; 0: it stays put. Default 5.
   float flow_mobility;
-  // Smallest drop that leaves a point above capacity, kg, > 0. Default 4.2e-6.
+  // Smallest drop that leaves a point above its hold limit, kg, > 0. Default 4.2e-6.
   float drip_mass;
 } WetHairHeldWater;
 
@@ -653,6 +655,15 @@ typedef struct WetHairSimDesc {
   // Guides and followers with level of detail (since 0.5.0; off by default: every strand
   // simulated). A 296-byte layout (0.4.0) ended before it.
   struct WetHairGuides guides;
+  // Water a kilogram of dry hair holds between its fibres against gravity, above
+  // `held_water.capacity_ratio`, kg/kg, 0..=100 (since 0.6.0; part of the wet model, here
+  // because `WetHairHeldWater` sits inside this struct and cannot grow). A point's hold
+  // limit is `capacity_ratio + held_water_free_ratio` times its dry mass: absorption
+  // fills it that far, and only the water above it runs down the strand and drips.
+  // Default 1; a 328-byte layout (0.5.0) ended before it and takes the default.
+  float held_water_free_ratio;
+  // Unused; keep 0.
+  uint32_t reserved7;
 } WetHairSimDesc;
 
 // What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.
@@ -1334,9 +1345,11 @@ WetHairResult wethair_sim_get_vulkan_buffer(struct WetHairSim *sim, struct WetHa
 // `sim` is valid; `out` is writable.
 WetHairResult wethair_sim_get_vulkan_water(struct WetHairSim *sim, struct WetHairVulkanWater *out);
 
-// Wets every hair point up to saturation `s` (0..=1) of its capacity, as when a character
-// steps out of water; never removes water. Needs `held_water.enabled` (else
-// `WETHAIR_ERROR_UNSUPPORTED`).
+// Wets every hair point up to `s` times its hold limit (its capacity and the water between
+// its fibres), as when a character steps out of water; never removes water. 1 is as wet as
+// hair stays; above 1 (up to 10, since 0.6.0) the excess runs down the strands and drips,
+// as from hair just out of a bath, and is refused when nothing drips (`flow_mobility` and
+// `absorb_rate` both 0). Needs `held_water.enabled` (else `WETHAIR_ERROR_UNSUPPORTED`).
 //
 // # Safety
 // `sim` is valid.

@@ -198,7 +198,7 @@ pub trait Engine: std::fmt::Debug + Send {
     }
     /// Every buffer the backend holds and its size in bytes.
     fn buffers(&self) -> Vec<(&'static str, usize)>;
-    /// Wets every free hair point up to saturation `s` (held water; never removes water).
+    /// Wets every free hair point up to `s` times its hold limit (held water; never removes water).
     fn soak(&mut self, _s: f32) -> Result<()> {
         Err(crate::error::Error::Unsupported(
             "held water is not simulated on this backend".into(),

@@ -114,13 +114,15 @@ impl Reference {
         }
     }
 
-    /// The same scene with every hair point holding `saturation` of its capacity, held still
+    /// The same scene with every hair point soaked to `soak` of its hold limit, held still
     /// (the wet model with no flow, drip, drying or absorption): a free point weighs its dry
-    /// mass times `1 + saturation × capacity_ratio`, and every bend spring's stiffness (not its
-    /// damping) is scaled by `1 - (1 - wet_bend_ratio) × saturation` (docs/WET_MODEL.md §3-§4,
-    /// written here again in f64).
-    pub fn soaked(mut self, saturation: f64, held: &crate::params::HeldWater) -> Self {
-        let gain = 1.0 + saturation * held.capacity_ratio as f64;
+    /// mass times `1 + soak × (capacity_ratio + free_ratio)`, and every bend spring's stiffness
+    /// (not its damping) is scaled by `1 - (1 - wet_bend_ratio) × s`, `s` the water over the
+    /// capacity (docs/WET_MODEL.md §3-§4, written here again in f64).
+    pub fn soaked(mut self, soak: f64, held: &crate::params::HeldWater) -> Self {
+        let (cap, free) = (held.capacity_ratio as f64, held.free_ratio as f64);
+        let gain = 1.0 + soak * (cap + free);
+        let saturation = if cap > 0.0 { soak * (cap + free) / cap } else { 0.0 };
         for i in 0..self.hair {
             if self.inv_mass[i] > 0.0 {
                 self.mass[i] *= gain;

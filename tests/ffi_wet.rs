@@ -202,7 +202,7 @@ fn bad_wet_values_are_refused_by_name_and_write_nothing() {
         unsafe { wethair_sim_set_wind(null_mut(), &bad) },
         WETHAIR_ERROR_NULL_POINTER
     );
-    for v in [f32::NAN, -0.1, 1.5] {
+    for v in [f32::NAN, -0.1, 10.5] {
         assert_eq!(
             unsafe { wethair_sim_soak(s, v) },
             WETHAIR_ERROR_INVALID_ARGUMENT,
@@ -266,8 +266,9 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
         assert!(at(std::ptr::addr_of!((*d).error_estimate_stride) as *const u8) >= 216);
         assert!(at(std::ptr::addr_of!((*d).fixed_step) as *const u8) >= 232);
         assert!(at(std::ptr::addr_of!((*d).guides) as *const u8) >= 296);
+        assert!(at(std::ptr::addr_of!((*d).held_water_free_ratio) as *const u8) >= 328);
     }
-    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 328, "no padding at the end");
+    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 336, "no padding at the end");
     assert_eq!(std::mem::size_of::<WetHairStats>(), 120);
 }
 

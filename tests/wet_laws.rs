@@ -77,31 +77,32 @@ fn flow_conserves_water_and_drains_a_hanging_strand_to_its_tip() {
     let g = Vec3::new(0.0, 0.0, -9.81);
     let x: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.0, 0.0, -0.01 * i as f32)).collect();
     let a = vec![Vec3::ZERO; n];
+    let none = vec![0u32; n];
     let mut held = vec![to_quanta(1.0e-6); n];
     let total: u64 = held.iter().map(|&w| w as u64).sum();
     for _ in 0..2000 {
-        flow_strand(&mut held, &x, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
+        flow_strand(&mut held, &none, &x, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
         assert_eq!(held.iter().map(|&w| w as u64).sum::<u64>(), total, "conserved exactly");
     }
     assert!(
         held[n - 1] as f64 > 0.99 * total as f64,
-        "the tip holds it all: {:?}",
+        "with no hold limit, the tip holds it all: {:?}",
         &held[n - 3..]
     );
     // A horizontal strand under vertical gravity does not move its water.
     let flat: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.01 * i as f32, 0.0, 0.0)).collect();
     let before: Vec<u32> = (0..n as u32).map(|i| 1000 * (i + 1)).collect();
     let mut w = before.clone();
-    flow_strand(&mut w, &flat, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
+    flow_strand(&mut w, &none, &flat, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
     assert_eq!(w, before);
     // A strand accelerated downward at g (free fall) feels no gravity along it: no flow either.
     let fall = vec![g; n];
     let mut w2 = before.clone();
-    flow_strand(&mut w2, &x, &fall, g, FLOW_MOBILITY, 1.0 / 60.0);
+    flow_strand(&mut w2, &none, &x, &fall, g, FLOW_MOBILITY, 1.0 / 60.0);
     assert_eq!(w2, before);
     // A step long enough to send more than a point holds sends what it holds, no more.
     let mut w3 = before.clone();
-    flow_strand(&mut w3, &x, &a, g, FLOW_MOBILITY, 10.0);
+    flow_strand(&mut w3, &none, &x, &a, g, FLOW_MOBILITY, 10.0);
     assert_eq!(
         w3.iter().map(|&v| v as u64).sum::<u64>(),
         before.iter().map(|&v| v as u64).sum::<u64>()
@@ -109,9 +110,49 @@ fn flow_conserves_water_and_drains_a_hanging_strand_to_its_tip() {
     assert_eq!(w3[0], 0, "the root sent everything");
 }
 
+/// docs/WET_MODEL.md §6: only the water above a point's hold limit runs. A hanging strand
+/// holding less than its limits keeps every quantum where it is, however long it hangs; one
+/// soaked past them runs the excess to its tip, and every point above keeps its limit (to
+/// the few quanta a step's rounding leaves).
 #[test]
-fn drops_leave_only_above_capacity_and_take_the_excess() {
-    let cap = to_quanta(1.0e-5);
+fn only_water_above_the_hold_limit_runs() {
+    let n = 16;
+    let g = Vec3::new(0.0, 0.0, -9.81);
+    let x: Vec<Vec3> = (0..n).map(|i| Vec3::new(0.0, 0.0, -0.01 * i as f32)).collect();
+    let a = vec![Vec3::ZERO; n];
+    let hold = vec![to_quanta(1.3e-6); n];
+    let below: Vec<u32> = (0..n).map(|i| to_quanta(1.0e-6) + 1000 * i as u32).collect();
+    let mut w = below.clone();
+    for _ in 0..600 {
+        flow_strand(&mut w, &hold, &x, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
+    }
+    assert_eq!(w, below, "water within the hold limits stays put");
+    // Twice the limits: the excess runs down, all of it but a step's rounding.
+    let mut w = vec![2 * hold[0]; n];
+    let total: u64 = w.iter().map(|&q| q as u64).sum();
+    for _ in 0..6000 {
+        flow_strand(&mut w, &hold, &x, &a, g, FLOW_MOBILITY, 1.0 / 60.0);
+    }
+    assert_eq!(w.iter().map(|&q| q as u64).sum::<u64>(), total, "conserved exactly");
+    // A point's send rounds down to 0 below 1 / (h mobility) = 12 quanta above its limit.
+    for (i, &q) in w[..n - 1].iter().enumerate() {
+        assert!(
+            (hold[i]..=hold[i] + 12).contains(&q),
+            "point {i} keeps its limit: {q} vs {}",
+            hold[i]
+        );
+    }
+    let excess = total - hold.iter().map(|&q| q as u64).sum::<u64>();
+    assert!(
+        w[n - 1] as u64 - hold[n - 1] as u64 > excess - 12 * n as u64,
+        "the tip gathers the excess"
+    );
+}
+
+#[test]
+fn drops_leave_only_above_the_hold_limit_and_take_the_excess() {
+    let cap = hold_limit(1.0e-5, 0.3, 0.7);
+    assert_eq!(cap, to_quanta(1.0e-5));
     let min = to_quanta(MIN_DROP_MASS as f64);
     assert_eq!(drip(cap, cap, min), 0);
     assert_eq!(drip(cap + min / 2, cap, min), 0, "too small yet");

@@ -113,6 +113,8 @@ fn limp_hair_bends_as_the_curve_says() {
     let tip = |soak: Option<f32>| -> Vec3 {
         let mut p = full(0.0);
         p.held_water.flow_mobility = 0.0;
+        // The hold limit at capacity: a soaking's `s` is then the saturation the curve reads.
+        p.held_water.free_ratio = 0.0;
         p.air_drag = 0.01;
         let mut sim = Simulation::new(&groom, p).unwrap();
         if let Some(s) = soak {
@@ -203,7 +205,8 @@ fn a_saturated_strand_drips_only_from_its_tip_and_the_drops_fall_freely() {
     p.air_drag = 0.01;
     p.water.domain_radius = 100.0; // no drop leaves while it is followed
     let mut sim = Simulation::new(&groom, p).unwrap();
-    sim.soak(1.0).unwrap();
+    // Twice what the hair holds against gravity, as out of a bath: the excess runs and drips.
+    sim.soak(2.0).unwrap();
     let mut drops = 0;
     let mut seen: Vec<(usize, Vec3, Vec3)> = Vec::new(); // (frame made, where, velocity then)
     for f in 0..600 {
@@ -236,6 +239,37 @@ fn a_saturated_strand_drips_only_from_its_tip_and_the_drops_fall_freely() {
         }
     }
     assert!(!seen.is_empty(), "a saturated hanging strand drips");
+    // Once the excess has dripped, the strand stays wet along its length: every point but the
+    // tip holds its hold limit (wetness 1, to the quanta of a step's rounding), not the tip
+    // alone.
+    let wet: Vec<f32> = sim.point_states().unwrap().iter().map(|s| s.2).collect();
+    assert!(
+        wet[1..n - 1].iter().all(|&w| w > 0.999),
+        "wet along its length: {wet:?}"
+    );
+}
+
+/// docs/WET_MODEL.md §6: water within the hold limit does not run. A hanging strand soaked to
+/// 0.8 of it and left for ten seconds (no drying) keeps every quantum where it was put: no
+/// drop leaves, and every point shows the same wetness as at the start.
+#[test]
+fn a_strand_within_its_hold_limit_keeps_its_water_where_it_is() {
+    let n = 10;
+    let groom = strand(Vec3::new(0.0, 0.0, 0.5), Vec3::NEG_Z, n, 0.02, 1.0e-3);
+    let mut p = full(0.0);
+    p.air_drag = 0.01;
+    let mut sim = Simulation::new(&groom, p).unwrap();
+    sim.soak(0.8).unwrap();
+    let before: Vec<f32> = sim.point_states().unwrap().iter().map(|s| s.2).collect();
+    for _ in 0..600 {
+        sim.step(DT).unwrap();
+    }
+    let l = sim.water_ledger().unwrap();
+    assert_eq!(l.held, l.added, "all of it still held: {l:?}");
+    assert_eq!(sim.water().unwrap().0.len(), 0, "no drop left");
+    let after: Vec<f32> = sim.point_states().unwrap().iter().map(|s| s.2).collect();
+    assert_eq!(after, before, "every point keeps its water");
+    assert!(after[1..].iter().all(|&w| (w - 0.8).abs() < 1e-6), "{after:?}");
 }
 
 #[test]
@@ -328,6 +362,7 @@ fn liquid_bridges_pull_two_wet_strands_together_equally_and_dry_or_damp_ones_not
     let gap = |soak: Option<f32>| -> (f32, f32) {
         let mut p = full(0.0);
         p.held_water.flow_mobility = 0.0; // the water stays where it was put
+        p.held_water.free_ratio = 0.0; // a soaking's `s` is the saturation
         p.air_drag = 0.01;
         let mut sim = Simulation::new(&groom, p).unwrap();
         if let Some(s) = soak {

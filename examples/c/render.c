@@ -47,11 +47,14 @@ static int run_strip(const char *out, const WetHairGroom *groom, uint32_t backen
     WetHairSim *dry = NULL, *wet = NULL;
     wh_check(wethair_sim_create(&desc, &dry), "wethair_sim_create");
     /* The paper scene's points weigh 1 g each (a wisp of some 8,000 hairs; 50 kg of hair in
-     * all): at the default 0.3 kg of water per kg it would hold 15 kg and shed tens of
-     * thousands of drops. A thirtieth of that holds about 0.7 kg, shed as 30 mg (3.9 mm) drops. */
+     * all): at the default 1.3 kg of water per kg (0.3 in the fibres, 1 between them) it would
+     * hold 65 kg and shed tens of thousands of drops. A thirtieth of the capacity and a fiftieth
+     * of the water between fibres hold about 2 kg, and what passes that is shed as 30 mg
+     * (3.9 mm) drops. */
     desc.held_water.enabled = 1;
     desc.held_water.dry_time = 1.0f;
     desc.held_water.capacity_ratio = 0.01f;
+    desc.held_water_free_ratio = 0.02f;
     desc.held_water.drip_mass = 3.0e-5f;
     wh_check(wethair_sim_create(&desc, &wet), "wethair_sim_create");
 
@@ -71,7 +74,8 @@ static int run_strip(const char *out, const WetHairGroom *groom, uint32_t backen
         float t = (float)f * dt;
         if (t > soak_at) {
             if (!soaked) {
-                wh_check(wethair_sim_soak(wet, 1.0f), "wethair_sim_soak");
+                /* Twice what the hair holds, as out of a bath: the excess runs and drips. */
+                wh_check(wethair_sim_soak(wet, 2.0f), "wethair_sim_soak");
                 soaked = 1;
             }
             if (added < particles) {

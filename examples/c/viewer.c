@@ -213,7 +213,8 @@ static void read_rest_roots(Viewer *v) {
 
 /* Soaks the hair (the wet model only; says so otherwise). */
 static void soak(Viewer *v) {
-    if (v->wet_model) wh_check(wethair_sim_soak(v->sim, 1.0f), "wethair_sim_soak");
+    /* Twice what the hair holds, as out of a bath: the excess runs down and drips. */
+    if (v->wet_model) wh_check(wethair_sim_soak(v->sim, 2.0f), "wethair_sim_soak");
     else printf("viewer: soak needs --wet-model\n");
 }
 
@@ -231,8 +232,10 @@ static void make_sim(Viewer *v) {
         desc.integrator = WETHAIR_INTEGRATOR_SYMPLECTIC_EULER;
     }
     if (v->is_paper && v->wet_model) {
-        /* 1 g points (wisps of thousands of hairs): a thirtieth of the capacity, 30 mg drops. */
+        /* 1 g points (wisps of thousands of hairs): a thirtieth of the capacity, a fiftieth of
+         * the water between fibres, 30 mg drops. */
         desc.held_water.capacity_ratio = 0.01f;
+        desc.held_water_free_ratio = 0.02f;
         desc.held_water.drip_mass = 3.0e-5f;
     }
     if (v->wet_model) {

@@ -21,8 +21,11 @@ pub(super) const BLOCKS_PER_TASK: usize = 32;
 pub struct Held {
     /// Water per point, quanta (0 on padding lanes).
     pub water: AlignedRows<[u32; W]>,
-    /// Capacity per point, quanta (0 on padding lanes).
+    /// Capacity per point, quanta (0 on padding lanes): the water its fibres take in.
     pub capacity: AlignedRows<[u32; W]>,
+    /// Hold limit per point, quanta (0 on padding lanes; `wet::hold_limit`): what it holds
+    /// against gravity, in and between its fibres.
+    pub hold: AlignedRows<[u32; W]>,
     /// Per row, the dry values the wet parameters are computed from.
     dry: Vec<DryRow>,
     /// The layout's row parameters with each free point's inverse mass from its dry mass plus
@@ -72,6 +75,7 @@ impl Held {
             })
             .collect();
         let mut capacity = AlignedRows::filled([0u32; W], n_rows);
+        let mut hold = AlignedRows::filled([0u32; W], n_rows);
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
             let first = lay.strand_first[s] as usize;
@@ -81,12 +85,14 @@ impl Held {
                     dry[r].mass[l] = m;
                 }
                 capacity[r][l] = wet::capacity(m, cfg.capacity_ratio);
+                hold[r][l] = wet::hold_limit(m, cfg.capacity_ratio, cfg.free_ratio);
             }
         }
         let flows = cfg.flows();
         Held {
             water: AlignedRows::filled([0; W], n_rows),
             capacity,
+            hold,
             dry,
             params: lay.params.clone(),
             params_wet: vec![false; n_rows],
@@ -139,6 +145,7 @@ impl Held {
             rows: lay.rows,
             dry: &self.dry,
             capacity: &self.capacity,
+            hold: &self.hold,
             limp: self.cfg.limp(),
             ratio: self.cfg.wet_bend_ratio,
         }
@@ -150,12 +157,12 @@ impl Held {
         std::mem::take(&mut self.fresh)
     }
 
-    /// Wets every point up to saturation `s` (in [0, 1]) of its capacity; never removes
+    /// Wets every point up to `s` times its hold limit ([`wet::soak_target`]); never removes
     /// water. What it adds is booked as added.
     pub fn soak(&mut self, s: f32) {
-        for (w, c) in self.water.iter_mut().zip(&self.capacity) {
+        for (w, c) in self.water.iter_mut().zip(&self.hold) {
             for l in 0..W {
-                let target = (c[l] as f64 * s as f64).floor() as u32;
+                let target = wet::soak_target(c[l], s);
                 if w[l] < target {
                     self.added += (target - w[l]) as u64;
                     w[l] = target;
@@ -186,17 +193,19 @@ impl Held {
         self.fresh = false;
     }
 
-    /// Writes each point's saturation, at most 1, as its wetness, and learns whether any
-    /// point holds water (nothing to write when none may: the wetness is already zero).
+    /// Writes each point's wetness (its water over its hold limit, at most 1), and learns
+    /// whether any point holds water (nothing to write when none may: the wetness is already
+    /// zero).
     pub fn saturation_into(&mut self, wetness: &mut [Lane], pool: Option<&Pool>) {
         if !self.may_hold {
             return;
         }
         let any = std::sync::atomic::AtomicBool::new(false);
-        let (water, capacity) = (&self.water, &self.capacity);
+        let (water, capacity, hold) = (&self.water, &self.capacity, &self.hold);
         let write = |r0: usize, out: &mut [Lane]| {
             let n = out.len();
-            if held_rows::saturation_rows(&water[r0..r0 + n], &capacity[r0..r0 + n], out, None) {
+            let r = r0..r0 + n;
+            if held_rows::saturation_rows(&water[r.clone()], &capacity[r.clone()], &hold[r], out, None) {
                 any.store(true, std::sync::atomic::Ordering::Relaxed);
             }
         };
@@ -244,6 +253,7 @@ impl Held {
     pub fn bytes(&self) -> usize {
         self.water.capacity() * 4 * W
             + self.capacity.capacity() * 4 * W
+            + self.hold.capacity() * 4 * W
             + self.dry.capacity() * std::mem::size_of::<DryRow>()
             + self.params.capacity() * std::mem::size_of::<ParamRow>()
             + self.params_wet.capacity()

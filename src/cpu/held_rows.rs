@@ -33,6 +33,8 @@ pub struct ParamSource<'a> {
     /// Each row's dry record.
     pub dry: &'a [DryRow],
     pub capacity: &'a [[u32; W]],
+    /// The rows' hold limits.
+    pub hold: &'a [[u32; W]],
     /// Whether bend stiffness falls with saturation, and the saturated ratio.
     pub limp: bool,
     pub ratio: f32,
@@ -114,13 +116,14 @@ pub fn dry_rows(water: &mut [[u32; W]], state: &[StateRow], law: DryLaw) -> u64 
     lost
 }
 
-/// Each point's saturation, at most 1, as its wetness (`capacity` from the same row on);
-/// returns whether any point holds water. With `keep`, each row's unclamped saturations are
-/// also kept there (for [`refresh_rows`]).
+/// Each point's wetness, its water over its hold limit at most 1 (`capacity` and `hold` from
+/// the same row on); returns whether any point holds water. With `keep`, each row's
+/// saturations (water over capacity, unclamped) are also kept there (for [`refresh_rows`]).
 #[inline(always)]
 pub fn saturation_rows(
     water: &[[u32; W]],
     capacity: &[[u32; W]],
+    hold: &[[u32; W]],
     out: &mut [Lane],
     keep: Option<&mut Vec<Lane>>,
 ) -> bool {
@@ -129,14 +132,14 @@ pub fn saturation_rows(
     if let Some(k) = keep.as_deref_mut() {
         k.clear();
     }
-    for ((out, w), c) in out.iter_mut().zip(water).zip(capacity) {
+    for (((out, w), c), h) in out.iter_mut().zip(water).zip(capacity).zip(hold) {
         held |= *w != [0; W];
-        let s = wet::saturation_lanes(w, c);
+        let shown = wet::saturation_lanes(w, h);
         for l in 0..W {
-            out[l] = s[l].min(1.0);
+            out[l] = shown[l].min(1.0);
         }
         if let Some(k) = keep.as_deref_mut() {
-            k.push(s);
+            k.push(wet::saturation_lanes(w, c));
         }
     }
     held
@@ -151,12 +154,12 @@ pub fn bridge_marks(water: &[[u32; W]], capacity: &[[u32; W]], free: &[u8], out:
     }
 }
 
-/// Per lane of a block (`water` its rows, `capacity` from its first row on), whether some
-/// point holds a drop's excess: which strands the drip pass visits.
+/// Per lane of a block (`water` its rows, `hold` from its first row on), whether some
+/// point holds a drop's excess over its hold limit: which strands the drip pass visits.
 #[inline(always)]
-pub fn drip_lanes(water: &[[u32; W]], capacity: &[[u32; W]], min_drop: u32) -> u8 {
+pub fn drip_lanes(water: &[[u32; W]], hold: &[[u32; W]], min_drop: u32) -> u8 {
     let mut m = 0u8;
-    for (w, c) in water.iter().zip(capacity) {
+    for (w, c) in water.iter().zip(hold) {
         m |= pack_bits(std::array::from_fn(|l| wet::drip(w[l], c[l], min_drop) > 0));
     }
     m
@@ -188,23 +191,31 @@ impl BlockScratch {
     }
 }
 
-/// Pass `flow` on block `b` (`water` its rows; `state` and `v0` from its first row on): held
-/// water runs along each strand toward where gravity minus the point's acceleration over the
-/// step points (`wet::flow_lanes`, the block's eight strands at once). A dry block is left
-/// alone.
+/// Pass `flow` on block `b` (`water` its rows; `hold`, `state` and `v0` from its first row
+/// on): held water above each point's hold limit runs along each strand toward where gravity
+/// minus the point's acceleration over the step points (`wet::flow_rows`, the block's eight
+/// strands at once). A block with no water above a hold limit is left alone (nearly every
+/// wet block: the water the hair holds does not run).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn flow_block(
     lay: &Layout,
     b: usize,
     water: &mut [[u32; W]],
+    hold: &[[u32; W]],
     state: &[StateRow],
     v0: &[L3],
     g: Vec3,
     mobility: f32,
     dt: f32,
 ) {
-    if water.iter().all(|w| w.iter().all(|&q| q == 0)) {
+    let hold = &hold[..water.len()];
+    // A fold, not `any`: no branch a lane.
+    let runs = water
+        .iter()
+        .zip(hold)
+        .fold(false, |r, (w, c)| (0..W).fold(r, |r, l| r | (w[l] > c[l])));
+    if !runs {
         return;
     }
     // Each lane's points: its real rows, which are the block's first (read from the block's
@@ -215,6 +226,7 @@ pub fn flow_block(
     // The closures marked inline: left calls, they ran compiled without AVX2.
     wet::flow_rows(
         water,
+        hold,
         #[inline(always)]
         |i| state[i].x,
         #[inline(always)]

@@ -107,9 +107,10 @@ pub(super) struct AbsorbCtx<'a> {
     /// The fraction of a particle a point within `r_min` takes in a substep
     /// (`wet::absorb_take`, once per substep, not once per pair).
     pub(super) take: f32,
-    /// Held water and capacity per row, quanta (saturation at the substep's start).
+    /// Held water and hold limit per row, quanta (how full each point is at the substep's
+    /// start).
     pub(super) held: &'a [[u32; W]],
-    pub(super) capacity: &'a [[u32; W]],
+    pub(super) hold: &'a [[u32; W]],
 }
 
 /// One substep of one block, compiled for the best instruction set this CPU has (AVX2 where
@@ -235,7 +236,7 @@ fn block_substep_impl<const AXIAL: bool>(
                 mass: a.mass,
                 strength_per_quantum: a.strength_per_quantum,
                 water: &a.held[base + i],
-                capacity: &a.capacity[base + i],
+                hold: &a.hold[base + i],
                 sat: None,
                 first_point: ((base + i) * W) as u32,
                 take: a.take,

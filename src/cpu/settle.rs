@@ -113,7 +113,7 @@ impl<'a> Finish<'a> {
     #[inline(always)]
     fn block(&self, r0: usize, out: Rows, scratch: &mut BlockScratch) -> (u64, bool) {
         let n = out.water.len();
-        let cap = &self.src.capacity[r0..r0 + n];
+        let (cap, hold) = (&self.src.capacity[r0..r0 + n], &self.src.hold[r0..r0 + n]);
         // Each law compiled on its own (for AVX2 where the CPU has it): inlined into one
         // body, the compiler left the drying's lanes partly scalar.
         let lost = match self.dry {
@@ -128,7 +128,7 @@ impl<'a> Finish<'a> {
         let any = avx2(
             self.avx2,
             #[inline(always)]
-            || held_rows::saturation_rows(out.water, cap, out.wetness, Some(&mut *sat)),
+            || held_rows::saturation_rows(out.water, cap, hold, out.wetness, Some(&mut *sat)),
         );
         avx2(
             self.avx2,
@@ -227,15 +227,27 @@ impl Held {
                         avx2(
                             av,
                             #[inline(always)]
-                            || held_rows::flow_block(lay, b, block.water, st, block.v0, g, mob, dt),
+                            || {
+                                held_rows::flow_block(
+                                    lay,
+                                    b,
+                                    block.water,
+                                    &finish.src.hold[r0..],
+                                    st,
+                                    block.v0,
+                                    g,
+                                    mob,
+                                    dt,
+                                )
+                            },
                         );
                     }
                     if drips {
-                        let cap = &finish.src.capacity[r0..r0 + rows];
+                        let hold = &finish.src.hold[r0..r0 + rows];
                         lanes[j] = avx2(
                             av,
                             #[inline(always)]
-                            || held_rows::drip_lanes(block.water, cap, min_drop),
+                            || held_rows::drip_lanes(block.water, hold, min_drop),
                         );
                         if lanes[j] != 0 {
                             continue; // finished after the drip pass
@@ -321,7 +333,7 @@ impl Held {
         self.fresh = true;
     }
 
-    /// Pass `drip` (§6): a point holding more than its capacity by at least the drip mass
+    /// Pass `drip` (§6): a point holding more than its hold limit by at least the drip mass
     /// `min_drop`, and from which the water cannot run on along the strand (no neighbour lies
     /// along its effective gravity: a hanging strand's tip, the bottom of a loop, any point
     /// when water does not flow), sheds the excess as a new particle with the point's
@@ -339,7 +351,7 @@ impl Held {
             }
             let rows = b * lay.rows..b * lay.rows + lay.strand_points(s);
             for r in rows.clone() {
-                let q = wet::drip(self.water[r][l], self.capacity[r][l], min_drop);
+                let q = wet::drip(self.water[r][l], self.hold[r][l], min_drop);
                 if q == 0 {
                     continue;
                 }
@@ -392,12 +404,12 @@ mod tests {
         let mut state = lay.rest_state(&glam::Affine3A::IDENTITY);
         let mut held = Held::new(&lay, params.held_water);
         held.soak(0.6);
-        // Uneven water: some rows dry, some over capacity.
+        // Uneven water: some rows dry, some over the hold limit.
         for (k, w) in held.water.iter_mut().enumerate() {
             for l in 0..W {
                 w[l] = match (k + l) % 5 {
                     0 => 0,
-                    1 => held.capacity[k][l] * 2,
+                    1 => held.hold[k][l] * 2,
                     _ => w[l],
                 };
             }

@@ -131,16 +131,7 @@ impl CpuBackend {
             .collect();
         let n_sub = params.substeps as usize;
         let hw = params.held_water;
-        if hw.enabled {
-            let heaviest = lay.mass.iter().fold(0.0f32, |a, &m| a.max(m));
-            let most = heaviest as f64 * hw.capacity_ratio as f64;
-            if most > crate::physics::wet::MAX_WATER_MASS {
-                return Err(crate::error::invalid!(
-                    "held water: a point of {heaviest} kg would hold {most:e} kg, more than one water count ({:e} kg); lower held_water.capacity_ratio",
-                    crate::physics::wet::MAX_WATER_MASS
-                ));
-            }
-        }
+        hw.check_masses(&lay.mass)?;
         let held = hw.enabled.then(|| super::held::Held::new(&lay, hw));
         let bridges = hw
             .bridges()
@@ -630,7 +621,7 @@ impl CpuBackend {
                         / (p.water.particle_mass as f64 / crate::physics::wet::WATER_QUANTUM),
                     take: crate::physics::wet::absorb_take(p.held_water.absorb_rate, h),
                     held: &hd.water,
-                    capacity: &hd.capacity,
+                    hold: &hd.hold,
                 }),
             }),
         };

@@ -52,6 +52,7 @@ sized!(
     // 0.4.0 (WetHairSimDesc grew to 296: fixed_step, max_frame_time, interpolate, sdfs,
     // sdf_count, skinned_roots, root_teleport_distance, volume)
     // 0.5.0: WetHairSimDesc grew to 328 (guides)
+    // 0.6.0: WetHairSimDesc grew to 336 (held_water_free_ratio)
     WetHairAdvance = 16,
 );
 

@@ -245,6 +245,15 @@ pub struct WetHairSimDesc {
     /// Guides and followers with level of detail (since 0.5.0; off by default: every strand
     /// simulated). A 296-byte layout (0.4.0) ended before it.
     pub guides: WetHairGuides,
+    /// Water a kilogram of dry hair holds between its fibres against gravity, above
+    /// `held_water.capacity_ratio`, kg/kg, 0..=100 (since 0.6.0; part of the wet model, here
+    /// because `WetHairHeldWater` sits inside this struct and cannot grow). A point's hold
+    /// limit is `capacity_ratio + held_water_free_ratio` times its dry mass: absorption
+    /// fills it that far, and only the water above it runs down the strand and drips.
+    /// Default 1; a 328-byte layout (0.5.0) ended before it and takes the default.
+    pub held_water_free_ratio: f32,
+    /// Unused; keep 0.
+    pub reserved7: u32,
 }
 
 /// Which strands are guides (`WetHairGuides::choice`).
@@ -705,6 +714,8 @@ impl WetHairSimDesc {
             root_teleport_distance: p.root_teleport_distance,
             volume: p.volume.into(),
             guides: (&p.guides).into(),
+            held_water_free_ratio: p.held_water.free_ratio,
+            reserved7: 0,
         }
     }
 
@@ -835,7 +846,10 @@ impl WetHairSimDesc {
             attributes: VertexAttributes(self.vertex_attributes),
             backend,
             readback,
-            held_water: self.held_water.params()?,
+            held_water: crate::HeldWater {
+                free_ratio: self.held_water_free_ratio,
+                ..self.held_water.params()?
+            },
             volume: self.volume.params()?,
             guides: unsafe { self.guides.params()? },
             wind: self.wind.into(),

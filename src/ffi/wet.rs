@@ -11,16 +11,18 @@ use glam::Vec3;
 /// counted in whole nanograms so that the ledger balances exactly.
 pub const WETHAIR_WATER_QUANTUM_KG: f64 = crate::physics::wet::WATER_QUANTUM;
 
-/// The full wet model (docs/WET_MODEL.md). The GPU backend runs all of it but the liquid
-/// bridges: with `bridge_tension` above 0 a GPU desc is refused and AUTO runs on the CPU. Off (`enabled` 0, the default) a simulation runs the paper's model.
-/// Rates of 0 switch their part off; no part costs anything while off.
+/// The full wet model (docs/WET_MODEL.md), on both backends. Off (`enabled` 0, the default)
+/// a simulation runs the paper's model. Rates of 0 switch their part off; no part costs
+/// anything while off. The water held between the fibres is
+/// `WetHairSimDesc::held_water_free_ratio` (since 0.6.0: this struct cannot grow).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WetHairHeldWater {
     /// 1: hair points hold water (weight, limpness, absorption, bridges, flow, drip, drying);
     /// 0: off. Other values are refused.
     pub enabled: u32,
-    /// Water a kilogram of dry hair holds when saturated, kg/kg, 0..=100. Default 0.3.
+    /// Water a kilogram of dry hair takes into its fibres when saturated, kg/kg, 0..=100.
+    /// Default 0.3.
     pub capacity_ratio: f32,
     /// Drying time constant in still air, s; 0 never dries. Default 1200.
     pub dry_time: f32,
@@ -37,7 +39,7 @@ pub struct WetHairHeldWater {
     pub bridge_length: f32,
     /// Mobility of held water along a strand, 1/s; 0: it stays put. Default 5.
     pub flow_mobility: f32,
-    /// Smallest drop that leaves a point above capacity, kg, > 0. Default 4.2e-6.
+    /// Smallest drop that leaves a point above its hold limit, kg, > 0. Default 4.2e-6.
     pub drip_mass: f32,
 }
 
@@ -74,6 +76,7 @@ impl WetHairHeldWater {
         Ok(HeldWater {
             enabled,
             capacity_ratio: self.capacity_ratio,
+            free_ratio: crate::physics::wet::FREE_RATIO,
             dry_time: self.dry_time,
             dry_air_speed: self.dry_air_speed,
             absorb_rate: self.absorb_rate,
@@ -120,9 +123,11 @@ impl From<WetHairWind> for Wind {
     }
 }
 
-/// Wets every hair point up to saturation `s` (0..=1) of its capacity, as when a character
-/// steps out of water; never removes water. Needs `held_water.enabled` (else
-/// `WETHAIR_ERROR_UNSUPPORTED`).
+/// Wets every hair point up to `s` times its hold limit (its capacity and the water between
+/// its fibres), as when a character steps out of water; never removes water. 1 is as wet as
+/// hair stays; above 1 (up to 10, since 0.6.0) the excess runs down the strands and drips,
+/// as from hair just out of a bath, and is refused when nothing drips (`flow_mobility` and
+/// `absorb_rate` both 0). Needs `held_water.enabled` (else `WETHAIR_ERROR_UNSUPPORTED`).
 ///
 /// # Safety
 /// `sim` is valid.

@@ -6,10 +6,13 @@ use crate::error::{check_finite3, check_non_negative, invalid, Result};
 use crate::physics::wet;
 use glam::Vec3;
 
-/// The full wet model (docs/WET_MODEL.md §1-§7): every free hair point holds water up to
-/// `capacity_ratio` times its dry mass and weighs its dry mass plus its water; it draws in the
-/// particles that touch it, bends more easily when wet, holds its neighbours by liquid
-/// bridges, lets water run down the strand and drip from where it exceeds capacity, and dries
+/// The full wet model (docs/WET_MODEL.md §1-§7): every free hair point takes water into its
+/// fibres up to `capacity_ratio` times its dry mass (its capacity: what makes it limp and
+/// binds it to its neighbours), holds `free_ratio` times its dry mass more between them
+/// against gravity (its hold limit is the sum), and weighs its dry mass plus its water; it
+/// draws in the particles that touch it up to its hold limit, bends more easily when wet,
+/// holds its neighbours by liquid bridges, lets the water above its hold limit run down the
+/// strand and drip from where it can run no further, and dries
 /// at a first-order rate that grows with the air speed past it. Water is counted in whole
 /// quanta ([`wet::WATER_QUANTUM`]) so the ledger balances exactly. Off (`enabled: false`), a
 /// simulation runs the paper's model: particles only pull (eq. 2). Both backends run all of
@@ -20,6 +23,10 @@ pub struct HeldWater {
     pub enabled: bool,
     /// Water a kilogram of dry hair holds when saturated, kg/kg (0.3: Robbins 2012).
     pub capacity_ratio: f32,
+    /// Water a kilogram of dry hair holds between its fibres against gravity, above
+    /// `capacity_ratio`, kg/kg (§1; 1.0); only water above both runs along the strand and
+    /// drips. 0: whatever exceeds capacity runs.
+    pub free_ratio: f32,
     /// Drying time constant in still air, s; 0 never dries.
     pub dry_time: f32,
     /// Air speed at which drying runs twice as fast as in still air, m/s.
@@ -35,7 +42,7 @@ pub struct HeldWater {
     pub bridge_length: f32,
     /// Mobility of held water along a strand, 1/s (§6); 0: water stays where it landed.
     pub flow_mobility: f32,
-    /// Smallest drop that leaves a point above capacity, kg (§6).
+    /// Smallest drop that leaves a point above its hold limit, kg (§6).
     pub drip_mass: f32,
 }
 
@@ -44,6 +51,7 @@ impl HeldWater {
     pub const OFF: HeldWater = HeldWater {
         enabled: false,
         capacity_ratio: wet::CAPACITY_RATIO,
+        free_ratio: wet::FREE_RATIO,
         dry_time: wet::DRY_TIME,
         dry_air_speed: wet::DRY_AIR_SPEED,
         absorb_rate: wet::ABSORB_RATE,
@@ -58,7 +66,7 @@ impl HeldWater {
         enabled: true,
         ..HeldWater::OFF
     };
-    /// The largest `capacity_ratio` accepted, kg/kg.
+    /// The largest `capacity_ratio` and `free_ratio` accepted, kg/kg.
     pub const MAX_CAPACITY_RATIO: f32 = 100.0;
     /// The largest `bridge_tension` accepted, N/m (ten times water's `2 γ`).
     pub const MAX_BRIDGE_TENSION: f32 = 1.44;
@@ -85,8 +93,8 @@ impl HeldWater {
         self.enabled && self.flow_mobility > 0.0
     }
 
-    /// Whether a point can come to hold more than its capacity, and so drip: water only
-    /// arrives above capacity by flow or absorption.
+    /// Whether a point can come to hold more than its hold limit, and so drip: water only
+    /// arrives above it by flow, absorption or a soaking past it.
     pub fn drips(&self) -> bool {
         self.flows() || self.absorbs()
     }
@@ -105,14 +113,35 @@ impl HeldWater {
         }
     }
 
+    /// When on, checks that the heaviest of the points `masses` (kg) holds at its hold limit
+    /// no more than one water count ([`wet::MAX_WATER_MASS`]); both backends ask at creation.
+    pub fn check_masses(&self, masses: &[f32]) -> Result<()> {
+        if !self.enabled {
+            return Ok(());
+        }
+        let heaviest = masses.iter().fold(0.0f32, |a, &m| a.max(m));
+        let most = heaviest as f64 * (self.capacity_ratio as f64 + self.free_ratio as f64);
+        if most > wet::MAX_WATER_MASS {
+            return Err(invalid!(
+                "held water: a point of {heaviest} kg would hold {most:e} kg, more than one water count ({:e} kg); lower held_water.capacity_ratio or free_ratio",
+                wet::MAX_WATER_MASS
+            ));
+        }
+        Ok(())
+    }
+
     /// Checks every field (and, when on, that particles and drops fit a water count).
     pub fn validate(&self, water: &WaterParams) -> Result<()> {
-        if !(self.capacity_ratio.is_finite() && (0.0..=Self::MAX_CAPACITY_RATIO).contains(&self.capacity_ratio)) {
-            return Err(invalid!(
-                "held_water.capacity_ratio must be in [0, {}] kg/kg, got {}",
-                Self::MAX_CAPACITY_RATIO,
-                self.capacity_ratio
-            ));
+        for (name, v) in [
+            ("held_water.capacity_ratio", self.capacity_ratio),
+            ("held_water.free_ratio", self.free_ratio),
+        ] {
+            if !(v.is_finite() && (0.0..=Self::MAX_CAPACITY_RATIO).contains(&v)) {
+                return Err(invalid!(
+                    "{name} must be in [0, {}] kg/kg, got {v}",
+                    Self::MAX_CAPACITY_RATIO
+                ));
+            }
         }
         check_non_negative("held_water.dry_time", self.dry_time)?;
         if !(self.dry_air_speed.is_finite() && self.dry_air_speed > 0.0) {

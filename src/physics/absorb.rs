@@ -25,14 +25,14 @@ pub struct WetRow<'a> {
     /// `s / particle_mass` in N per quantum: a particle's pull is eq. 2's `s` times the
     /// fraction of a full particle it still holds.
     pub strength_per_quantum: f64,
-    /// The row's water and capacities, quanta. Its saturations (a point at or above 1 asks
-    /// for nothing) are computed from them at the row's first demand: most rows the gather
-    /// visits have no particle within reach, and reading every visited row's water was a
-    /// cache miss a row (5 % of the big groom's frame under rain).
+    /// The row's water and hold limits, quanta. How full each point is (water over hold limit;
+    /// a point at or above 1 asks for nothing) is computed from them at the row's first
+    /// demand: most rows the gather visits have no particle within reach, and reading every
+    /// visited row's water was a cache miss a row (5 % of the big groom's frame under rain).
     pub water: &'a [u32; W],
-    /// The row's capacities, quanta.
-    pub capacity: &'a [u32; W],
-    /// The saturations once computed: `None` until the row's first demand.
+    /// The row's hold limits, quanta (`wet::hold_limit`).
+    pub hold: &'a [u32; W],
+    /// How full each point is once computed: `None` until the row's first demand.
     pub sat: Option<Lane>,
     /// The row's first point index (`row * W`).
     pub first_point: u32,
@@ -58,13 +58,13 @@ impl WetRow<'_> {
         if q == 0 {
             return;
         }
-        let (water, capacity) = (self.water, self.capacity);
+        let (water, hold) = (self.water, self.hold);
         // Written out, not `get_or_insert_with`: its closure was left a call compiled without
         // AVX2.
         let sat = match self.sat {
             Some(s) => s,
             None => {
-                let s = wet::saturation_lanes(water, capacity);
+                let s = wet::saturation_lanes(water, hold);
                 self.sat = Some(s);
                 s
             }

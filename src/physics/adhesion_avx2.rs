@@ -174,11 +174,11 @@ mod tests {
         acc.x[3] = 0.25; // accumulators carry what earlier rows' passes added
         let mut near = [0.0f32; W];
         near[5] = 1.0;
-        let mut row = wet.map(|(mass, (water, capacity))| WetRow {
+        let mut row = wet.map(|(mass, (water, hold))| WetRow {
             mass,
             strength_per_quantum: 1.0e-6,
             water,
-            capacity,
+            hold,
             sat: None,
             first_point: 48,
             take: crate::physics::wet::absorb_take(30.0, 1.0 / 240.0),

@@ -45,6 +45,10 @@ pub fn to_kg(q: u32) -> f64 {
 
 /// Water a kilogram of dry hair holds when saturated, kg/kg (Robbins 2012, ch. 9: ~30 %).
 pub const CAPACITY_RATIO: f32 = 0.3;
+/// Water a kilogram of dry hair holds between its fibres against gravity, above what the
+/// fibres take in, kg/kg (docs/WET_MODEL.md §1: the pores of a wet bundle, about 60 % of its
+/// volume, full of water, `0.6 / 0.4 × 1.0 / 1.32`, to one figure).
+pub const FREE_RATIO: f32 = 1.0;
 /// Rate at which hair draws in a droplet it touches, 1/s.
 pub const ABSORB_RATE: f32 = 20.0;
 /// A particle left holding less than this fraction of a full particle (`particle_mass`) is
@@ -72,7 +76,30 @@ pub fn capacity(dry_mass: f32, ratio: f32) -> u32 {
     to_quanta(dry_mass as f64 * ratio as f64)
 }
 
+/// The most water a point of dry mass `dry_mass` holds against gravity (its hold limit), in
+/// quanta: its capacity and the water between its fibres, `(capacity_ratio + free_ratio)`
+/// times its dry mass. Absorption fills a point to it; only water above it runs along the
+/// strand, and a point drips what exceeds it where the water cannot run on.
+#[inline]
+pub fn hold_limit(dry_mass: f32, capacity_ratio: f32, free_ratio: f32) -> u32 {
+    to_quanta(dry_mass as f64 * (capacity_ratio as f64 + free_ratio as f64))
+}
+
+/// The most a soaking may fill a point to, as a multiple of its hold limit: ten times what the
+/// hair holds against gravity is hair fresh out of a bath.
+pub const MAX_SOAK: f32 = 10.0;
+
+/// What a soaking to `s` (in `0..=MAX_SOAK`) fills a point of hold limit `hold` to, quanta:
+/// `floor(hold s)`, at most [`HELD_LIMIT`]. Above 1 the water past the hold limit runs down
+/// the strand and drips (a dunk).
+#[inline]
+pub fn soak_target(hold: u32, s: f32) -> u32 {
+    ((hold as f64 * s as f64).floor() as u32).min(HELD_LIMIT)
+}
+
 /// Saturation `held / capacity` (0 where a point can hold nothing); may exceed 1 before a drip.
+/// With a point's hold limit for `capacity`, how full it is: what absorption asks by and the
+/// vertices show.
 #[inline]
 pub fn saturation(held: u32, capacity: u32) -> f32 {
     if capacity > 0 {
@@ -137,7 +164,8 @@ pub fn absorb_weight(d: f32, r_min: f32, r_max: f32) -> f32 {
 
 /// What one hair point asks of one particle holding `particle` quanta in a substep `h`, in
 /// quanta (rounded down): the fraction `1 - e^(-rate h)` of the particle's water, times the
-/// distance weight `weight` (1 at `r_min`, 0 at `r_max`) and the point's free share `1 - s`.
+/// distance weight `weight` (1 at `r_min`, 0 at `r_max`) and the point's room `1 - s`, `s` its
+/// water over its hold limit.
 #[inline]
 pub fn absorb_demand(particle: u32, weight: f32, s: f32, rate: f32, h: f32) -> u32 {
     absorb_demand_taking(particle, weight, s, absorb_take(rate, h))
@@ -377,12 +405,13 @@ pub fn runs_toward(g_eff: Vec3, t: Vec3) -> bool {
     g_eff.dot(t) > 0.0
 }
 
-/// The drop (quanta) that leaves a point holding `held` of `capacity`: the excess over
-/// capacity once it reaches `min_drop`, else 0 (the excess waits for more). Only points the
-/// water cannot run on from drip (a hanging strand's tip; see [`runs_toward`]).
+/// The drop (quanta) that leaves a point holding `held` of its hold limit `hold`
+/// ([`hold_limit`]): the excess over it once it reaches `min_drop`, else 0 (the excess waits
+/// for more). Only points the water cannot run on from drip (a hanging strand's tip; see
+/// [`runs_toward`]).
 #[inline]
-pub fn drip(held: u32, capacity: u32, min_drop: u32) -> u32 {
-    let excess = held.saturating_sub(capacity);
+pub fn drip(held: u32, hold: u32, min_drop: u32) -> u32 {
+    let excess = held.saturating_sub(hold);
     if excess >= min_drop && excess > 0 {
         excess
     } else {
@@ -390,17 +419,25 @@ pub fn drip(held: u32, capacity: u32, min_drop: u32) -> u32 {
     }
 }
 
-/// Moves one strand's held water (quanta per point, updated in place) one step `h` along its
-/// segments toward where the effective gravity `g - a` points (`x` positions, `a`
-/// accelerations). Each end of a segment sends `h mobility held (g - a).t / |g|` away from
-/// itself when that is positive, computed from the water at the start of the step (the order
+/// The water a point holding `held` of its hold limit `hold` lets run along the strand: what
+/// exceeds the limit (the rest is held in and between the fibres against gravity).
+#[inline(always)]
+pub fn running(held: u32, hold: u32) -> u32 {
+    held.saturating_sub(hold)
+}
+
+/// Moves one strand's held water (quanta per point, updated in place; `hold` each point's hold
+/// limit) one step `h` along its segments toward where the effective gravity `g - a` points
+/// (`x` positions, `a` accelerations). Each end of a segment sends
+/// `h mobility running (g - a).t / |g|` away from itself when that is positive, `running` its
+/// water above its hold limit ([`running`]), computed from the water at the start of the step (the order
 /// points are visited does not matter), rounded down to whole quanta, and scaled so no point
 /// sends more than it holds. Every transfer is one integer taken from one point and given to
 /// its neighbour: the strand's total never changes. The strand runs as lane 0 of
 /// [`flow_lanes`], which the CPU backend calls on eight strands at once.
-pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: f32, h: f32) {
+pub fn flow_strand(held: &mut [u32], hold: &[u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: f32, h: f32) {
     let n = held.len();
-    debug_assert!(x.len() == n && a.len() == n);
+    debug_assert!(x.len() == n && a.len() == n && hold.len() == n);
     let lane0 = |v: &Vec3| {
         let mut l = L3::ZERO;
         l.set(0, *v);
@@ -414,33 +451,53 @@ pub fn flow_strand(held: &mut [u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: 
             row
         })
         .collect();
+    let limits: Vec<[u32; W]> = hold
+        .iter()
+        .map(|&q| {
+            let mut row = [0; W];
+            row[0] = q;
+            row
+        })
+        .collect();
     let (xs, as_): (Vec<L3>, Vec<L3>) = (x.iter().map(lane0).collect(), a.iter().map(lane0).collect());
     let mut count = [0; W];
     count[0] = n;
-    flow_lanes(&mut rows, &xs, &as_, &count, g, mobility, h);
+    flow_lanes(&mut rows, &limits, &xs, &as_, &count, g, mobility, h);
     for (q, r) in held.iter_mut().zip(&rows) {
         *q = r[0];
     }
 }
 
 /// [`flow_strand`] on the `W` strands of a lane group at once: lane `l` is a strand of
-/// `n[l]` points, rows `0..n[l]` of `held`, `x` and `a` (fewer than two: no flow; rows past
+/// `n[l]` points, rows `0..n[l]` of `held`, `hold`, `x` and `a` (fewer than two: no flow; rows past
 /// it are left alone). Each lane gets the same bits as the strand alone would: the same
 /// operations in the same order, lane by lane (the f32 part then runs as vectors: one square
 /// root and three divides per segment were most of the pass when it went strand by strand).
 /// Inlined, so the CPU's pass compiles it for AVX2 where it runs there.
 #[inline(always)]
-pub fn flow_lanes(held: &mut [[u32; W]], x: &[L3], a: &[L3], n: &[usize; W], g: Vec3, mobility: f32, h: f32) {
+#[allow(clippy::too_many_arguments)]
+pub fn flow_lanes(
+    held: &mut [[u32; W]],
+    hold: &[[u32; W]],
+    x: &[L3],
+    a: &[L3],
+    n: &[usize; W],
+    g: Vec3,
+    mobility: f32,
+    h: f32,
+) {
     debug_assert!(x.len() >= held.len() && a.len() >= held.len());
-    flow_rows(held, |i| x[i], |i| a[i], n, g, mobility, h);
+    flow_rows(held, hold, |i| x[i], |i| a[i], n, g, mobility, h);
 }
 
 /// [`flow_lanes`] reading row `i`'s positions and accelerations as `x(i)` and `a(i)`, once
 /// each: the CPU's pass computes the accelerations from the velocities as it goes, instead
 /// of copying both into scratch first.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn flow_rows(
     held: &mut [[u32; W]],
+    hold: &[[u32; W]],
     x: impl Fn(usize) -> L3,
     a: impl Fn(usize) -> L3,
     n: &[usize; W],
@@ -449,7 +506,7 @@ pub fn flow_rows(
     h: f32,
 ) {
     let rows = held.len();
-    debug_assert!(n.iter().all(|&k| k <= rows));
+    debug_assert!(n.iter().all(|&k| k <= rows) && hold.len() >= rows);
     let g_len = g.length();
     if rows < 2 || g_len <= 0.0 || mobility <= 0.0 {
         return;
@@ -459,17 +516,20 @@ pub fn flow_rows(
     // to `i`) complete what point `i` is asked to send in all, so segment `i - 1`, whose two
     // ends' totals are then known, is applied. Sends are computed from the water at the
     // pass's start, which no applied segment has touched yet where they read it.
+    // Each point's water at the pass's start, and the part of it above its hold limit that
+    // may run.
+    let start_run = |q: [u32; W], c: &[u32; W]| -> End { (q, std::array::from_fn(|l| running(q[l], c[l]))) };
     let (mut d_prev, mut u_prev) = ([0u64; W], [0u64; W]);
-    let (mut out_prev, mut start_prev) = ([0u64; W], [0u32; W]);
-    let mut start_i = held[0];
+    let (mut out_prev, mut start_prev) = ([0u64; W], ([0u32; W], [0u32; W]));
+    let mut start_i = start_run(held[0], &hold[0]);
     let (mut x_i, mut a_i) = (x(0), a(0));
     for i in 0..rows - 1 {
-        let (start_j, x_j, a_j) = (held[i + 1], x(i + 1), a(i + 1));
+        let (start_j, x_j, a_j) = (start_run(held[i + 1], &hold[i + 1]), x(i + 1), a(i + 1));
         let (along_i, along_j) = segment_along(&x_i, &x_j, &a_i, &a_j, g, g_len);
         // Every lane computed, a lane past its strand's end sending 0 (as one skipped would:
         // its sums stay as they were), so the lanes run as vectors.
         let (mut down, mut up) = ([0.0f64; W], [0.0f64; W]);
-        let (held_i, held_j) = (u32_as_f64(&start_i), u32_as_f64(&start_j));
+        let (held_i, held_j) = (u32_as_f64(&start_i.1), u32_as_f64(&start_j.1));
         for l in 0..W {
             let on = i + 1 < n[l];
             let d = rate * along_i[l] as f64 * held_i[l];
@@ -494,11 +554,15 @@ pub fn flow_rows(
     flow_apply(held, rows - 2, n, (d_prev, u_prev), ends);
 }
 
+/// A point's water at the flow pass's start, per lane, and the part of it that may run.
+type End = ([u32; W], [u32; W]);
+
 /// Applies segment `i`'s sends `(down, up)` to `held` (rows `i` and `i + 1`): `ends` holds each
-/// end's total asked of it and its water at the pass's start. A point asked to send more
-/// than it holds sends all of it, shared in proportion (rounded down, so never more); each
-/// transfer is cut to the receiver's inflow bound ([`flow_inflow_bound`]). Where neither end
-/// is asked for more than it holds (nearly always) the lanes run as vectors: the sends are
+/// end's total asked of it and its [`End`] at the pass's start. A point asked to send more
+/// than may run sends all that may, shared in proportion (rounded down, so never more); each
+/// transfer is cut to the receiver's inflow bound ([`flow_inflow_bound`]) of its water at the
+/// start. Where neither end is asked for more than may run (nearly always) the lanes run as
+/// vectors: the sends are
 /// then whole `u32`s, and a lane past its strand's end sends 0 both ways, so it moves
 /// nothing, as skipped. Each lane's sums are the same operations in the same order either
 /// way.
@@ -508,12 +572,12 @@ fn flow_apply(
     i: usize,
     n: &[usize; W],
     sends: ([u64; W], [u64; W]),
-    ends: [([u64; W], [u32; W]); 2],
+    ends: [([u64; W], End); 2],
 ) {
     let (down, up) = sends;
-    let [(out_a, start_a), (out_b, start_b)] = ends;
-    let over = |out: &[u64; W], start: &[u32; W]| (0..W).fold(false, |o, l| o | (out[l] > start[l] as u64));
-    if !(over(&out_a, &start_a) || over(&out_b, &start_b)) {
+    let [(out_a, (start_a, run_a)), (out_b, (start_b, run_b))] = ends;
+    let over = |out: &[u64; W], run: &[u32; W]| (0..W).fold(false, |o, l| o | (out[l] > run[l] as u64));
+    if !(over(&out_a, &run_a) || over(&out_b, &run_b)) {
         for l in 0..W {
             let d = (down[l] as u32).min(flow_inflow_bound(start_b[l]));
             let u = (up[l] as u32).min(flow_inflow_bound(start_a[l]));
@@ -522,9 +586,9 @@ fn flow_apply(
         }
         return;
     }
-    let share = |q: u64, out: u64, start: u32| -> u32 {
-        if out > start as u64 {
-            (q * start as u64 / out) as u32
+    let share = |q: u64, out: u64, run: u32| -> u32 {
+        if out > run as u64 {
+            (q * run as u64 / out) as u32
         } else {
             q as u32
         }
@@ -533,8 +597,8 @@ fn flow_apply(
         if i + 1 >= n[l] {
             continue;
         }
-        let d = share(down[l], out_a[l], start_a[l]).min(flow_inflow_bound(start_b[l]));
-        let u = share(up[l], out_b[l], start_b[l]).min(flow_inflow_bound(start_a[l]));
+        let d = share(down[l], out_a[l], run_a[l]).min(flow_inflow_bound(start_b[l]));
+        let u = share(up[l], out_b[l], run_b[l]).min(flow_inflow_bound(start_a[l]));
         held[i][l] = held[i][l] - d + u;
         held[i + 1][l] = held[i + 1][l] + d - u;
     }
@@ -631,9 +695,13 @@ mod tests {
         let rows = 9;
         let n = [9usize, 1, 0, 5, 9, 2, 7, 3];
         let (mut held, mut x, mut a) = (vec![[0u32; W]; rows], vec![L3::ZERO; rows], vec![L3::ZERO; rows]);
+        // Hold limits from none to most of the water: some points let all of it run, some a
+        // part, some none.
+        let mut hold = vec![[0u32; W]; rows];
         for r in 0..rows {
             for l in 0..W {
                 held[r][l] = (rnd() * 5.0e6) as u32;
+                hold[r][l] = [0, 1_000_000, 4_000_000][(r + l) % 3];
                 x[r].set(l, Vec3::new(rnd() * 0.01, -0.02 * r as f32, rnd() * 0.01));
                 a[r].set(l, Vec3::new(rnd() - 0.5, 20.0 * (rnd() - 0.5), rnd() - 0.5));
             }
@@ -641,13 +709,14 @@ mod tests {
         let g = Vec3::new(0.0, -9.81, 0.0);
         let (h, mob) = (1.0 / 60.0, 40.0);
         let before = held.clone();
-        flow_lanes(&mut held, &x, &a, &n, g, mob, h);
+        flow_lanes(&mut held, &hold, &x, &a, &n, g, mob, h);
         let mut moved = 0;
         for l in 0..W {
             let mut alone: Vec<u32> = before[..n[l]].iter().map(|r| r[l]).collect();
             let xs: Vec<Vec3> = x[..n[l]].iter().map(|r| r.get(l)).collect();
             let as_: Vec<Vec3> = a[..n[l]].iter().map(|r| r.get(l)).collect();
-            flow_strand(&mut alone, &xs, &as_, g, mob, h);
+            let limits: Vec<u32> = hold[..n[l]].iter().map(|r| r[l]).collect();
+            flow_strand(&mut alone, &limits, &xs, &as_, g, mob, h);
             for r in 0..rows {
                 let want = if r < n[l] { alone[r] } else { before[r][l] };
                 assert_eq!(held[r][l], want, "lane {l} row {r}");

@@ -699,16 +699,27 @@ impl Simulation {
         self.settle(r)
     }
 
-    /// Wets every hair point up to saturation `s` (0..=1) of its capacity, as when a character
-    /// steps out of water; never removes water. Needs [`SimParams::held_water`] on (else
-    /// `Unsupported`); `s` outside [0, 1] or NaN is refused.
+    /// Wets every hair point up to `s` times its hold limit (docs/WET_MODEL.md §1: its
+    /// capacity and the water between its fibres), as when a character steps out of water;
+    /// never removes water. 1 is as wet as hair stays; above 1 (up to
+    /// [`wet::MAX_SOAK`](crate::physics::wet::MAX_SOAK)) the excess runs down the strands and
+    /// drips, as from hair just out of a bath. Needs [`SimParams::held_water`] on (else
+    /// `Unsupported`); `s` outside [0, MAX_SOAK] or NaN is refused, and so is `s` above 1 when
+    /// nothing could drip (no flow and no absorption: no drip pass).
     pub fn soak(&mut self, s: f32) -> Result<()> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
-        if !(0.0..=1.0).contains(&s) {
+        let most = crate::physics::wet::MAX_SOAK;
+        if !(0.0..=most).contains(&s) {
             return Err(crate::error::Error::InvalidArgument(format!(
-                "saturation must be in [0, 1], got {s}"
+                "soak must be in [0, {most}] of the hold limit, got {s}"
+            )));
+        }
+        let hw = self.params.held_water;
+        if s > 1.0 && hw.enabled && !hw.drips() {
+            return Err(crate::error::Error::InvalidArgument(format!(
+                "soak {s} passes the hold limit, but nothing drips (flow_mobility and absorb_rate are 0)"
             )));
         }
         let r = self.engine.soak(s);
@@ -872,13 +883,13 @@ impl Simulation {
         (out[0], mean_of_levels(&levels))
     }
 
-    /// The mass of host point `i` holding saturation `wetness`, kg: its dry mass, plus its water
-    /// under the wet model (`capacity_ratio` of the dry mass when saturated).
+    /// The mass of host point `i` showing `wetness`, kg: its dry mass, plus its water under the
+    /// wet model (`wetness` of its hold limit, `capacity_ratio + free_ratio` of the dry mass).
     fn point_mass(&self, i: usize, wetness: f32) -> f64 {
         let m = self.host.mass[i] as f64;
         let hw = &self.params.held_water;
         if hw.enabled {
-            m * (1.0 + wetness as f64 * hw.capacity_ratio as f64)
+            m * (1.0 + wetness as f64 * (hw.capacity_ratio as f64 + hw.free_ratio as f64))
         } else {
             m
         }

@@ -172,6 +172,11 @@ namespace WetHair
         public WetHairVolume volume;
         /// <summary>Since 0.5.0: guides and followers with level of detail (off by default).</summary>
         public WetHairGuides guides;
+        /// <summary>Since 0.6.0: water a kilogram of dry hair holds between its fibres against
+        /// gravity, above held_water.capacity_ratio, kg/kg (default 1); only water above both runs
+        /// and drips.</summary>
+        public float held_water_free_ratio;
+        public uint reserved7;
     }
 
     /// <summary>Which strands are guides (WetHairGuideChoice).</summary>

@@ -173,8 +173,9 @@ namespace WetHair
         /// <summary>Back to rest, dry, no water.</summary>
         public void Reset() => WetHairException.Check(Native.wethair_sim_reset(handle));
 
-        /// <summary>Wets every hair point up to <paramref name="saturation"/> (0..1) of its
-        /// capacity, as after a dunk (needs held_water.enabled; wethair_sim_soak).</summary>
+        /// <summary>Wets every hair point up to <paramref name="saturation"/> times its hold limit
+        /// (its capacity and the water between its fibres; 0..10, above 1 the excess runs and
+        /// drips), as after a dunk (needs held_water.enabled; wethair_sim_soak).</summary>
         public void Soak(float saturation) => WetHairException.Check(Native.wethair_sim_soak(handle, saturation));
 
         /// <summary>Sets the wind from the next step on (wethair_sim_set_wind).</summary>

@@ -37,9 +37,10 @@ pub(super) struct HeldGpu {
     pub(super) points_wet: wgpu::Buffer,
     /// Water per point, quanta.
     water: wgpu::Buffer,
-    /// Capacity per point, quanta (the host keeps a copy for soaking's targets).
+    /// Capacity per point, then hold limit per point, quanta (`held.wgsl` `hold_limit`).
     capacity_buf: wgpu::Buffer,
-    capacity: Vec<u32>,
+    /// The hold limits (soaking's targets are multiples of them).
+    hold: Vec<u32>,
     dry_mass: wgpu::Buffer,
     /// The ledger block (`buffers::held_ledger`).
     ledger: wgpu::Buffer,
@@ -86,8 +87,13 @@ impl HeldGpu {
         let points_wet = b::buffer(d, "points_wet", std::mem::size_of_val(pts) as u64, STORAGE);
         q.write_buffer(&points_wet, 0, bytemuck::cast_slice(pts));
         let capacity: Vec<u32> = mass.iter().map(|&m| wet::capacity(m, cfg.capacity_ratio)).collect();
-        let capacity_buf = b::buffer(d, "held_capacity", n * 4, STORAGE);
+        let hold: Vec<u32> = mass
+            .iter()
+            .map(|&m| wet::hold_limit(m, cfg.capacity_ratio, cfg.free_ratio))
+            .collect();
+        let capacity_buf = b::buffer(d, "held_limits", 2 * n * 4, STORAGE);
         q.write_buffer(&capacity_buf, 0, bytemuck::cast_slice(&capacity));
+        q.write_buffer(&capacity_buf, n * 4, bytemuck::cast_slice(&hold));
         let dry_mass = b::buffer(d, "held_dry_mass", n * 4, STORAGE);
         q.write_buffer(&dry_mass, 0, bytemuck::cast_slice(mass));
         use Slot::*;
@@ -128,7 +134,7 @@ impl HeldGpu {
             points_wet,
             water: b::buffer(d, "held_water", n * 4, STORAGE),
             capacity_buf,
-            capacity,
+            hold,
             dry_mass,
             ledger: b::buffer(d, "held_ledger", hl::WORDS as u64 * 4, STORAGE),
             soak_target: b::buffer(d, "held_soak_target", n * 4, STORAGE),
@@ -375,8 +381,8 @@ impl HeldGpu {
         (vec![HELD_ENTRIES[WET_PARAMS]], after)
     }
 
-    /// Wets every point up to saturation `s` of its capacity (never down), booked as added;
-    /// the targets are the CPU's (`floor(capacity s)`), so both backends soak alike.
+    /// Wets every point up to `s` times its hold limit (never down), booked as added; the
+    /// targets are the CPU's (`wet::soak_target`), so both backends soak alike.
     pub(super) fn soak(
         &self,
         dev: &wgpu::Device,
@@ -385,11 +391,7 @@ impl HeldGpu {
         cur: usize,
         points: u32,
     ) -> wgpu::CommandBuffer {
-        let target: Vec<u32> = self
-            .capacity
-            .iter()
-            .map(|&c| (c as f64 * s as f64).floor() as u32)
-            .collect();
+        let target: Vec<u32> = self.hold.iter().map(|&c| wet::soak_target(c, s)).collect();
         q.write_buffer(&self.soak_target, 0, bytemuck::cast_slice(&target));
         let mut enc = dev.create_command_encoder(&Default::default());
         {
@@ -463,7 +465,7 @@ fn drip_scratch_words(points: u32, flows: bool) -> u64 {
 }
 
 impl GpuBackend {
-    /// Wets every point up to saturation `s` of its capacity (held water only).
+    /// Wets every point up to `s` times its hold limit (held water only).
     pub fn soak(&mut self, s: f32) -> Result<()> {
         self.dev.check()?;
         let h = self.held.as_ref().ok_or_else(|| {

@@ -185,6 +185,7 @@ impl GpuBackend {
         head: &Affine3A,
         vertex_points: Option<usize>,
     ) -> Result<Self> {
+        params.held_water.check_masses(groom.masses())?;
         if integrator == Integrator::XPBD {
             return Err(Error::Unsupported(format!(
                 "the GPU backend runs symplectic Euler, implicit Euler and BDF2; {integrator:?} runs on the CPU backend"

@@ -16,9 +16,9 @@ fn absorb_weight(d: f32) -> f32 {
     return clamp((P.r_max - d) / (P.r_max - P.r_min), 0.0, 1.0);
 }
 
-// What a hair point at saturation `sat` and squared distance `d2` asks of a particle holding
-// `q` quanta in a substep: floor(take q weight (1 - sat)); nothing from an empty particle or
-// for a full point.
+// What a hair point `sat` full (its water over its hold limit, the wetness it shows) at
+// squared distance `d2` asks of a particle holding `q` quanta in a substep:
+// floor(take q weight (1 - sat)); nothing from an empty particle or for a full point.
 fn absorb_demand(q: u32, d2: f32, sat: f32) -> u32 {
     if (q == 0u || sat >= 1.0) {
         return 0u;

@@ -12,6 +12,7 @@
 // Atomic because absorption's remainder goes to a point chosen by a particle (absorb_finish);
 // elsewhere each point's count is read and written by its own invocation.
 @group(0) @binding(2) var<storage, read_write> held: array<atomic<u32>>;
+// Each point's capacity, then (from P.points on) each point's hold limit: hold_limit.
 @group(0) @binding(3) var<storage, read> capacity: array<u32>;
 @group(0) @binding(4) var<storage, read_write> state: array<State>;
 // Group 1, wet_params, soak, dry and saturation_out: the point records the hair kernels read,
@@ -84,9 +85,20 @@ fn part_flush(lid: u32, at: u32) {
     }
 }
 
-// Writes point i's saturation with water q, at most 1, as its wetness.
+// Point i's hold limit (wet::hold_limit): the limits buffer holds the capacities, then the
+// hold limits.
+fn hold_limit(i: u32) -> u32 {
+    return capacity[P.points + i];
+}
+
+// wet::running: the water above a point's hold limit, which may run along the strand.
+fn running(q: u32, hold: u32) -> u32 {
+    return q - min(q, hold);
+}
+
+// Writes point i's wetness with water q: its water over its hold limit, at most 1.
 fn show_saturation(i: u32, q: u32) {
-    state[i].x.w = min(saturation(q, capacity[i]), 1.0);
+    state[i].x.w = min(saturation(q, hold_limit(i)), 1.0);
 }
 
 // Pass wet_params (cpu/held.rs `refresh_params` and `keep_velocities`), once per step before
@@ -221,11 +233,12 @@ fn unit_or_zero(d: vec3<f32>) -> vec3<f32> {
 // Pass flow (wet::flow_strand), once per step, in two kernels over the points (one
 // invocation per point, so a warp reads neighbouring points: one per strand left fifteen of
 // sixteen lanes idle and read the strands' points scattered). Each end of a segment sends
-// floor(dt mobility held along) across it, computed from the water at the step's start; a
-// point asked for more than it holds sends all of it, shared in proportion. Every transfer is
-// one integer from one point to its neighbour.
+// floor(dt mobility running along) across it, `running` its water above its hold limit at the
+// step's start; a point asked for more than may run sends all that may, shared in
+// proportion. Every transfer is one integer from one point to its neighbour.
 
-// What point i sends to its previous (x) and next (y) neighbour, before the inflow bound.
+// What point i, with q quanta that may run, sends to its previous (x) and next (y)
+// neighbour, before the inflow bound.
 fn flow_sends(i: u32, pt: Point, q: u32, g_len: f32) -> vec2<u32> {
     if (q == 0u) {
         return vec2<u32>(0u);
@@ -266,7 +279,7 @@ fn flow_send(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg
     let g_len = length(P.g.xyz);
     var send = vec2<u32>(0u);
     if (g_len > 0.0) {
-        send = flow_sends(i, pt, atomicLoad(&held[i]), g_len);
+        send = flow_sends(i, pt, running(atomicLoad(&held[i]), hold_limit(i)), g_len);
     }
     if (send.x != 0u) {
         send.x = min(send.x, (0xffffffffu - atomicLoad(&held[i - 1u])) / 2u);
@@ -300,7 +313,7 @@ fn flow_take(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg
     }
 }
 
-// wet::drip: the excess over capacity once it reaches the smallest drop.
+// wet::drip: the excess over the hold limit c once it reaches the smallest drop.
 fn drip_excess(q: u32, c: u32) -> u32 {
     if (q <= c) {
         return 0u;
@@ -350,7 +363,7 @@ fn drip_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
     }
     workgroupBarrier();
     if (i < P.points) {
-        var q = drip_excess(atomicLoad(&held[i]), capacity[i]);
+        var q = drip_excess(atomicLoad(&held[i]), hold_limit(i));
         // The point's record only for a point with a drop (nearly none): read for every
         // point, it was most of the pass's bytes.
         if (q > 0u && P.flow_mobility > 0.0 && runs_on(i, points[i], g_eff(i))) {
@@ -495,7 +508,7 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
     }
     if (got > 0u) {
         let q = atomicAdd(&held[i], got) + got;
-        state_out[i].x.w = min(saturation(q, capacity[i]), 1.0);
+        state_out[i].x.w = min(saturation(q, hold_limit(i)), 1.0);
     }
 }
 

@@ -167,6 +167,8 @@ class WetHairSimDesc(C.Structure):
         ("root_teleport_distance", f32),
         ("volume", WetHairVolume),
         ("guides", WetHairGuides),
+        ("held_water_free_ratio", f32),
+        ("reserved7", u32),
     ]
 
 

@@ -223,7 +223,8 @@ class Simulation(Handle):
         check(lib.wethair_sim_clear_water(self.handle))
 
     def soak(self, saturation: float = 1.0) -> None:
-        """Fills every hair point's held water to ``saturation`` of its capacity (the wet model)."""
+        """Fills every hair point's held water to ``saturation`` times its hold limit (the wet
+        model; 0..10: above 1 the excess runs down the strands and drips)."""
         check(lib.wethair_sim_soak(self.handle, saturation))
 
     def set_wind(self, velocity: Sequence[float] = (0.0, 0.0, 0.0), gust: float = 0.0, seed: int = 0) -> None:

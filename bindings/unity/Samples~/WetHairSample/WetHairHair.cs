@@ -56,9 +56,11 @@ public class WetHairHair : MonoBehaviour
         {
             desc.spring_model = 0; // per spring, the paper's constants
             desc.integrator = (uint)Integrator.SymplecticEuler;
-            // Its points weigh 1 g (wisps of thousands of hairs): hold a thirtieth of the
-            // default water, shed 30 mg drops (as the main job's strip does).
+            // Its points weigh 1 g (wisps of thousands of hairs): a thirtieth of the default
+            // capacity, a fiftieth of the water between fibres, 30 mg drops (as the main job's
+            // strip does).
             desc.held_water.capacity_ratio = 0.01f;
+            desc.held_water_free_ratio = 0.02f;
             desc.held_water.drip_mass = 3e-5f;
         }
         desc.backend = (uint)Backend.Auto;
