@@ -1,8 +1,9 @@
 //! The wet model over time on the paper scene, as in the main job's strip: a shower of 1,000
-//! drops from 0.5 s (or, with `shower` 0, the hair soaked to saturation at 0.5 s instead; with
-//! `shower` < 0, both), then nothing but the hair's own water, drying with time constant
-//! `tau`. The paper scene's points weigh 1 g (a wisp of thousands of hairs), so the hair holds
-//! a thirtieth of the default capacity and sheds 30 mg drops (see examples/c/render.c).
+//! drops from 0.5 s (or, with `shower` 0, the hair soaked to 1.5 times its hold limit at 0.5 s
+//! instead; with `shower` < 0, both), then nothing but the hair's own water, drying with time
+//! constant `tau`. The paper scene's points weigh 1 g (a wisp of thousands of hairs), so the
+//! hair takes a thirtieth of the default capacity and a fiftieth of the default water between
+//! fibres, and sheds 30 mg drops (see examples/c/render.c).
 //! Prints one CSV row per tenth of a second: time, water in particles / held / left /
 //! evaporated (g), the along-strand clumping of the wet run and of a dry twin (mm), their
 //! ratio; `--svg FILE` also draws held water and the clumping ratio against time.
@@ -62,7 +63,7 @@ fn main() {
     for f in 0..frames {
         if f as f32 * dt >= soak_at {
             if soaks && !soaked {
-                wet.soak(2.0).unwrap();
+                wet.soak(1.5).unwrap();
                 soaked = true;
             }
             if showers && sprayed < 1000 {

@@ -113,6 +113,7 @@ pub fn soaked_chain() -> ReportScene {
     sc.name = "soaked_chain";
     sc.params.held_water = crate::HeldWater {
         capacity_ratio: 2.0,
+        free_ratio: 0.0,
         dry_time: 0.0,
         absorb_rate: 0.0,
         bridge_tension: 0.0,

@@ -177,6 +177,8 @@ fn bad_wet_values_are_refused_by_name_and_write_nothing() {
         (|d| d.held_water.bridge_tension = -0.1, "bridge_tension"),
         (|d| d.held_water.flow_mobility = f32::NAN, "flow_mobility"),
         (|d| d.held_water.drip_mass = 0.0, "drip_mass"),
+        (|d| d.held_water_free_ratio = -1.0, "free_ratio"),
+        (|d| d.held_water_free_ratio = f32::INFINITY, "free_ratio"),
         (|d| d.wind.velocity = [f32::NAN, 0.0, 0.0], "wind velocity"),
         (|d| d.wind.gust = -0.5, "gust"),
     ] {
@@ -270,6 +272,38 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
     }
     assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 336, "no padding at the end");
     assert_eq!(std::mem::size_of::<WetHairStats>(), 120);
+}
+
+/// The water held between fibres through C (since 0.6.0): 1 kg/kg by default, what a host sets
+/// scales what a soaking puts in, and a 0.5.0 host (328 bytes) gets the default whatever lies
+/// past its struct.
+#[test]
+fn the_free_ratio_reaches_c_hosts_and_older_ones_get_the_default() {
+    let g = paper(16);
+    let added = |free: f32, size: u32| -> u64 {
+        let mut d = wet_desc(g);
+        assert_eq!(d.held_water_free_ratio, 1.0, "the default");
+        d.held_water_free_ratio = free;
+        d.struct_size = size;
+        let mut s = null_mut();
+        assert_eq!(
+            unsafe { wethair_sim_create(&d, &mut s) },
+            WETHAIR_OK,
+            "{}",
+            last_error()
+        );
+        assert_eq!(unsafe { wethair_sim_soak(s, 1.0) }, WETHAIR_OK);
+        let a = stats(s).water_added;
+        unsafe { wethair_sim_destroy(s) };
+        a
+    };
+    let full = std::mem::size_of::<WetHairSimDesc>() as u32;
+    let (at_default, at_capacity) = (added(1.0, full), added(0.0, full));
+    // The hold limit is (0.3 + free) kg per kg of hair: 1.3 against 0.3.
+    let ratio = at_default as f64 / at_capacity as f64;
+    assert!((ratio - 1.3 / 0.3).abs() < 1e-4, "{ratio}");
+    assert_eq!(added(f32::NAN, 328), at_default, "a 0.5.0 host takes the default");
+    unsafe { wethair_groom_destroy(g) };
 }
 
 /// The live error estimate through C: -1 unless `error_estimate_stride` asks for it (and for

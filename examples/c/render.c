@@ -30,9 +30,10 @@ static double grams(uint64_t quanta) { return (double)quanta * WETHAIR_WATER_QUA
 
 /* The strip: a simulation with held water (drying sped up to a time constant of 1 s so that a
  * few seconds show what takes half an hour in air) and a dry twin, stepped together for
- * `seconds`. At 0.5 s the host soaks the hair (wethair_sim_soak, as after a dunk) and showers
- * it with `particles` drops; panels are drawn dry (just before), soaked (1.0 s), dripping
- * (1.5 s), half dry (when the hair holds half its peak) and dry again (the end). */
+ * `seconds`. At 0.5 s the host soaks the hair past its hold limit (wethair_sim_soak, as after
+ * a dunk) and showers it with `particles` drops; panels are drawn dry (just before), soaked
+ * (1.0 s), dripping (1.5 s), half dry (when the hair holds half its peak) and dry again (the
+ * end). */
 static int run_strip(const char *out, const WetHairGroom *groom, uint32_t backend, float seconds, uint32_t particles) {
     /* The current layout (it has held_water) with the paper scene's springs and integrator. */
     WetHairSimDesc desc;
@@ -74,8 +75,8 @@ static int run_strip(const char *out, const WetHairGroom *groom, uint32_t backen
         float t = (float)f * dt;
         if (t > soak_at) {
             if (!soaked) {
-                /* Twice what the hair holds, as out of a bath: the excess runs and drips. */
-                wh_check(wethair_sim_soak(wet, 2.0f), "wethair_sim_soak");
+                /* Half as much again as the hair holds, as out of a bath: the excess runs and drips. */
+                wh_check(wethair_sim_soak(wet, 1.5f), "wethair_sim_soak");
                 soaked = 1;
             }
             if (added < particles) {
