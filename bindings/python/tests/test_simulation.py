@@ -69,14 +69,16 @@ def test_wet_model_ledger_balances_and_soaked_hair_hangs_lower(paper):
     kw = dict(backend="cpu", colliders=[wethair.sphere((0, 0, 0), 0.1)], held_water={"enabled": True})
     with wethair.Simulation(paper, **kw) as dry, wethair.Simulation(paper, **kw) as wet:
         wet.soak(1.0)
-        for _ in range(30):
+        # Two seconds: soaked hair, 2.3 times as heavy, swings slower, and half a second in it
+        # is still on its first swing (its tips were higher than the dry twin's then).
+        for _ in range(120):
             dry.step(DT)
             wet.step(DT)
         s = wet.stats()
         assert s.water_added > 0
         assert s.water_added == s.water_in_particles + s.water_held + s.water_left + s.water_evaporated
         assert s.water_held_kg > 0
-        # Water's weight: soaked tips hang lower than dry ones (the hold limit is 1.3 kg per kg).
+        # Water's weight: soaked tips hang lower than dry ones.
         assert wet.strands()[:, -1, 2].mean() < dry.strands()[:, -1, 2].mean() - 1e-3
         assert wet.wetness().max() > 0.5 and dry.wetness().max() == 0.0
 
