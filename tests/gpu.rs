@@ -932,6 +932,41 @@ fn held_water_flows_and_drips_as_on_the_cpu() {
     assert!(dripped, "a soaked groom drips");
 }
 
+/// The hold limit on the GPU (docs/WET_MODEL.md §1, §6): the paper scene soaked to 0.8 of its
+/// hold limits, hanging for two seconds with flow and drip on and no drying, keeps every
+/// quantum where it was put, as on the CPU: no drop, the same water and the same wetness at
+/// every point.
+#[test]
+fn water_within_the_hold_limit_stays_put_as_on_the_cpu() {
+    let _serial = serial();
+    let groom = paper_scene(2_000, 6).unwrap();
+    let mut params = SimParams::paper_scene_with_head();
+    params.held_water = wethair::HeldWater {
+        dry_time: 0.0,
+        bridge_tension: 0.0,
+        ..wethair::HeldWater::ON
+    };
+    let Some(mut g) = gpu(&groom, params.clone()) else {
+        return;
+    };
+    let mut c = cpu(&groom, params);
+    for s in [&mut g, &mut c] {
+        s.soak(0.8).unwrap();
+    }
+    let wet0: Vec<f32> = c.point_states().unwrap().iter().map(|p| p.2).collect();
+    for _ in 0..120 {
+        g.step(1.0 / 60.0).unwrap();
+        c.step(1.0 / 60.0).unwrap();
+    }
+    for (name, s) in [("GPU", &g), ("CPU", &c)] {
+        let l = s.water_ledger().unwrap();
+        assert_eq!((l.held, l.in_particles, l.left), (l.added, 0, 0), "{name}: {l:?}");
+        let wet: Vec<f32> = s.point_states().unwrap().iter().map(|p| p.2).collect();
+        assert_eq!(wet, wet0, "{name}: every point shows the wetness it was soaked to");
+    }
+    assert_eq!(g.water_ledger().unwrap().added, c.water_ledger().unwrap().added);
+}
+
 /// Absorption on the GPU (docs/WET_MODEL.md §2): particles on the hair give it their water as
 /// on the CPU. After 5 frames (before contact chaos) the hair is where the CPU's is; over a
 /// second the hair holds about the CPU's water, the particles keep about the rest, the wet

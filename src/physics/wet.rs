@@ -430,11 +430,11 @@ pub fn running(held: u32, hold: u32) -> u32 {
 /// limit) one step `h` along its segments toward where the effective gravity `g - a` points
 /// (`x` positions, `a` accelerations). Each end of a segment sends
 /// `h mobility running (g - a).t / |g|` away from itself when that is positive, `running` its
-/// water above its hold limit ([`running`]), computed from the water at the start of the step (the order
-/// points are visited does not matter), rounded down to whole quanta, and scaled so no point
-/// sends more than it holds. Every transfer is one integer taken from one point and given to
-/// its neighbour: the strand's total never changes. The strand runs as lane 0 of
-/// [`flow_lanes`], which the CPU backend calls on eight strands at once.
+/// water above its hold limit ([`running`]), computed from the water at the start of the step
+/// (the order points are visited does not matter), rounded down to whole quanta, and scaled
+/// so no point sends more than may run. Every transfer is one integer taken from one point
+/// and given to its neighbour: the strand's total never changes. The strand runs as lane 0
+/// of [`flow_lanes`], which the CPU backend calls on eight strands at once.
 pub fn flow_strand(held: &mut [u32], hold: &[u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: f32, h: f32) {
     let n = held.len();
     debug_assert!(x.len() == n && a.len() == n && hold.len() == n);
@@ -469,8 +469,8 @@ pub fn flow_strand(held: &mut [u32], hold: &[u32], x: &[Vec3], a: &[Vec3], g: Ve
 }
 
 /// [`flow_strand`] on the `W` strands of a lane group at once: lane `l` is a strand of
-/// `n[l]` points, rows `0..n[l]` of `held`, `hold`, `x` and `a` (fewer than two: no flow; rows past
-/// it are left alone). Each lane gets the same bits as the strand alone would: the same
+/// `n[l]` points, rows `0..n[l]` of `held`, `hold`, `x` and `a` (fewer than two: no flow;
+/// rows past it are left alone). Each lane gets the same bits as the strand alone would: the same
 /// operations in the same order, lane by lane (the f32 part then runs as vectors: one square
 /// root and three divides per segment were most of the pass when it went strand by strand).
 /// Inlined, so the CPU's pass compiles it for AVX2 where it runs there.
@@ -562,9 +562,8 @@ type End = ([u32; W], [u32; W]);
 /// than may run sends all that may, shared in proportion (rounded down, so never more); each
 /// transfer is cut to the receiver's inflow bound ([`flow_inflow_bound`]) of its water at the
 /// start. Where neither end is asked for more than may run (nearly always) the lanes run as
-/// vectors: the sends are
-/// then whole `u32`s, and a lane past its strand's end sends 0 both ways, so it moves
-/// nothing, as skipped. Each lane's sums are the same operations in the same order either
+/// vectors: the sends are then whole `u32`s, and a lane past its strand's end sends 0 both
+/// ways, so it moves nothing, as skipped. Each lane's sums are the same operations in the same order either
 /// way.
 #[inline(always)]
 fn flow_apply(
