@@ -32,6 +32,13 @@ fn wet_desc(groom: *const WetHairGroom) -> WetHairSimDesc {
     d
 }
 
+/// A simulation from `d`, which must be accepted (the error in the message if not).
+fn create(d: &WetHairSimDesc) -> *mut WetHairSim {
+    let mut s = null_mut();
+    assert_eq!(unsafe { wethair_sim_create(d, &mut s) }, WETHAIR_OK, "{}", last_error());
+    s
+}
+
 /// `wethair_sim_get_counters`, checked against `st` (the same frame's stats): every counter
 /// the same, every measure -1.
 fn counters_match(sim: *const WetHairSim, st: &WetHairStats) {
@@ -237,13 +244,7 @@ fn an_older_desc_without_the_wet_fields_runs_dry() {
     let mut d = wet_desc(g);
     d.struct_size = 152;
     d.held_water.enabled = 7; // beyond the host's struct: never read
-    let mut s = null_mut();
-    assert_eq!(
-        unsafe { wethair_sim_create(&d, &mut s) },
-        WETHAIR_OK,
-        "{}",
-        last_error()
-    );
+    let s = create(&d);
     assert_eq!(unsafe { wethair_sim_soak(s, 0.5) }, WETHAIR_ERROR_UNSUPPORTED);
     unsafe {
         wethair_sim_destroy(s);
@@ -285,13 +286,7 @@ fn the_free_ratio_reaches_c_hosts_and_older_ones_get_the_default() {
         assert_eq!(d.held_water_free_ratio, 1.0, "the default");
         d.held_water_free_ratio = free;
         d.struct_size = size;
-        let mut s = null_mut();
-        assert_eq!(
-            unsafe { wethair_sim_create(&d, &mut s) },
-            WETHAIR_OK,
-            "{}",
-            last_error()
-        );
+        let s = create(&d);
         assert_eq!(unsafe { wethair_sim_soak(s, 1.0) }, WETHAIR_OK);
         let a = stats(s).water_added;
         unsafe { wethair_sim_destroy(s) };
@@ -316,13 +311,7 @@ fn the_error_estimate_reaches_c_hosts() {
         d.held_water.enabled = 0;
         d.error_estimate_stride = stride;
         d.struct_size = size;
-        let mut s = null_mut();
-        assert_eq!(
-            unsafe { wethair_sim_create(&d, &mut s) },
-            WETHAIR_OK,
-            "{}",
-            last_error()
-        );
+        let s = create(&d);
         assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
         let st = stats(s);
         if estimated {
@@ -369,13 +358,7 @@ fn the_error_budget_reaches_c_hosts() {
     d.integrator = wethair::Integrator::SYMPLECTIC_EULER as u32;
     d.substeps = 4;
     d.tolerance = 1e-5;
-    let mut s = null_mut();
-    assert_eq!(
-        unsafe { wethair_sim_create(&d, &mut s) },
-        WETHAIR_OK,
-        "{}",
-        last_error()
-    );
+    let mut s = create(&d);
     assert_eq!(stats(s).substeps, 4);
     for _ in 0..30 {
         assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
@@ -393,12 +376,7 @@ fn the_error_budget_reaches_c_hosts() {
     d.integrator = wethair::Integrator::AUTO as u32;
     d.substeps = 1;
     d.tolerance = 1e-4;
-    assert_eq!(
-        unsafe { wethair_sim_create(&d, &mut s) },
-        WETHAIR_OK,
-        "{}",
-        last_error()
-    );
+    s = create(&d);
     assert_eq!(stats(s).integrator, wethair::Integrator::BDF2 as u32);
     let mut seen = vec![];
     for _ in 0..30 {

@@ -197,7 +197,10 @@ fn what_is_off_or_not_built_says_so() {
         },
     )
     .unwrap();
-    assert!(matches!(still.soak(1.5), Err(Error::InvalidArgument(_))));
+    match still.soak(1.5) {
+        Err(Error::InvalidArgument(m)) => assert!(m.contains("passes the hold limit, but nothing drips"), "{m}"),
+        r => panic!("a soak past the hold limit with no drip pass: {r:?}"),
+    }
     still.soak(1.0).unwrap();
     assert_eq!(on.water_ledger().unwrap().added, 0, "a refused soak adds nothing");
     for (hw, field) in [
@@ -237,6 +240,35 @@ fn what_is_off_or_not_built_says_so() {
         match Simulation::new(&groom, p) {
             Err(Error::InvalidArgument(m)) => assert!(m.contains(field), "{m}"),
             other => panic!("{field}: {other:?}"),
+        }
+    }
+}
+
+/// A point whose hold limit passes one water count (2.1 g) is refused at creation, by both
+/// backends (`HeldWater::check_masses`): the paper scene's 1 g points at 3 kg per kg of hair.
+#[test]
+fn a_hold_limit_past_one_water_count_is_refused() {
+    let groom = paper_scene(16, 6).unwrap();
+    for backend in [Backend::CPU, Backend::GPU] {
+        let p = SimParams {
+            backend,
+            held_water: HeldWater {
+                capacity_ratio: 1.0,
+                free_ratio: 2.0,
+                ..HeldWater::ON
+            },
+            ..SimParams::paper()
+        };
+        match Simulation::new(&groom, p) {
+            Err(Error::InvalidArgument(m)) => assert!(
+                m.contains("more than one water count") && m.contains("free_ratio"),
+                "{backend:?}: {m}"
+            ),
+            // No adapter: the GPU's refusal is checked where one is (CI sets this).
+            Err(e) if backend == Backend::GPU && std::env::var("WETHAIR_REQUIRE_GPU").as_deref() != Ok("1") => {
+                eprintln!("no GPU adapter, GPU case not run: {e}")
+            }
+            r => panic!("{backend:?}: {:?}", r.map(|_| ())),
         }
     }
 }

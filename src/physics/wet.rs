@@ -443,22 +443,18 @@ pub fn flow_strand(held: &mut [u32], hold: &[u32], x: &[Vec3], a: &[Vec3], g: Ve
         l.set(0, *v);
         l
     };
-    let mut rows: Vec<[u32; W]> = held
-        .iter()
-        .map(|&q| {
-            let mut row = [0; W];
-            row[0] = q;
-            row
-        })
-        .collect();
-    let limits: Vec<[u32; W]> = hold
-        .iter()
-        .map(|&q| {
-            let mut row = [0; W];
-            row[0] = q;
-            row
-        })
-        .collect();
+    // Each count as lane 0 of a row.
+    let rows_of = |counts: &[u32]| -> Vec<[u32; W]> {
+        counts
+            .iter()
+            .map(|&q| {
+                let mut row = [0; W];
+                row[0] = q;
+                row
+            })
+            .collect()
+    };
+    let (mut rows, limits) = (rows_of(held), rows_of(hold));
     let (xs, as_): (Vec<L3>, Vec<L3>) = (x.iter().map(lane0).collect(), a.iter().map(lane0).collect());
     let mut count = [0; W];
     count[0] = n;
