@@ -436,7 +436,8 @@ typedef struct WetHairMaterial {
 // The full wet model (docs/WET_MODEL.md), on both backends. Off (`enabled` 0, the default)
 // a simulation runs the paper's model. Rates of 0 switch their part off; no part costs
 // anything while off. The water held between the fibres is
-// `WetHairSimDesc::held_water_free_ratio` (since 0.6.0: this struct cannot grow).
+// `WetHairSimDesc::held_water_free_ratio` (since 0.6.0: this struct cannot grow), and the
+// length flow's mobility is quoted over `WetHairSimDesc::held_water_flow_length` (0.7.0).
 typedef struct WetHairHeldWater {
   // 1: hair points hold water (weight, limpness, absorption, bridges, flow, drip, drying);
   // 0: off. Other values are refused.
@@ -457,7 +458,9 @@ typedef struct WetHairHeldWater {
   float bridge_tension;
   // Distance at which a bridge lets go, m; 0: 1.5 r_min (the default).
   float bridge_length;
-  // Mobility of held water along a strand, 1/s; 0: it stays put. Default 5.
+  // Mobility of held water along a strand, 1/s, over `WetHairSimDesc::held_water_flow_length`
+  // of hair (0.02 m; since 0.7.0: before, over each segment, so finer grooms drained
+  // slower); 0: it stays put. Default 5: the water runs down a strand at 0.1 m/s.
   float flow_mobility;
   // Smallest drop that leaves a point above its hold limit, kg, > 0. Default 4.2e-6.
   float drip_mass;
@@ -664,6 +667,15 @@ typedef struct WetHairSimDesc {
   float held_water_free_ratio;
   // Unused; keep 0.
   uint32_t reserved7;
+  // Length of hair `held_water.flow_mobility` is quoted over, m, in (0, 1] (since 0.7.0;
+  // here for the same reason). A segment `l` long passes on `flow_mobility ·
+  // held_water_flow_length / l` of its running water a second, so water runs down a strand
+  // at `flow_mobility · held_water_flow_length` m/s (0.1 by default) however finely the
+  // strand is sampled. Default 0.02; a 336-byte layout (0.6.0) ended before it and takes the
+  // default.
+  float held_water_flow_length;
+  // Unused; keep 0.
+  uint32_t reserved8;
 } WetHairSimDesc;
 
 // What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.

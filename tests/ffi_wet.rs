@@ -186,6 +186,10 @@ fn bad_wet_values_are_refused_by_name_and_write_nothing() {
         (|d| d.held_water.drip_mass = 0.0, "drip_mass"),
         (|d| d.held_water_free_ratio = -1.0, "free_ratio"),
         (|d| d.held_water_free_ratio = f32::INFINITY, "free_ratio"),
+        (|d| d.held_water_flow_length = 0.0, "flow_length"),
+        (|d| d.held_water_flow_length = -0.02, "flow_length"),
+        (|d| d.held_water_flow_length = f32::NAN, "flow_length"),
+        (|d| d.held_water_flow_length = 2.0, "flow_length"),
         (|d| d.wind.velocity = [f32::NAN, 0.0, 0.0], "wind velocity"),
         (|d| d.wind.gust = -0.5, "gust"),
     ] {
@@ -270,8 +274,9 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
         assert!(at(std::ptr::addr_of!((*d).fixed_step) as *const u8) >= 232);
         assert!(at(std::ptr::addr_of!((*d).guides) as *const u8) >= 296);
         assert!(at(std::ptr::addr_of!((*d).held_water_free_ratio) as *const u8) >= 328);
+        assert!(at(std::ptr::addr_of!((*d).held_water_flow_length) as *const u8) >= 336);
     }
-    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 336, "no padding at the end");
+    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 344, "no padding at the end");
     assert_eq!(std::mem::size_of::<WetHairStats>(), 120);
 }
 
@@ -298,6 +303,39 @@ fn the_free_ratio_reaches_c_hosts_and_older_ones_get_the_default() {
     let ratio = at_default as f64 / at_capacity as f64;
     assert!((ratio - 1.3 / 0.3).abs() < 1e-4, "{ratio}");
     assert_eq!(added(f32::NAN, 328), at_default, "a 0.5.0 host takes the default");
+    unsafe { wethair_groom_destroy(g) };
+}
+
+/// The length flow's mobility is quoted over, through C (since 0.7.0): 0.02 m by default, and
+/// a 0.6.0 host (336 bytes) gets the default whatever lies past its struct. A strand soaked
+/// past its hold limits sheds the same in a second with the default and from a 0.6.0 host,
+/// and more where the host quotes the same mobility over a longer length (faster water).
+#[test]
+fn the_flow_length_reaches_c_hosts_and_older_ones_get_the_default() {
+    let g = paper(16);
+    let shed = |length: f32, size: u32| -> u64 {
+        let mut d = wet_desc(g);
+        assert_eq!(d.held_water_flow_length, 0.02, "the default");
+        d.held_water_flow_length = length;
+        d.struct_size = size;
+        let s = create(&d);
+        assert_eq!(unsafe { wethair_sim_soak(s, 2.0) }, WETHAIR_OK);
+        for _ in 0..30 {
+            assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
+        }
+        let st = stats(s);
+        unsafe { wethair_sim_destroy(s) };
+        st.water_added - st.water_held
+    };
+    let full = std::mem::size_of::<WetHairSimDesc>() as u32;
+    let at_default = shed(0.02, full);
+    assert!(at_default > 0, "a strand soaked past its hold limits drips");
+    assert_eq!(shed(f32::NAN, 336), at_default, "a 0.6.0 host takes the default");
+    let faster = shed(0.08, full);
+    assert!(
+        faster > at_default,
+        "four times the speed sheds more: {faster} vs {at_default}"
+    );
     unsafe { wethair_groom_destroy(g) };
 }
 

@@ -209,7 +209,7 @@ impl Held {
             None => (None, &mut [][..]),
         };
         let wetness = out.wetness;
-        let (av, mob, flows) = (self.avx2, self.cfg.flow_mobility, !self.v0.is_empty());
+        let (av, speed, flows) = (self.avx2, self.cfg.flow_speed(), !self.v0.is_empty());
         // The per-row buffers the pass writes, out of `self` while the laws read its
         // constants.
         let mut bufs = Bufs::take(self);
@@ -236,7 +236,7 @@ impl Held {
                                     st,
                                     block.v0,
                                     g,
-                                    mob,
+                                    speed,
                                     dt,
                                 )
                             },

@@ -53,6 +53,7 @@ sized!(
     // sdf_count, skinned_roots, root_teleport_distance, volume)
     // 0.5.0: WetHairSimDesc grew to 328 (guides)
     // 0.6.0: WetHairSimDesc grew to 336 (held_water_free_ratio)
+    // 0.7.0: WetHairSimDesc grew to 344 (held_water_flow_length)
     WetHairAdvance = 16,
 );
 

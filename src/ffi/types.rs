@@ -254,6 +254,15 @@ pub struct WetHairSimDesc {
     pub held_water_free_ratio: f32,
     /// Unused; keep 0.
     pub reserved7: u32,
+    /// Length of hair `held_water.flow_mobility` is quoted over, m, in (0, 1] (since 0.7.0;
+    /// here for the same reason). A segment `l` long passes on `flow_mobility ·
+    /// held_water_flow_length / l` of its running water a second, so water runs down a strand
+    /// at `flow_mobility · held_water_flow_length` m/s (0.1 by default) however finely the
+    /// strand is sampled. Default 0.02; a 336-byte layout (0.6.0) ended before it and takes the
+    /// default.
+    pub held_water_flow_length: f32,
+    /// Unused; keep 0.
+    pub reserved8: u32,
 }
 
 /// Which strands are guides (`WetHairGuides::choice`).
@@ -716,6 +725,8 @@ impl WetHairSimDesc {
             guides: (&p.guides).into(),
             held_water_free_ratio: p.held_water.free_ratio,
             reserved7: 0,
+            held_water_flow_length: p.held_water.flow_length,
+            reserved8: 0,
         }
     }
 
@@ -848,6 +859,7 @@ impl WetHairSimDesc {
             readback,
             held_water: crate::HeldWater {
                 free_ratio: self.held_water_free_ratio,
+                flow_length: self.held_water_flow_length,
                 ..self.held_water.params()?
             },
             volume: self.volume.params()?,

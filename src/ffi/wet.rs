@@ -14,7 +14,8 @@ pub const WETHAIR_WATER_QUANTUM_KG: f64 = crate::physics::wet::WATER_QUANTUM;
 /// The full wet model (docs/WET_MODEL.md), on both backends. Off (`enabled` 0, the default)
 /// a simulation runs the paper's model. Rates of 0 switch their part off; no part costs
 /// anything while off. The water held between the fibres is
-/// `WetHairSimDesc::held_water_free_ratio` (since 0.6.0: this struct cannot grow).
+/// `WetHairSimDesc::held_water_free_ratio` (since 0.6.0: this struct cannot grow), and the
+/// length flow's mobility is quoted over `WetHairSimDesc::held_water_flow_length` (0.7.0).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WetHairHeldWater {
@@ -37,7 +38,9 @@ pub struct WetHairHeldWater {
     pub bridge_tension: f32,
     /// Distance at which a bridge lets go, m; 0: 1.5 r_min (the default).
     pub bridge_length: f32,
-    /// Mobility of held water along a strand, 1/s; 0: it stays put. Default 5.
+    /// Mobility of held water along a strand, 1/s, over `WetHairSimDesc::held_water_flow_length`
+    /// of hair (0.02 m; since 0.7.0: before, over each segment, so finer grooms drained
+    /// slower); 0: it stays put. Default 5: the water runs down a strand at 0.1 m/s.
     pub flow_mobility: f32,
     /// Smallest drop that leaves a point above its hold limit, kg, > 0. Default 4.2e-6.
     pub drip_mass: f32,
@@ -84,6 +87,7 @@ impl WetHairHeldWater {
             bridge_tension: self.bridge_tension,
             bridge_length: self.bridge_length,
             flow_mobility: self.flow_mobility,
+            flow_length: crate::physics::wet::FLOW_LENGTH,
             drip_mass: self.drip_mass,
         })
     }

@@ -65,8 +65,9 @@ gpu_record! {
         pub massive: u32,
         /// A massive particle's drag per quantum of its water, N·s/m.
         pub drag_per_quantum: f32,
-        /// Mobility of held water along a strand, 1/s (0: no flow).
-        pub flow_mobility: f32,
+        /// How fast held water above the hold limit runs down a vertical strand, m/s
+        /// (`HeldWater::flow_speed`; 0: no flow).
+        pub flow_speed: f32,
         /// The smallest drop that leaves a point, quanta.
         pub min_drop: u32,
         /// 1 when hair points draw in the particles they reach (absorption), else 0.

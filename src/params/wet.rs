@@ -40,8 +40,13 @@ pub struct HeldWater {
     pub bridge_tension: f32,
     /// Distance at which a liquid bridge lets go, m (§5); 0 takes `1.5 r_min`.
     pub bridge_length: f32,
-    /// Mobility of held water along a strand, 1/s (§6); 0: water stays where it landed.
+    /// Mobility of held water along a strand, 1/s (§6), over `flow_length` of hair; 0: water
+    /// stays where it landed.
     pub flow_mobility: f32,
+    /// Length of hair `flow_mobility` is quoted over, m (§6; 0.02): a segment `l` long passes
+    /// on `flow_mobility · flow_length / l` of its running water a second, so the water runs
+    /// down a strand at [`HeldWater::flow_speed`] however finely the strand is sampled.
+    pub flow_length: f32,
     /// Smallest drop that leaves a point above its hold limit, kg (§6).
     pub drip_mass: f32,
 }
@@ -59,6 +64,7 @@ impl HeldWater {
         bridge_tension: 2.0 * wet::SURFACE_TENSION,
         bridge_length: 0.0,
         flow_mobility: wet::FLOW_MOBILITY,
+        flow_length: wet::FLOW_LENGTH,
         drip_mass: wet::MIN_DROP_MASS,
     };
     /// On, with the documented defaults.
@@ -72,6 +78,8 @@ impl HeldWater {
     pub const MAX_BRIDGE_TENSION: f32 = 1.44;
     /// The largest rate (`absorb_rate`, `flow_mobility`) accepted, 1/s.
     pub const MAX_RATE: f32 = 1.0e4;
+    /// The largest `flow_length` accepted, m.
+    pub const MAX_FLOW_LENGTH: f32 = 1.0;
 
     /// Whether soaked points bend more easily (a saturation-dependent bend stiffness).
     pub fn limp(&self) -> bool {
@@ -90,7 +98,13 @@ impl HeldWater {
 
     /// Whether held water runs along the strands.
     pub fn flows(&self) -> bool {
-        self.enabled && self.flow_mobility > 0.0
+        self.enabled && self.flow_speed() > 0.0
+    }
+
+    /// How fast the water above the hold limit runs down a vertical strand, m/s:
+    /// `flow_mobility · flow_length` (0.1 by default), whatever the strand's sampling.
+    pub fn flow_speed(&self) -> f32 {
+        self.flow_mobility * self.flow_length
     }
 
     /// Whether a point can come to hold more than its hold limit, and so drip: water only
@@ -157,6 +171,13 @@ impl HeldWater {
             if !(v.is_finite() && (0.0..=Self::MAX_RATE).contains(&v)) {
                 return Err(invalid!("{name} must be in [0, {}] 1/s, got {v}", Self::MAX_RATE));
             }
+        }
+        if !(self.flow_length.is_finite() && self.flow_length > 0.0 && self.flow_length <= Self::MAX_FLOW_LENGTH) {
+            return Err(invalid!(
+                "held_water.flow_length must be in (0, {}] m, got {}",
+                Self::MAX_FLOW_LENGTH,
+                self.flow_length
+            ));
         }
         if !(self.wet_bend_ratio.is_finite() && (0.0..=1.0).contains(&self.wet_bend_ratio)) {
             return Err(invalid!(

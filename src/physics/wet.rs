@@ -60,8 +60,12 @@ pub const ABSORB_LAST_FRACTION: f64 = 1.0e-3;
 pub const WET_BEND_RATIO: f32 = 0.5;
 /// Surface tension of water at 20 °C, N/m.
 pub const SURFACE_TENSION: f32 = 0.072;
-/// Mobility of held water along a strand, 1/s.
+/// Mobility of held water along a strand, 1/s, over [`FLOW_LENGTH`] of hair.
 pub const FLOW_MOBILITY: f32 = 5.0;
+/// Length of hair [`FLOW_MOBILITY`] is quoted over, m: the paper scene's segment, on which the
+/// law was first written per segment. Running water moves at `FLOW_MOBILITY · FLOW_LENGTH`
+/// (0.1 m/s) down a vertical strand.
+pub const FLOW_LENGTH: f32 = 0.02;
 /// The smallest drop that leaves a point: the mass of a 2 mm water drop, kg.
 pub const MIN_DROP_MASS: f32 = 4.2e-6;
 /// Drying time constant in still air, s.
@@ -428,14 +432,16 @@ pub fn running(held: u32, hold: u32) -> u32 {
 
 /// Moves one strand's held water (quanta per point, updated in place; `hold` each point's hold
 /// limit) one step `h` along its segments toward where the effective gravity `g - a` points
-/// (`x` positions, `a` accelerations). Each end of a segment sends
-/// `h mobility running (g - a).t / |g|` away from itself when that is positive, `running` its
-/// water above its hold limit ([`running`]), computed from the water at the start of the step
+/// (`x` positions, `a` accelerations). Each end of a segment of length `l` sends
+/// `h (speed / l) running (g - a).t / |g|` away from itself when that is positive, `running`
+/// its water above its hold limit ([`running`]; `speed`: [`crate::HeldWater::flow_speed`], so
+/// the water moves `speed` m/s along a vertical strand however many points sample it),
+/// computed from the water at the start of the step
 /// (the order points are visited does not matter), rounded down to whole quanta, and scaled
 /// so no point sends more than may run. Every transfer is one integer taken from one point
 /// and given to its neighbour: the strand's total never changes. The strand runs as lane 0
 /// of [`flow_lanes`], which the CPU backend calls on eight strands at once.
-pub fn flow_strand(held: &mut [u32], hold: &[u32], x: &[Vec3], a: &[Vec3], g: Vec3, mobility: f32, h: f32) {
+pub fn flow_strand(held: &mut [u32], hold: &[u32], x: &[Vec3], a: &[Vec3], g: Vec3, speed: f32, h: f32) {
     let n = held.len();
     debug_assert!(x.len() == n && a.len() == n && hold.len() == n);
     let lane0 = |v: &Vec3| {
@@ -458,7 +464,7 @@ pub fn flow_strand(held: &mut [u32], hold: &[u32], x: &[Vec3], a: &[Vec3], g: Ve
     let (xs, as_): (Vec<L3>, Vec<L3>) = (x.iter().map(lane0).collect(), a.iter().map(lane0).collect());
     let mut count = [0; W];
     count[0] = n;
-    flow_lanes(&mut rows, &limits, &xs, &as_, &count, g, mobility, h);
+    flow_lanes(&mut rows, &limits, &xs, &as_, &count, g, speed, h);
     for (q, r) in held.iter_mut().zip(&rows) {
         *q = r[0];
     }
@@ -479,11 +485,11 @@ pub fn flow_lanes(
     a: &[L3],
     n: &[usize; W],
     g: Vec3,
-    mobility: f32,
+    speed: f32,
     h: f32,
 ) {
     debug_assert!(x.len() >= held.len() && a.len() >= held.len());
-    flow_rows(held, hold, |i| x[i], |i| a[i], n, g, mobility, h);
+    flow_rows(held, hold, |i| x[i], |i| a[i], n, g, speed, h);
 }
 
 /// [`flow_lanes`] reading row `i`'s positions and accelerations as `x(i)` and `a(i)`, once
@@ -498,16 +504,18 @@ pub fn flow_rows(
     a: impl Fn(usize) -> L3,
     n: &[usize; W],
     g: Vec3,
-    mobility: f32,
+    speed: f32,
     h: f32,
 ) {
     let rows = held.len();
     debug_assert!(n.iter().all(|&k| k <= rows) && hold.len() >= rows);
     let g_len = g.length();
-    if rows < 2 || g_len <= 0.0 || mobility <= 0.0 {
+    if rows < 2 || g_len <= 0.0 || speed <= 0.0 {
         return;
     }
-    let rate = h as f64 * mobility as f64;
+    // Metres a step; over a segment's length (in `segment_along`), the share of the running
+    // water that crosses it.
+    let rate = h as f64 * speed as f64;
     // One pass with a segment's lag: segment `i`'s sends (down: `i` to `i + 1`; up: `i + 1`
     // to `i`) complete what point `i` is asked to send in all, so segment `i - 1`, whose two
     // ends' totals are then known, is applied. Sends are computed from the water at the
@@ -536,7 +544,7 @@ pub fn flow_rows(
         let (down, up) = (floor_nonneg_lanes(&down), floor_nonneg_lanes(&up));
         let mut out_i = [0u64; W];
         for l in 0..W {
-            out_i[l] = u_prev[l] + down[l];
+            out_i[l] = u_prev[l].saturating_add(down[l]);
         }
         if i > 0 {
             let ends = [(out_prev, start_prev), (out_i, start_i)];
@@ -581,9 +589,11 @@ fn flow_apply(
         }
         return;
     }
+    // In 128 bits: a segment far shorter than `speed h`, or a point flung hard, asks for up to
+    // 2^64 times what may run (q <= out, so the share is at most `run`).
     let share = |q: u64, out: u64, run: u32| -> u32 {
         if out > run as u64 {
-            (q * run as u64 / out) as u32
+            (q as u128 * run as u128 / out as u128) as u32
         } else {
             q as u32
         }
@@ -600,10 +610,10 @@ fn flow_apply(
 }
 
 /// Per lane, how far the effective gravity at each end of segment `x0 -> x1` points along it,
-/// over `|g|` (0 where it points away; [`runs_toward`]): at the first end along the unit
-/// tangent `t`, at the second along `-t`. Written out component by component as glam computes
-/// `(x1 - x0).normalize_or_zero()` and `(g - a).dot(t)`, so the bits are the same, and as one
-/// loop over the lanes, which the compiler runs as vectors.
+/// over `|g|` and over the segment's length (0 where it points away; [`runs_toward`]): at the
+/// first end along the unit tangent `t`, at the second along `-t`. Written out component by
+/// component as glam computes `(x1 - x0).normalize_or_zero()` and `(g - a).dot(t)`, so the
+/// bits are the same, and as one loop over the lanes, which the compiler runs as vectors.
 #[inline(always)]
 fn segment_along(x0: &L3, x1: &L3, a0: &L3, a1: &L3, g: Vec3, g_len: f32) -> (Lane, Lane) {
     let (mut wi, mut wj) = ([0.0f32; W], [0.0f32; W]);
@@ -620,8 +630,9 @@ fn segment_along(x0: &L3, x1: &L3, a0: &L3, a1: &L3, g: Vec3, g_len: f32) -> (La
         let di = (gx * tx) + (gy * ty) + (gz * tz);
         let (hx, hy, hz) = (g.x - a1.x[l], g.y - a1.y[l], g.z - a1.z[l]);
         let dj = (hx * -tx) + (hy * -ty) + (hz * -tz);
-        wi[l] = if di > 0.0 { di / g_len } else { 0.0 };
-        wj[l] = if dj > 0.0 { dj / g_len } else { 0.0 };
+        // A segment of no length has t = 0, so neither end sends across it.
+        wi[l] = if di > 0.0 { di / g_len * rcp } else { 0.0 };
+        wj[l] = if dj > 0.0 { dj / g_len * rcp } else { 0.0 };
     }
     (wi, wj)
 }
@@ -702,16 +713,17 @@ mod tests {
             }
         }
         let g = Vec3::new(0.0, -9.81, 0.0);
-        let (h, mob) = (1.0 / 60.0, 40.0);
+        // 40 /s over the 2 cm segments.
+        let (h, speed) = (1.0 / 60.0, 40.0 * FLOW_LENGTH);
         let before = held.clone();
-        flow_lanes(&mut held, &hold, &x, &a, &n, g, mob, h);
+        flow_lanes(&mut held, &hold, &x, &a, &n, g, speed, h);
         let mut moved = 0;
         for l in 0..W {
             let mut alone: Vec<u32> = before[..n[l]].iter().map(|r| r[l]).collect();
             let xs: Vec<Vec3> = x[..n[l]].iter().map(|r| r.get(l)).collect();
             let as_: Vec<Vec3> = a[..n[l]].iter().map(|r| r.get(l)).collect();
             let limits: Vec<u32> = hold[..n[l]].iter().map(|r| r[l]).collect();
-            flow_strand(&mut alone, &limits, &xs, &as_, g, mob, h);
+            flow_strand(&mut alone, &limits, &xs, &as_, g, speed, h);
             for r in 0..rows {
                 let want = if r < n[l] { alone[r] } else { before[r][l] };
                 assert_eq!(held[r][l], want, "lane {l} row {r}");

@@ -177,6 +177,11 @@ namespace WetHair
         /// and drips.</summary>
         public float held_water_free_ratio;
         public uint reserved7;
+        /// <summary>Length of hair held_water.flow_mobility is quoted over, m (default 0.02):
+        /// water runs down a strand at flow_mobility times it, m/s, however finely the strand
+        /// is sampled.</summary>
+        public float held_water_flow_length;
+        public uint reserved8;
     }
 
     /// <summary>Which strands are guides (WetHairGuideChoice).</summary>

@@ -60,8 +60,8 @@ impl GpuBackend {
             massive: p.held_water.enabled as u32,
             drag_per_quantum: (p.water.drag as f64 * crate::physics::wet::WATER_QUANTUM / p.water.particle_mass as f64)
                 as f32,
-            flow_mobility: if p.held_water.flows() {
-                p.held_water.flow_mobility
+            flow_speed: if p.held_water.flows() {
+                p.held_water.flow_speed()
             } else {
                 0.0
             },

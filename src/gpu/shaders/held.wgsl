@@ -206,7 +206,7 @@ fn dry(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3
 // Gravity less point i's acceleration over the step (gravity alone without flow, as on the
 // CPU, which keeps no step-start velocities then).
 fn g_eff(i: u32) -> vec3<f32> {
-    if (P.flow_mobility > 0.0) {
+    if (P.flow_speed > 0.0) {
         return P.g.xyz - (state[i].v.xyz - v0[i].xyz) / P.dt;
     }
     return P.g.xyz;
@@ -230,12 +230,33 @@ fn unit_or_zero(d: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
+// The share of a point's running water that crosses segment d in a step, per unit of
+// `along`: dt flow_speed / |d| (0 for a segment of no length, as its t is).
+fn flow_rate(d: vec3<f32>) -> f32 {
+    let l = length(d);
+    if (l > 0.0) {
+        return P.dt * P.flow_speed / l;
+    }
+    return 0.0;
+}
+
+// floor(w q), at most q: the part of q quanta a share w sends. A segment far shorter than
+// dt flow_speed, or a point flung hard, makes w huge (or, times an `along` of 0, NaN): the
+// float is cut below 2^32 before it becomes a count, and NaN sends nothing.
+fn flow_part(w: f32, q: u32) -> u32 {
+    if (!(w > 0.0)) {
+        return 0u;
+    }
+    return min(u32(min(floor(w * f32(q)), 4294967040.0)), q);
+}
+
 // Pass flow (wet::flow_strand), once per step, in two kernels over the points (one
 // invocation per point, so a warp reads neighbouring points: one per strand left fifteen of
-// sixteen lanes idle and read the strands' points scattered). Each end of a segment sends
-// floor(dt mobility running along) across it, `running` its water above its hold limit at the
-// step's start; a point asked for more than may run sends all that may, shared in
-// proportion. Every transfer is one integer from one point to its neighbour.
+// sixteen lanes idle and read the strands' points scattered). Each end of a segment of length
+// l sends floor(dt (flow_speed / l) running along) across it, `running` its water above its
+// hold limit at the step's start, so the water moves flow_speed m/s down a vertical strand
+// however finely it is sampled; a point asked for more than may run sends all that may,
+// shared in proportion. Every transfer is one integer from one point to its neighbour.
 
 // What point i, with q quanta that may run, sends to its previous (x) and next (y)
 // neighbour, before the inflow bound.
@@ -243,18 +264,17 @@ fn flow_sends(i: u32, pt: Point, q: u32, g_len: f32) -> vec2<u32> {
     if (q == 0u) {
         return vec2<u32>(0u);
     }
-    let rate = P.dt * P.flow_mobility;
     let ge = g_eff(i);
     let x = state[i].x.xyz;
     var to_prev = 0u;
     var to_next = 0u;
     if (i > pt.first) {
-        let t = unit_or_zero(x - state[i - 1u].x.xyz);
-        to_prev = min(u32(floor(rate * along(ge, -t, g_len) * f32(q))), q);
+        let d = x - state[i - 1u].x.xyz;
+        to_prev = flow_part(flow_rate(d) * along(ge, -unit_or_zero(d), g_len), q);
     }
     if (i < pt.last) {
-        let t = unit_or_zero(state[i + 1u].x.xyz - x);
-        to_next = min(u32(floor(rate * along(ge, t, g_len) * f32(q))), q);
+        let d = state[i + 1u].x.xyz - x;
+        to_next = flow_part(flow_rate(d) * along(ge, unit_or_zero(d), g_len), q);
     }
     let out = f32(to_prev) + f32(to_next);
     if (out > f32(q)) {
@@ -366,7 +386,7 @@ fn drip_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
         var q = drip_excess(atomicLoad(&held[i]), hold_limit(i));
         // The point's record only for a point with a drop (nearly none): read for every
         // point, it was most of the pass's bytes.
-        if (q > 0u && P.flow_mobility > 0.0 && runs_on(i, points[i], g_eff(i))) {
+        if (q > 0u && P.flow_speed > 0.0 && runs_on(i, points[i], g_eff(i))) {
             q = 0u;
         }
         drip_scratch[i] = q;

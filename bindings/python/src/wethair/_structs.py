@@ -169,6 +169,8 @@ class WetHairSimDesc(C.Structure):
         ("guides", WetHairGuides),
         ("held_water_free_ratio", f32),
         ("reserved7", u32),
+        ("held_water_flow_length", f32),
+        ("reserved8", u32),
     ]
 
 
