@@ -1,11 +1,12 @@
 //! The full wet model on the CPU backend (issue 14; docs/WET_MODEL.md §2, §4-§6, §8):
 //! particles soak in and vanish with the ledger exact, limp hair bends as the curve says,
 //! a steady wind deflects a strand by the drag-versus-gravity angle, a saturated strand drips
-//! only from its tip and the drops fall freely, and results do not depend on the thread count.
+//! only from its tip and the drops fall freely, and results do not depend on the thread count;
+//! drops fill fine hair to its hold limit and no further (on every backend).
 
 use glam::{DVec2, Vec3};
 use wethair::groom::{paper_scene, Groom};
-use wethair::physics::wet::bend_scale;
+use wethair::physics::wet::{bend_scale, hold_limit, to_quanta, ABSORB_LAST_FRACTION, CAPACITY_RATIO, FREE_RATIO};
 use wethair::{Backend, HeldWater, SimParams, Simulation, SpringParams, Wind};
 
 const DT: f32 = 1.0 / 60.0;
@@ -70,6 +71,66 @@ fn particles_soak_into_the_hair_and_vanish_with_the_ledger_exact() {
     assert_eq!(sim.stats().particles, 0, "emptied particles are removed: {l:?}");
     assert_eq!(l.in_particles, 0);
     assert_eq!(l.held, l.added, "all of it held");
+}
+
+/// docs/WET_MODEL.md §2: each grant is cut to the point's room below its hold limit. Ten
+/// 1 g drops resting beside a 0.3 m strand of 1 g/m hair sampled every 5 mm (6.5 mg a point
+/// at its hold limit), no gravity: each asks a point for about 80 mg a substep. On every
+/// backend the strand fills to its hold limits and no further (but the last remainders), so
+/// no drop is shed. (Before
+/// the cut, one grant filled a point to twelve times its limit: the strand held 3.5 times its
+/// limits after three frames and shed the excess as drops.)
+#[test]
+fn drops_fill_fine_hair_to_its_hold_limit_and_no_further() {
+    let _g = crate::common::serial();
+    let line = Groom::new(vec![Vec3::ZERO, Vec3::new(0.0, 0.0, -0.3)], &[2], None, None, 1.0).unwrap();
+    let groom = wethair::groom::LoadOptions {
+        resample_points: 61,
+        linear_density: 1e-3,
+        weld_length: 0.0,
+        ..Default::default()
+    }
+    .apply(&line)
+    .unwrap();
+    let limit: u64 = groom
+        .masses()
+        .iter()
+        .map(|&m| hold_limit(m, CAPACITY_RATIO, FREE_RATIO) as u64)
+        .sum();
+    let drops: Vec<Vec3> = (0..10)
+        .map(|k| Vec3::new(0.003, 0.0, -0.03 - 0.0237 * k as f32))
+        .collect();
+    // A drop left with under a thousandth of its water gives it whole to one point, past its
+    // limit (the last remainder, §2): at most that much a drop over.
+    let last = (to_quanta(1e-3) as f64 * ABSORB_LAST_FRACTION) as u64;
+    let most = limit + drops.len() as u64 * last;
+    for backend in crate::common::backends() {
+        let mut p = SimParams {
+            backend,
+            held_water: HeldWater {
+                dry_time: 0.0,
+                ..HeldWater::ON
+            },
+            ..SimParams::default()
+        };
+        p.gravity = Vec3::ZERO;
+        let mut sim = Simulation::new(&groom, p).unwrap();
+        sim.add_water(&drops, &[]).unwrap();
+        for f in 0..60 {
+            sim.step(DT).unwrap();
+            let l = sim.water_ledger().unwrap();
+            assert!(l.balanced(), "{backend:?}, frame {f}: {l:?}");
+            assert!(
+                l.held <= most,
+                "{backend:?}, frame {f}: held {} of a limit {limit}",
+                l.held
+            );
+            assert_eq!(sim.stats().particles, 10, "{backend:?}, frame {f}: no drop shed: {l:?}");
+        }
+        let held = sim.water_ledger().unwrap().held;
+        println!("{backend:?}: held {held} of a limit {limit} after 1 s");
+        assert!(held > limit * 9 / 10, "{backend:?}: filled: {held} of {limit}");
+    }
 }
 
 /// Static equilibrium of a three-point strand with its root and second point fixed, found

@@ -259,12 +259,13 @@ impl Water {
                 );
             });
         }
-        // A point takes a grant up to `HELD_LIMIT` (what it refuses stays in the particle).
+        // A point takes a grant up to its room below its hold limit at the substep's start, and
+        // in all up to `HELD_LIMIT` (what it refuses stays in the particle).
         let (mass, demand) = (&self.sorted_mass, &self.demand);
         let grants = |k: usize, w: &mut Worker, held: &mut [[u32; W]]| {
             let first_point = k * chunk_rows * W;
             for d in &mut w.demands {
-                let g = wet::grant(mass[d.slot as usize], d.quanta, demand[d.slot as usize]);
+                let g = wet::grant(mass[d.slot as usize], d.quanta, demand[d.slot as usize]).min(d.room);
                 let p = d.point as usize - first_point;
                 let (r, l) = (p / W, p % W);
                 let q = g.min(wet::HELD_LIMIT.saturating_sub(held[r][l]));

@@ -16,6 +16,9 @@ pub struct Demand {
     pub point: u32,
     /// Quanta asked for.
     pub quanta: u32,
+    /// The point's room below its hold limit at the substep's start ([`wet::hold_room`]): its grant
+    /// is cut to it.
+    pub room: u32,
 }
 
 /// What the adhesion gather needs to absorb for one row of hair points.
@@ -80,6 +83,7 @@ impl WetRow<'_> {
                     slot,
                     point: self.first_point + l as u32,
                     quanta,
+                    room: wet::hold_room(water[l], hold[l]),
                 });
             }
         }

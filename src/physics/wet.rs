@@ -190,6 +190,14 @@ pub fn absorb_demand_taking(particle: u32, weight: f32, s: f32, take: f32) -> u3
     d.floor() as u32
 }
 
+/// A point's room below its hold limit: what a grant to it may take at most, from its water
+/// `held` at the substep's start (docs/WET_MODEL.md §2). A particle of 1 g asks for about
+/// 80 mg of it in a substep, and a centimetre of a real groom holds about 13 mg.
+#[inline]
+pub fn hold_room(held: u32, hold: u32) -> u32 {
+    hold.saturating_sub(held)
+}
+
 /// What a particle holding `particle` quanta grants one demand `demand` when all its demands
 /// sum to `total`: the demand itself while the particle has enough, else its share of the
 /// particle, rounded down, so the grants never sum to more than the particle holds (the

@@ -11,6 +11,11 @@ fn saturation(q: u32, c: u32) -> f32 {
     return 0.0;
 }
 
+// wet::hold_room: a point's room below its hold limit c, holding q.
+fn hold_room(q: u32, c: u32) -> u32 {
+    return c - min(q, c);
+}
+
 // 1 within r_min of the particle, falling linearly to 0 at r_max.
 fn absorb_weight(d: f32) -> f32 {
     return clamp((P.r_max - d) / (P.r_max - P.r_min), 0.0, 1.0);

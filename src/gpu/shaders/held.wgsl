@@ -492,9 +492,11 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
         return;
     }
     let r2 = P.r_max * P.r_max;
-    // The point takes grants up to HELD_LIMIT (wet::HELD_LIMIT); the particle keeps the rest.
+    // The point takes each grant up to its room below its hold limit at the substep's start
+    // (wet::hold_room), and in all up to HELD_LIMIT (wet::HELD_LIMIT); the particle keeps the rest.
     // Only this invocation adds to held[i] during the pass (remainders come after).
     let held0 = atomicLoad(&held[i]);
+    let room0 = hold_room(held0, hold_limit(i));
     var got = 0u;
     for (var j = 0; j < span_cells(span); j++) {
         let c = span_cell(span, j);
@@ -519,7 +521,7 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
                 let total = f32(hi) * 4294967296.0 + f32(lo);
                 g = u32(floor(f32(demand) * (f32(q) / total) * (1.0 - 4.0e-7)));
             }
-            g = min(g, HELD_LIMIT - min(held0 + got, HELD_LIMIT));
+            g = min(min(g, room0), HELD_LIMIT - min(held0 + got, HELD_LIMIT));
             got += take_from(k, q, g);
             if (demand == atomicLoad(&absorb_scratch[at + ABS_BEST])) {
                 atomicMax(&absorb_scratch[at + ABS_POINT], ~i);
