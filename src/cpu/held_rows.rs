@@ -194,8 +194,8 @@ impl BlockScratch {
 /// Pass `flow` on block `b` (`water` its rows; `hold`, `state` and `v0` from its first row
 /// on): held water above each point's hold limit runs along each strand toward where gravity
 /// minus the point's acceleration over the step points (`wet::flow_rows`, the block's eight
-/// strands at once; `speed` is `HeldWater::flow_speed`). A block with no water above a hold limit is left alone (nearly every
-/// wet block: the water the hair holds does not run).
+/// strands at once; `speed` is `HeldWater::flow_speed`). A block with no water above a hold
+/// limit is left alone (nearly every wet block: the water the hair holds does not run).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn flow_block(

@@ -16,8 +16,8 @@ pub struct Demand {
     pub point: u32,
     /// Quanta asked for.
     pub quanta: u32,
-    /// The point's room below its hold limit at the substep's start ([`wet::hold_room`]): its grant
-    /// is cut to it.
+    /// The point's room below its hold limit at the substep's start ([`wet::hold_room`]): its
+    /// grant is cut to it.
     pub room: u32,
 }
 

@@ -493,7 +493,8 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
     }
     let r2 = P.r_max * P.r_max;
     // The point takes each grant up to its room below its hold limit at the substep's start
-    // (wet::hold_room), and in all up to HELD_LIMIT (wet::HELD_LIMIT); the particle keeps the rest.
+    // (wet::hold_room), and in all up to HELD_LIMIT (wet::HELD_LIMIT); the particle keeps the
+    // rest.
     // Only this invocation adds to held[i] during the pass (remainders come after).
     let held0 = atomicLoad(&held[i]);
     let room0 = hold_room(held0, hold_limit(i));
