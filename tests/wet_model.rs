@@ -77,9 +77,8 @@ fn particles_soak_into_the_hair_and_vanish_with_the_ledger_exact() {
 /// 1 g drops resting beside a 0.3 m strand of 1 g/m hair sampled every 5 mm (6.5 mg a point
 /// at its hold limit), no gravity: each asks a point for about 80 mg a substep. On every
 /// backend the strand fills to its hold limits and no further (but the last remainders), so
-/// no drop is shed. (Before
-/// the cut, one grant filled a point to twelve times its limit: the strand held 3.5 times its
-/// limits after three frames and shed the excess as drops.)
+/// no drop is shed. (Before the cut, one grant filled a point to twelve times its limit: the
+/// strand held 3.5 times its limits after three frames and shed the excess as drops.)
 #[test]
 fn drops_fill_fine_hair_to_its_hold_limit_and_no_further() {
     let _g = crate::common::serial();
@@ -102,7 +101,8 @@ fn drops_fill_fine_hair_to_its_hold_limit_and_no_further() {
         .collect();
     // A drop left with under a thousandth of its water gives it whole to one point, past its
     // limit (the last remainder, §2): at most that much a drop over.
-    let last = (to_quanta(1e-3) as f64 * ABSORB_LAST_FRACTION) as u64;
+    let drop_mass = SimParams::default().water.particle_mass;
+    let last = (to_quanta(drop_mass as f64) as f64 * ABSORB_LAST_FRACTION) as u64;
     let most = limit + drops.len() as u64 * last;
     for backend in crate::common::backends() {
         let mut p = SimParams {
