@@ -180,7 +180,7 @@ fn flow_stays_exact_across_tiny_segments_and_violent_accelerations() {
         assert_eq!(sum, total, "step {step}: conserved exactly: {held:?}");
         assert!(held.iter().all(|&q| q as u64 <= total), "step {step}: no count wrapped");
         if step == 0 {
-            // Flung up, the water is thrown down the strand: the root, asked for 10⁸ times
+            // Flung up, the water is thrown down the strand: the root, asked for 10⁵ times
             // what may run, sends all of it and keeps its hold limit.
             assert_eq!(held[0], hold[0], "{held:?}");
         }
