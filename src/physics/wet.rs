@@ -444,9 +444,8 @@ pub fn running(held: u32, hold: u32) -> u32 {
 /// `h (speed / l) running (g - a).t / |g|` away from itself when that is positive, `running`
 /// its water above its hold limit ([`running`]; `speed`: [`crate::HeldWater::flow_speed`], so
 /// the water moves `speed` m/s along a vertical strand however many points sample it),
-/// computed from the water at the start of the step
-/// (the order points are visited does not matter), rounded down to whole quanta, and scaled
-/// so no point sends more than may run. Every transfer is one integer taken from one point
+/// computed from the water at the start of the step (the order points are visited does not
+/// matter), rounded down to whole quanta, and scaled so no point sends more than may run. Every transfer is one integer taken from one point
 /// and given to its neighbour: the strand's total never changes. The strand runs as lane 0
 /// of [`flow_lanes`], which the CPU backend calls on eight strands at once.
 pub fn flow_strand(held: &mut [u32], hold: &[u32], x: &[Vec3], a: &[Vec3], g: Vec3, speed: f32, h: f32) {
@@ -480,8 +479,8 @@ pub fn flow_strand(held: &mut [u32], hold: &[u32], x: &[Vec3], a: &[Vec3], g: Ve
 
 /// [`flow_strand`] on the `W` strands of a lane group at once: lane `l` is a strand of
 /// `n[l]` points, rows `0..n[l]` of `held`, `hold`, `x` and `a` (fewer than two: no flow;
-/// rows past it are left alone). Each lane gets the same bits as the strand alone would: the same
-/// operations in the same order, lane by lane (the f32 part then runs as vectors: one square
+/// rows past it are left alone). Each lane gets the same bits as the strand alone would: the
+/// same operations in the same order, lane by lane (the f32 part then runs as vectors: one square
 /// root and three divides per segment were most of the pass when it went strand by strand).
 /// Inlined, so the CPU's pass compiles it for AVX2 where it runs there.
 #[inline(always)]
@@ -575,8 +574,8 @@ type End = ([u32; W], [u32; W]);
 /// transfer is cut to the receiver's inflow bound ([`flow_inflow_bound`]) of its water at the
 /// start. Where neither end is asked for more than may run (nearly always) the lanes run as
 /// vectors: the sends are then whole `u32`s, and a lane past its strand's end sends 0 both
-/// ways, so it moves nothing, as skipped. Each lane's sums are the same operations in the same order either
-/// way.
+/// ways, so it moves nothing, as skipped. Each lane's sums are the same operations in the same
+/// order either way.
 #[inline(always)]
 fn flow_apply(
     held: &mut [[u32; W]],

@@ -230,19 +230,20 @@ fn unit_or_zero(d: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-// The share of a point's running water that crosses segment d in a step, per unit of
-// `along`: dt flow_speed / |d| (0 for a segment of no length, as its t is).
-fn flow_rate(d: vec3<f32>) -> f32 {
+// The share of a point's running water that crosses the segment d (from the point to its
+// neighbour) in a step under effective gravity ge: dt (flow_speed / |d|) along(ge, d / |d|)
+// (wet.rs `segment_along` times the step's rate); 0 for a segment of no length.
+fn flow_rate(d: vec3<f32>, ge: vec3<f32>, g_len: f32) -> f32 {
     let l = length(d);
     if (l > 0.0) {
-        return P.dt * P.flow_speed / l;
+        return P.dt * P.flow_speed / l * along(ge, d / l, g_len);
     }
     return 0.0;
 }
 
 // floor(w q), at most q: the part of q quanta a share w sends. A segment far shorter than
-// dt flow_speed, or a point flung hard, makes w huge (or, times an `along` of 0, NaN): the
-// float is cut below 2^32 before it becomes a count, and NaN sends nothing.
+// dt flow_speed, or a point flung hard, makes w huge (or inf, or NaN): the float is cut below
+// 2^32 before it becomes a count, and NaN sends nothing.
 fn flow_part(w: f32, q: u32) -> u32 {
     if (!(w > 0.0)) {
         return 0u;
@@ -269,12 +270,10 @@ fn flow_sends(i: u32, pt: Point, q: u32, g_len: f32) -> vec2<u32> {
     var to_prev = 0u;
     var to_next = 0u;
     if (i > pt.first) {
-        let d = x - state[i - 1u].x.xyz;
-        to_prev = flow_part(flow_rate(d) * along(ge, -unit_or_zero(d), g_len), q);
+        to_prev = flow_part(flow_rate(state[i - 1u].x.xyz - x, ge, g_len), q);
     }
     if (i < pt.last) {
-        let d = state[i + 1u].x.xyz - x;
-        to_next = flow_part(flow_rate(d) * along(ge, unit_or_zero(d), g_len), q);
+        to_next = flow_part(flow_rate(state[i + 1u].x.xyz - x, ge, g_len), q);
     }
     let out = f32(to_prev) + f32(to_next);
     if (out > f32(q)) {
