@@ -449,7 +449,8 @@ typedef struct WetHairHeldWater {
   float dry_time;
   // Air speed at which drying runs twice as fast, m/s, > 0. Default 1.
   float dry_air_speed;
-  // Rate at which hair draws in a particle within r_max, 1/s; 0: never. Default 20.
+  // Rate at which 2 cm of hair draws in a particle within r_max, 1/s (a point asks in
+  // proportion to the hair it stands for); 0: never. Default 20.
   float absorb_rate;
   // Bending stiffness of saturated hair over dry, 0..=1 (1: not limp). Default 0.5.
   float wet_bend_ratio;

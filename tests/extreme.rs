@@ -359,6 +359,50 @@ fn drained_drops_stay_slow(backend: Backend) {
     assert!(worst < 0.5, "{backend:?}: a drop reached {worst} m/s");
 }
 
+/// A drop far lighter than the default particle mass under the default drag: 1 mg, so its drag
+/// rate is 2 mN·s/m over 1 mg, 2000 /s, and a 1/240 s substep is 8.3 of its time constants
+/// (explicit drag diverges once that passes 2: here its speed grew by `|1 - h k|` = 7.3 a
+/// substep, turning about each time, to 14 m/s after the first frame, and the drop left a
+/// 100 m domain in the second). Falling from rest, with the paper's model and with held water, on every
+/// backend, it reaches its terminal speed `g / k` (4.9 mm/s) within 1e-4 of it by 0.5 s and
+/// never passes it.
+#[test]
+fn a_drop_much_lighter_than_its_drag_falls_at_its_terminal_speed() {
+    let _serial = serial();
+    let groom = Groom::new(vec![Vec3::ZERO, Vec3::new(0.0, 0.0, -0.02)], &[2], None, None, 1e-3).unwrap();
+    for backend in backends() {
+        for held in [false, true] {
+            let mut p = SimParams {
+                backend,
+                ..SimParams::paper()
+            };
+            p.held_water.enabled = held;
+            p.water.particle_mass = 1.0e-6;
+            p.water.domain_radius = 100.0;
+            let terminal = p.gravity.length() * p.water.particle_mass / p.water.drag;
+            let mut sim = Simulation::new(&groom, p).unwrap();
+            sim.add_water(&[Vec3::new(1.0, 0.0, 0.0)], &[]).unwrap();
+            let mut fastest = 0.0f32;
+            for _ in 0..30 {
+                sim.step(1.0 / 60.0).unwrap();
+                let v = sim.water_velocities().unwrap()[0];
+                assert!(v.is_finite(), "{backend:?}, held water {held}: {v}");
+                fastest = fastest.max(v.length());
+            }
+            let v = sim.water_velocities().unwrap()[0];
+            println!("{backend:?}, held water {held}: {v} m/s after 0.5 s; terminal {terminal} m/s");
+            assert!(
+                (v.z + terminal).abs() < 1e-4 * terminal && v.x.abs() + v.y.abs() < 1e-6 * terminal,
+                "{backend:?}, held water {held}: {v} m/s, terminal -{terminal} m/s in z"
+            );
+            assert!(
+                fastest <= terminal * (1.0 + 1e-4),
+                "{backend:?}, held water {held}: {fastest} m/s"
+            );
+        }
+    }
+}
+
 /// Twenty grams of drops poured on a small groom at once, absorbed quickly, with flow on: a
 /// point reached by hundreds of drops in one substep fills to `wet::HELD_LIMIT` and the drops
 /// keep the rest; flow never gives a point more than its count can hold. The water ledger

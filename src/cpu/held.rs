@@ -26,6 +26,10 @@ pub struct Held {
     /// Hold limit per point, quanta (0 on padding lanes; `wet::hold_limit`): what it holds
     /// against gravity, in and between its fibres.
     pub hold: AlignedRows<[u32; W]>,
+    /// Per point, the length of hair it stands for over `wet::ABSORB_LENGTH`
+    /// (`wet::absorb_share`; 0 on padding lanes): absorption asks in proportion to it (empty
+    /// unless the scene absorbs).
+    pub share: AlignedRows<Lane>,
     /// Per row, the dry values the wet parameters are computed from.
     dry: Vec<DryRow>,
     /// The layout's row parameters with each free point's inverse mass from its dry mass plus
@@ -76,6 +80,11 @@ impl Held {
             .collect();
         let mut capacity = AlignedRows::filled([0u32; W], n_rows);
         let mut hold = AlignedRows::filled([0u32; W], n_rows);
+        let mut share = if cfg.absorbs() {
+            AlignedRows::filled([0.0; W], n_rows)
+        } else {
+            AlignedRows::default()
+        };
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
             let first = lay.strand_first[s] as usize;
@@ -86,6 +95,11 @@ impl Held {
                 }
                 capacity[r][l] = wet::capacity(m, cfg.capacity_ratio);
                 hold[r][l] = wet::hold_limit(m, cfg.capacity_ratio, cfg.free_ratio);
+                if !share.is_empty() {
+                    // The rest segments the point ends (a strand's last point has no next).
+                    let before = if i > 0 { lay.params[r - 1].stretch.rest[l] } else { 0.0 };
+                    share[r][l] = wet::absorb_share(before, lay.params[r].stretch.rest[l]);
+                }
             }
         }
         let flows = cfg.flows();
@@ -93,6 +107,7 @@ impl Held {
             water: AlignedRows::filled([0; W], n_rows),
             capacity,
             hold,
+            share,
             dry,
             params: lay.params.clone(),
             params_wet: vec![false; n_rows],
@@ -254,6 +269,7 @@ impl Held {
         self.water.capacity() * 4 * W
             + self.capacity.capacity() * 4 * W
             + self.hold.capacity() * 4 * W
+            + self.share.capacity() * std::mem::size_of::<Lane>()
             + self.dry.capacity() * std::mem::size_of::<DryRow>()
             + self.params.capacity() * std::mem::size_of::<ParamRow>()
             + self.params_wet.capacity()

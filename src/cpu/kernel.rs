@@ -104,9 +104,11 @@ pub(super) struct AbsorbCtx<'a> {
     /// Particles' water in grid order, quanta.
     pub(super) mass: &'a [u32],
     pub(super) strength_per_quantum: f64,
-    /// The fraction of a particle a point within `r_min` takes in a substep
-    /// (`wet::absorb_take`, once per substep, not once per pair).
+    /// The fraction of a particle a point standing for `wet::ABSORB_LENGTH` of hair takes
+    /// within `r_min` in a substep (`wet::absorb_take`, once per substep, not once per pair).
     pub(super) take: f32,
+    /// Per row, each point's length of hair over `wet::ABSORB_LENGTH` (`Held::share`).
+    pub(super) share: &'a [Lane],
     /// Held water and hold limit per row, quanta (how full each point is at the substep's
     /// start).
     pub(super) held: &'a [[u32; W]],
@@ -237,6 +239,7 @@ fn block_substep_impl<const AXIAL: bool>(
                 strength_per_quantum: a.strength_per_quantum,
                 water: &a.held[base + i],
                 hold: &a.hold[base + i],
+                share: &a.share[base + i],
                 sat: None,
                 first_point: ((base + i) * W) as u32,
                 take: a.take,

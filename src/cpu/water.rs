@@ -10,6 +10,7 @@ use crate::physics::absorb::Demand;
 use crate::physics::adhesion::Reaction;
 use crate::physics::collide::Colliders;
 use crate::physics::grid::Grid;
+use crate::physics::integrate::particle_velocity;
 use crate::physics::lanes::W;
 use crate::physics::wet;
 use crate::plan::{check_new_particles, WaterDomain};
@@ -41,7 +42,8 @@ pub struct Water {
     pub grid: Grid,
     /// Positions in grid order (slot k is particle k since the build), coordinates apart.
     pub sorted: [Vec<f32>; 3],
-    /// Force on each particle, in grid order (drag, then the hair's reactions).
+    /// Force on each particle, in grid order: the hair's reactions (its drag is taken as it
+    /// moves).
     pub force: Vec<Vec3>,
     /// Domain centre in head space.
     pub center_local: Vec3,
@@ -321,9 +323,9 @@ impl Water {
         }
     }
 
-    /// Pass `water_integrate`: symplectic Euler for every particle under its drag plus the
-    /// hair's reactions, summed in the order given (block order, so the same bits for any
-    /// thread count), then the colliders. Each list of reactions comes with its spans, which
+    /// Pass `water_integrate`: symplectic Euler for every particle under the hair's reactions,
+    /// summed in the order given (block order, so the same bits for any thread count), with its
+    /// drag taken implicitly (`integrate::particle_velocity`), then the colliders. Each list of reactions comes with its spans, which
     /// cover it in order.
     #[allow(clippy::too_many_arguments)]
     pub fn integrate<'a>(
@@ -338,19 +340,12 @@ impl Water {
         pool: Option<&super::pool::Pool>,
     ) {
         let inv_m0 = 1.0 / p.particle_mass;
+        // A particle's drag scales with its water, so every drop, whatever its size, slows at
+        // the rate a full particle does (`drag / particle_mass`) and falls alike; it is taken
+        // implicitly as the particle moves (`integrate::particle_velocity`).
+        let drag_rate = p.drag * inv_m0;
         self.force.clear();
-        if self.massive() {
-            // A particle's drag scales with its water, so every drop, whatever its size, slows
-            // at the rate a full particle does (`drag / particle_mass`) and falls alike.
-            let per_quantum = p.drag as f64 * wet::WATER_QUANTUM / p.particle_mass as f64;
-            let mass = &self.sorted_mass;
-            self.force.extend(self.vel.iter().zip(mass).map(|(&v, &q)| {
-                let c = (q as f64 * per_quantum) as f32;
-                c * (wind - v)
-            }));
-        } else {
-            self.force.extend(self.vel.iter().map(|&v| p.drag * (wind - v)));
-        }
+        self.force.resize(self.vel.len(), Vec3::ZERO);
         // Each particle sums its reactions in the order given. With many, each task takes a
         // range of particles and reads the blocks' runs of reactions that touch it, keeping its
         // own: the sums are the same, and the scattered adds are shared (a million drops: most
@@ -390,7 +385,8 @@ impl Water {
                     Some(0) => 0.0,
                     Some(&q) => (1.0 / wet::to_kg(q)) as f32,
                 };
-                *v += h * (force[j] * inv_m + g);
+                let rate = if inv_m > 0.0 { drag_rate } else { 0.0 };
+                *v = particle_velocity(*v, force[j] * inv_m + g, rate, wind, h);
                 *x += h * *v;
                 colliders.push_out_point(x, v, friction);
             }

@@ -29,7 +29,8 @@ pub struct WetHairHeldWater {
     pub dry_time: f32,
     /// Air speed at which drying runs twice as fast, m/s, > 0. Default 1.
     pub dry_air_speed: f32,
-    /// Rate at which hair draws in a particle within r_max, 1/s; 0: never. Default 20.
+    /// Rate at which 2 cm of hair draws in a particle within r_max, 1/s (a point asks in
+    /// proportion to the hair it stands for); 0: never. Default 20.
     pub absorb_rate: f32,
     /// Bending stiffness of saturated hair over dry, 0..=1 (1: not limp). Default 0.5.
     pub wet_bend_ratio: f32,

@@ -63,8 +63,9 @@ gpu_record! {
         pub wet_bend_ratio: f32,
         /// 1 when each particle carries its own water (held water), else 0.
         pub massive: u32,
-        /// A massive particle's drag per quantum of its water, N·s/m.
-        pub drag_per_quantum: f32,
+        /// A particle's drag rate, `water_drag / particle_mass`, 1/s (as the CPU computes it):
+        /// every drop, whatever its water, slows at a full particle's rate.
+        pub water_drag_rate: f32,
         /// How fast held water above the hold limit runs down a vertical strand, m/s
         /// (`HeldWater::flow_speed`; 0: no flow).
         pub flow_speed: f32,
@@ -72,7 +73,8 @@ gpu_record! {
         pub min_drop: u32,
         /// 1 when hair points draw in the particles they reach (absorption), else 0.
         pub absorbs: u32,
-        /// The fraction of a particle one point may ask for in a substep, `1 - e^(-rate h)`.
+        /// The fraction of a particle a point standing for `wet::ABSORB_LENGTH` of hair may ask
+        /// for in a substep, `1 - e^(-rate h)` (`absorb_take_at` scales it to the point's share).
         pub absorb_take: f32,
         /// Eq. 2's strength per quantum a particle holds, N (with absorption).
         pub strength_per_quantum: f32,

@@ -102,7 +102,7 @@ const ADD_COHESION: &str =
 /// the absorb pass.
 fn adhesion_call(point: &str) -> String {
     format!(
-        "    var near = 0.0;\n    f += adhesion({point}, wet, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n    \
+        "    var near = 0.0;\n    f += adhesion(i, {point}, wet, &near);\n    wet += (1.0 - wet) * P.wet_gain * near;\n    \
          if (near != 0.0 && P.absorbs != 0u) {{\n        mark_near(i);\n    }}\n"
     )
 }

@@ -151,6 +151,7 @@ pub fn constants() -> Vec<(&'static str, Const)> {
         ("ABS_POINT", U32(buffers::absorb_words::POINT)),
         ("ABS_GIVEN", U32(buffers::absorb_words::GIVEN)),
         ("HELD_LIMIT", U32(crate::physics::wet::HELD_LIMIT)),
+        ("ABSORB_SHARE_SCALE", F32(crate::physics::wet::ABSORB_SHARE_SCALE)),
         ("ABS_WORDS", U32(buffers::absorb_words::WORDS)),
         ("MAX_BRIDGES", U32(crate::physics::wet::MAX_BRIDGES as u32)),
         ("BRIDGE_SEARCH_TURNS", U32(crate::physics::wet::BRIDGE_SEARCH_TURNS)),

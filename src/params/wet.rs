@@ -31,8 +31,9 @@ pub struct HeldWater {
     pub dry_time: f32,
     /// Air speed at which drying runs twice as fast as in still air, m/s.
     pub dry_air_speed: f32,
-    /// Rate at which hair draws in a particle within `r_max`, 1/s (§2); 0: particles are never
-    /// absorbed and only pull.
+    /// Rate at which `wet::ABSORB_LENGTH` (2 cm) of hair draws in a particle within `r_max`,
+    /// 1/s (§2: a point asks in proportion to the hair it stands for, so a drop soaks in alike
+    /// at any sampling); 0: particles are never absorbed and only pull.
     pub absorb_rate: f32,
     /// Bending stiffness of saturated hair over dry, in [0, 1] (§4); 1: no limpness.
     pub wet_bend_ratio: f32,

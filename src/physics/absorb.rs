@@ -35,12 +35,15 @@ pub struct WetRow<'a> {
     pub water: &'a [u32; W],
     /// The row's hold limits, quanta (`wet::hold_limit`).
     pub hold: &'a [u32; W],
+    /// The length of hair each point stands for over `wet::ABSORB_LENGTH`
+    /// ([`wet::absorb_share`]): its demand is in proportion.
+    pub share: &'a Lane,
     /// How full each point is once computed: `None` until the row's first demand.
     pub sat: Option<Lane>,
     /// The row's first point index (`row * W`).
     pub first_point: u32,
-    /// The fraction of a particle a point within `r_min` takes this substep
-    /// ([`wet::absorb_take`] of the rate and the substep).
+    /// The fraction of a particle a point standing for `wet::ABSORB_LENGTH` of hair takes
+    /// within `r_min` this substep ([`wet::absorb_take`] of the rate and the substep).
     pub take: f32,
     /// This worker's demands, in the order found.
     pub out: &'a mut Vec<Demand>,
@@ -77,7 +80,8 @@ impl WetRow<'_> {
                 continue;
             }
             let w = wet::absorb_weight(d2s[l].sqrt(), r_min, r_max);
-            let quanta = wet::absorb_demand_taking(q, w, sat[l], self.take);
+            let take = wet::absorb_take_at(self.take, self.share[l]);
+            let quanta = wet::absorb_demand_taking(q, w, sat[l], take);
             if quanta > 0 {
                 self.out.push(Demand {
                     slot,

@@ -179,6 +179,7 @@ mod tests {
             strength_per_quantum: 1.0e-6,
             water,
             hold,
+            share: &[1.0, 0.5, 2.0, 1.0, 0.25, 1.0, 1.5, 20.0],
             sat: None,
             first_point: 48,
             take: crate::physics::wet::absorb_take(30.0, 1.0 / 240.0),

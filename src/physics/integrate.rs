@@ -43,3 +43,14 @@ pub fn symplectic_euler_row(x: &mut L3, v: &mut L3, f: &L3, inv_mass: &Lane, tar
 pub fn blown_up(x: glam::Vec3, v: glam::Vec3) -> bool {
     !(x.is_finite() && v.length_squared().is_finite())
 }
+
+/// A water particle's new velocity over a substep `h` (symplectic Euler, its drag taken
+/// implicitly): `v' = (v + h (a + k w)) / (1 + h k)`, `a` the acceleration of every other force
+/// (the hair's pull over its mass, and gravity), `k` its drag rate (drag over mass, 1/s) and `w`
+/// the wind. Explicit drag, `v + h (a + k (w - v))`, diverges once `h k > 2`: a 1 mg drop under
+/// the default drag (2 mN·s/m, `k` = 2000 /s) at a 1/240 s substep has `h k` = 8.3. This form
+/// relaxes toward the wind at any `k` and gives the exact terminal velocity `w + a / k`.
+#[inline]
+pub fn particle_velocity(v: glam::Vec3, a: glam::Vec3, k: f32, wind: glam::Vec3, h: f32) -> glam::Vec3 {
+    (v + h * (a + k * wind)) / (1.0 + h * k)
+}

@@ -49,8 +49,15 @@ pub const CAPACITY_RATIO: f32 = 0.3;
 /// fibres take in, kg/kg (docs/WET_MODEL.md §1: the pores of a wet bundle, about 60 % of its
 /// volume, full of water, `0.6 / 0.4 × 1.0 / 1.32`, to one figure).
 pub const FREE_RATIO: f32 = 1.0;
-/// Rate at which hair draws in a droplet it touches, 1/s.
+/// Rate at which hair draws in a droplet it touches, 1/s, over [`ABSORB_LENGTH`] of hair.
 pub const ABSORB_RATE: f32 = 20.0;
+/// Length of hair [`ABSORB_RATE`] is quoted over, m: the paper scene's segment, on which the
+/// rate was first given per point. A point asks in proportion to the hair it stands for
+/// ([`absorb_share`]), so a drop soaks into a centimetre of hair at the same rate however
+/// many points sample it.
+pub const ABSORB_LENGTH: f32 = 0.02;
+/// `1 / (2 ABSORB_LENGTH)`, exact in f32: [`absorb_share`]'s factor, on both backends.
+pub const ABSORB_SHARE_SCALE: f32 = 0.5 / ABSORB_LENGTH;
 /// A particle left holding less than this fraction of a full particle (`particle_mass`) is
 /// taken whole by the point that asked it for most: absorption is exponential and would
 /// otherwise never finish.
@@ -166,8 +173,9 @@ pub fn absorb_weight(d: f32, r_min: f32, r_max: f32) -> f32 {
     ((r_max - d) / (r_max - r_min)).clamp(0.0, 1.0)
 }
 
-/// What one hair point asks of one particle holding `particle` quanta in a substep `h`, in
-/// quanta (rounded down): the fraction `1 - e^(-rate h)` of the particle's water, times the
+/// What one hair point standing for [`ABSORB_LENGTH`] of hair asks of one particle holding
+/// `particle` quanta in a substep `h`, in quanta (rounded down): the fraction `1 - e^(-rate h)`
+/// of the particle's water, times the
 /// distance weight `weight` (1 at `r_min`, 0 at `r_max`) and the point's room `1 - s`, `s` its
 /// water over its hold limit.
 #[inline]
@@ -181,6 +189,22 @@ pub fn absorb_demand(particle: u32, weight: f32, s: f32, rate: f32, h: f32) -> u
 #[inline]
 pub fn absorb_take(rate: f32, h: f32) -> f32 {
     -(-rate * h).exp_m1()
+}
+
+/// The length of hair a point stands for over [`ABSORB_LENGTH`]: half of each rest segment it
+/// ends (`before`, `after`, m; 0 where the strand has none), so a strand's shares sum to its
+/// length over `ABSORB_LENGTH` however finely it is sampled (docs/WET_MODEL.md §2).
+#[inline]
+pub fn absorb_share(before: f32, after: f32) -> f32 {
+    (before + after) * ABSORB_SHARE_SCALE
+}
+
+/// The fraction a point of share `share` ([`absorb_share`]) takes of a particle within `r_min`
+/// in a substep whose take over [`ABSORB_LENGTH`] is `take` ([`absorb_take`]): in proportion,
+/// and never more than the whole particle.
+#[inline(always)]
+pub fn absorb_take_at(take: f32, share: f32) -> f32 {
+    (take * share).min(1.0)
 }
 
 /// [`absorb_demand`] with the substep's fraction `take` ([`absorb_take`]) worked out.

@@ -58,8 +58,7 @@ impl GpuBackend {
             dry_air_speed: p.held_water.dry_air_speed,
             wet_bend_ratio: p.held_water.wet_bend_ratio,
             massive: p.held_water.enabled as u32,
-            drag_per_quantum: (p.water.drag as f64 * crate::physics::wet::WATER_QUANTUM / p.water.particle_mass as f64)
-                as f32,
+            water_drag_rate: p.water.drag * (1.0 / p.water.particle_mass),
             flow_speed: if p.held_water.flows() {
                 p.held_water.flow_speed()
             } else {

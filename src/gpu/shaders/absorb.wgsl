@@ -21,14 +21,36 @@ fn absorb_weight(d: f32) -> f32 {
     return clamp((P.r_max - d) / (P.r_max - P.r_min), 0.0, 1.0);
 }
 
+// wet::absorb_share: the length of hair point i stands for (half of each rest segment it
+// ends) over ABSORB_LENGTH.
+fn absorb_share(i: u32) -> f32 {
+    let pt = points[i];
+    var before = 0.0;
+    if (i > pt.first) {
+        before = points[i - 1u].rest_stretch;
+    }
+    var after = 0.0;
+    if (i < pt.last) {
+        after = pt.rest_stretch;
+    }
+    return (before + after) * ABSORB_SHARE_SCALE;
+}
+
+// wet::absorb_take_at: what point i takes of a particle within r_min this substep, in
+// proportion to the hair it stands for.
+fn absorb_take_at(i: u32) -> f32 {
+    return min(P.absorb_take * absorb_share(i), 1.0);
+}
+
 // What a hair point `sat` full (its water over its hold limit, the wetness it shows) at
-// squared distance `d2` asks of a particle holding `q` quanta in a substep:
-// floor(take q weight (1 - sat)); nothing from an empty particle or for a full point.
-fn absorb_demand(q: u32, d2: f32, sat: f32) -> u32 {
+// squared distance `d2` asks of a particle holding `q` quanta in a substep, `take` its
+// absorb_take_at: floor(take q weight (1 - sat)); nothing from an empty particle or for a full
+// point.
+fn absorb_demand(q: u32, d2: f32, sat: f32, take: f32) -> u32 {
     if (q == 0u || sat >= 1.0) {
         return 0u;
     }
-    return u32(floor(P.absorb_take * f32(q) * absorb_weight(sqrt(d2)) * max(1.0 - sat, 0.0)));
+    return u32(floor(take * f32(q) * absorb_weight(sqrt(d2)) * max(1.0 - sat, 0.0)));
 }
 
 // Point i's word and bit among the marks after the particles' absorption records

@@ -76,16 +76,20 @@ fn mark_near(i: u32) {
     atomicOr(&absorb_scratch[near_word(i)], near_bit(i));
 }
 
-// Pass adhesion: returns the force on the hair point at x and sets `near` when a particle is
+// Pass adhesion: returns the force on hair point i at x and sets `near` when a particle is
 // within r_max (for wetting). With absorption, a particle pulls with the water it still holds
 // and the point (at saturation `sat`) asks it for water.
-fn adhesion(x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f32> {
+fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f32> {
     var acc = array<vec2<u32>, 3>(vec2<u32>(0u), vec2<u32>(0u), vec2<u32>(0u));
     var bad = false;
     let r = P.r_max;
     var span: Span;
     if (!near_span(x, r, &span)) {
         return vec3<f32>(0.0);
+    }
+    var take = 0.0;
+    if (P.absorbs != 0u) {
+        take = absorb_take_at(i);
     }
     for (var j = 0; j < span_cells(span); j++) {
         let c = span_cell(span, j);
@@ -102,7 +106,7 @@ fn adhesion(x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f32> {
             if (P.absorbs != 0u) {
                 let q = sorted[k].mass;
                 s = f32(q) * P.strength_per_quantum;
-                let demand = absorb_demand(q, d2, sat);
+                let demand = absorb_demand(q, d2, sat, take);
                 if (demand > 0u) {
                     ask(k, demand);
                 }
@@ -129,8 +133,15 @@ fn adhesion(x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f32> {
     return vec3<f32>(from_fixed(acc[0]), from_fixed(acc[1]), from_fixed(acc[2]));
 }
 
+// physics/integrate.rs `particle_velocity`: a particle's velocity after a substep h, its drag
+// (rate k toward the wind) taken implicitly, `a` every other acceleration.
+fn particle_velocity(v: vec3<f32>, a: vec3<f32>, k: f32, wind: vec3<f32>, h: f32) -> vec3<f32> {
+    return (v + h * (a + k * wind)) / (1.0 + h * k);
+}
+
 // Pass water_integrate (cpu/water.rs `Water::integrate`): symplectic Euler for each particle
-// with drag, the hair's reactions and gravity, then the colliders. Runs in grid order.
+// with the hair's reactions and gravity, its drag taken implicitly, then the colliders. Runs
+// in grid order.
 @compute @workgroup_size(WG)
 fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
                    @builtin(local_invocation_index) lid: u32) {
@@ -142,21 +153,22 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
     let react = reaction(k);
     // The sums start at zero for the next substep's hair kernel.
     clear_reactions(k);
-    var drag = P.water_drag;
     var inv_m = P.particle_inv_mass;
     if (P.massive != 0u) {
         // A held-water particle weighs the water it held when the hair's pull on it was
         // reckoned, at the substep's start (cpu/water.rs `integrate`), and its drag scales
-        // with it, so drops of any size fall alike; an empty one (removed at the step's end)
-        // only falls.
-        drag = f32(p.mass) * P.drag_per_quantum;
+        // with it, so drops of any size slow at a full particle's rate and fall alike; an
+        // empty one (removed at the step's end) only falls.
         inv_m = 0.0;
         if (p.mass != 0u) {
             inv_m = 1.0 / (f32(p.mass) * WATER_QUANTUM);
         }
     }
-    let f = drag * (P.wind.xyz - p.v.xyz) + react;
-    var v = p.v.xyz + P.h * (f * inv_m + P.g.xyz);
+    var rate = 0.0;
+    if (inv_m > 0.0) {
+        rate = P.water_drag_rate;
+    }
+    var v = particle_velocity(p.v.xyz, react * inv_m + P.g.xyz, rate, P.wind.xyz, P.h);
     var x = p.x.xyz + P.h * v;
     for (var c = 0u; c < N_COLLIDERS; c++) {
         collide(&x, &v, S.colliders[c], P.friction);

@@ -497,6 +497,7 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
     // Only this invocation adds to held[i] during the pass (remainders come after).
     let held0 = atomicLoad(&held[i]);
     let room0 = hold_room(held0, hold_limit(i));
+    let take = absorb_take_at(i);
     var got = 0u;
     for (var j = 0; j < span_cells(span); j++) {
         let c = span_cell(span, j);
@@ -509,7 +510,7 @@ fn absorb(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
                 continue;
             }
             let q = sorted[k].mass;
-            let demand = absorb_demand(q, d2, sat);
+            let demand = absorb_demand(q, d2, sat, take);
             if (demand == 0u) {
                 continue;
             }
