@@ -1,7 +1,8 @@
 //! The wet model's laws (docs/WET_MODEL.md, `physics::wet`), each against its analytic outcome:
 //! exact drying independent of the step, a particle never gives more than it has, flow that
 //! conserves water and drains a hanging strand to its tip, drips only above capacity, capacity
-//! independent of sampling, the limpness curve, bridge forces and deterministic gusts.
+//! independent of sampling, absorption shares that follow the hair's length, the limpness
+//! curve, bridge forces and deterministic gusts.
 
 use glam::Vec3;
 use wethair::physics::wet::*;
@@ -72,6 +73,35 @@ fn a_particle_never_gives_more_than_it_has() {
         left -= absorb_demand(left, 1.0, 0.0, ABSORB_RATE, 1.0 / 60.0);
     }
     assert!(left < m / 100, "{left}");
+}
+
+/// §2: a point's share of absorption is the hair it stands for over `ABSORB_LENGTH`, so a
+/// strand's shares sum to its length over `ABSORB_LENGTH` at any sampling (uneven segments
+/// included), a 2 cm segment's inner point takes the substep's take unchanged, and no point
+/// takes more than the whole particle.
+#[test]
+fn absorption_shares_follow_the_hair_not_the_points() {
+    for segments in [vec![0.02f32; 5], vec![0.005; 20], vec![0.001, 0.03, 0.004, 0.06, 0.005]] {
+        let n = segments.len() + 1;
+        let total: f32 = (0..n)
+            .map(|i| {
+                let before = if i > 0 { segments[i - 1] } else { 0.0 };
+                absorb_share(before, segments.get(i).copied().unwrap_or(0.0))
+            })
+            .sum();
+        let length: f32 = segments.iter().sum();
+        assert!(
+            (total - length / ABSORB_LENGTH).abs() < 1e-5,
+            "{segments:?}: shares sum to {total}, length over ABSORB_LENGTH {}",
+            length / ABSORB_LENGTH
+        );
+    }
+    assert_eq!(absorb_share(0.02, 0.02), 1.0);
+    let take = absorb_take(ABSORB_RATE, 1.0 / 240.0);
+    assert_eq!(absorb_take_at(take, 1.0), take);
+    assert_eq!(absorb_take_at(take, 0.5), take * 0.5);
+    assert_eq!(absorb_take_at(take, 1.0e6), 1.0, "never more than the whole particle");
+    assert_eq!(absorb_take_at(take, 0.0), 0.0);
 }
 
 #[test]

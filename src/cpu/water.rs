@@ -325,8 +325,8 @@ impl Water {
 
     /// Pass `water_integrate`: symplectic Euler for every particle under the hair's reactions,
     /// summed in the order given (block order, so the same bits for any thread count), with its
-    /// drag taken implicitly (`integrate::particle_velocity`), then the colliders. Each list of reactions comes with its spans, which
-    /// cover it in order.
+    /// drag taken implicitly (`integrate::particle_velocity`), then the colliders. Each list of
+    /// reactions comes with its spans, which cover it in order.
     #[allow(clippy::too_many_arguments)]
     pub fn integrate<'a>(
         &mut self,

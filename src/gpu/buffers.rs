@@ -31,8 +31,9 @@ gpu_record! {
         pub wet_gain: f32,
         /// 1 / particle mass.
         pub particle_inv_mass: f32,
-        /// Particle drag, N·s/m.
-        pub water_drag: f32,
+        /// A particle's drag rate, `drag / particle_mass`, 1/s (as the CPU computes it): every
+        /// drop, whatever its water, slows at a full particle's rate.
+        pub water_drag_rate: f32,
         /// Particle capacity.
         pub capacity: u32,
         /// Floats per vertex.
@@ -63,9 +64,8 @@ gpu_record! {
         pub wet_bend_ratio: f32,
         /// 1 when each particle carries its own water (held water), else 0.
         pub massive: u32,
-        /// A particle's drag rate, `water_drag / particle_mass`, 1/s (as the CPU computes it):
-        /// every drop, whatever its water, slows at a full particle's rate.
-        pub water_drag_rate: f32,
+        /// Padding (a uniform's size is a multiple of 16 bytes).
+        pub pad0: u32,
         /// How fast held water above the hold limit runs down a vertical strand, m/s
         /// (`HeldWater::flow_speed`; 0: no flow).
         pub flow_speed: f32,

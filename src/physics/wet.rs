@@ -175,9 +175,8 @@ pub fn absorb_weight(d: f32, r_min: f32, r_max: f32) -> f32 {
 
 /// What one hair point standing for [`ABSORB_LENGTH`] of hair asks of one particle holding
 /// `particle` quanta in a substep `h`, in quanta (rounded down): the fraction `1 - e^(-rate h)`
-/// of the particle's water, times the
-/// distance weight `weight` (1 at `r_min`, 0 at `r_max`) and the point's room `1 - s`, `s` its
-/// water over its hold limit.
+/// of the particle's water, times the distance weight `weight` (1 at `r_min`, 0 at `r_max`)
+/// and the point's room `1 - s`, `s` its water over its hold limit.
 #[inline]
 pub fn absorb_demand(particle: u32, weight: f32, s: f32, rate: f32, h: f32) -> u32 {
     absorb_demand_taking(particle, weight, s, absorb_take(rate, h))

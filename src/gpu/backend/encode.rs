@@ -42,7 +42,7 @@ impl GpuBackend {
                 (p.water.wetting_rate * h).min(1.0)
             },
             particle_inv_mass: 1.0 / p.water.particle_mass,
-            water_drag: p.water.drag,
+            water_drag_rate: p.water.drag * (1.0 / p.water.particle_mass),
             capacity: p.water.capacity,
             stride: a.stride() as u32,
             pos_off: off(VertexAttributes::POSITION),
@@ -58,7 +58,7 @@ impl GpuBackend {
             dry_air_speed: p.held_water.dry_air_speed,
             wet_bend_ratio: p.held_water.wet_bend_ratio,
             massive: p.held_water.enabled as u32,
-            water_drag_rate: p.water.drag * (1.0 / p.water.particle_mass),
+            pad0: 0,
             flow_speed: if p.held_water.flows() {
                 p.held_water.flow_speed()
             } else {
