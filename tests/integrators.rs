@@ -165,6 +165,34 @@ fn auto_picks_the_cheapest_stable_integrator() {
     assert_eq!(xpbd.passes(), vec![Pass::Integrate, Pass::ProjectConstraints]);
 }
 
+/// AUTO counts the air drag in symplectic Euler's bound: the paper scene's 1 g points under a
+/// drag of 1 N·s/m have `h c / m` = 4.2 at 1/240 s, past the explicit limit of 2, though their
+/// springs alone are stable there. AUTO then runs implicit Euler, which takes the drag
+/// implicitly and stays finite; symplectic Euler at the same settings diverges and says so.
+/// (Before the drag was counted, AUTO chose symplectic Euler here.)
+#[test]
+fn auto_counts_the_air_drag_in_the_explicit_bound() {
+    let groom = paper_scene(100, 6).unwrap();
+    let draggy = |integrator| SimParams {
+        integrator,
+        backend: Backend::CPU,
+        air_drag: 1.0,
+        ..SimParams::paper()
+    };
+    let mut auto = Simulation::new(&groom, draggy(Integrator::AUTO)).unwrap();
+    assert_eq!(auto.stats().integrator, Integrator::IMPLICIT_EULER);
+    for _ in 0..60 {
+        auto.step(1.0 / 60.0).unwrap();
+    }
+    assert!(auto.positions().iter().all(|p| p.is_finite()));
+    let mut explicit = Simulation::new(&groom, draggy(Integrator::SYMPLECTIC_EULER)).unwrap();
+    let err = (0..60).find_map(|_| explicit.step(1.0 / 60.0).err());
+    assert!(
+        matches!(err, Some(Error::Unstable { .. })),
+        "symplectic Euler under h c / m = 4.2 should diverge: {err:?}"
+    );
+}
+
 /// Implicit Euler settles a hanging chain at the same analytic static stretch (1%).
 #[test]
 fn implicit_hanging_chain_settles_at_static_stretch() {

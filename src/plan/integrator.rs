@@ -9,16 +9,16 @@ use crate::params::{Integrator, SimParams};
 pub const EXPLICIT_MARGIN: f32 = 0.9 * 4.0;
 
 /// Resolves [`Integrator::AUTO`]: symplectic Euler when it is stable with a 10% margin at
-/// every free point (its own mass and stiffest springs) at the substep of a 60 Hz frame, else
-/// implicit Euler, or BDF2 under an error budget ([`SimParams::tolerance`]: the budget watches
-/// the error, and BDF2 is the more accurate at the same cost).
+/// every free point (its own mass, stiffest springs and air drag) at the substep of a 60 Hz
+/// frame, else implicit Euler, or BDF2 under an error budget ([`SimParams::tolerance`]: the
+/// budget watches the error, and BDF2 is the more accurate at the same cost).
 pub fn resolve_integrator(p: &SimParams, groom: &Groom) -> Integrator {
     if p.integrator != Integrator::AUTO {
         return p.integrator;
     }
     let h = 1.0 / (60.0 * p.substeps as f32);
     let springs = super::springs::point_springs(groom, p);
-    if super::springs::explicit_limit_max(groom, &springs, h) < EXPLICIT_MARGIN {
+    if super::springs::explicit_limit_max(groom, &springs, p.air_drag, h) < EXPLICIT_MARGIN {
         Integrator::SYMPLECTIC_EULER
     } else if p.tolerance > 0.0 {
         Integrator::BDF2
@@ -32,7 +32,7 @@ pub fn resolve_integrator(p: &SimParams, groom: &Groom) -> Integrator {
 /// springs). Its largest rates may come from different points, so this errs short.
 pub fn explicit_max_substep(p: &SimParams, groom: &Groom) -> f32 {
     let springs = super::springs::point_springs(groom, p);
-    let (l, g) = super::springs::explicit_rates_max(groom, &springs);
+    let (l, g) = super::springs::explicit_rates_max(groom, &springs, p.air_drag);
     if l <= 0.0 {
         return if g > 0.0 {
             EXPLICIT_MARGIN / (2.0 * g)
