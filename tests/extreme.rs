@@ -363,9 +363,9 @@ fn drained_drops_stay_slow(backend: Backend) {
 /// rate is 2 mN·s/m over 1 mg, 2000 /s, and a 1/240 s substep is 8.3 of its time constants
 /// (explicit drag diverges once that passes 2: here its speed grew by `|1 - h k|` = 7.3 a
 /// substep, turning about each time, to 14 m/s after the first frame, and the drop left a
-/// 100 m domain in the second). Falling from rest, with the paper's model and with held water, on every
-/// backend, it reaches its terminal speed `g / k` (4.9 mm/s) within 1e-4 of it by 0.5 s and
-/// never passes it.
+/// 100 m domain in the second). Falling from rest, with the paper's model and with held
+/// water, on every backend, it reaches its terminal speed `g / k` (4.9 mm/s) within 1e-4 of it
+/// by 0.5 s and never passes it.
 #[test]
 fn a_drop_much_lighter_than_its_drag_falls_at_its_terminal_speed() {
     let _serial = serial();

@@ -143,11 +143,12 @@ fn held_water_runs_down_a_strand_at_the_same_speed_at_any_sampling() {
 
 /// docs/WET_MODEL.md §2: a drop soaks into hair at a rate set by the length of hair in its
 /// reach, however finely that hair is sampled. A 1 mg drop rests 3 mm beside the middle of a
-/// straight 6 cm strand (1 g/m, every point pinned, a pull too weak to move the drop); over 0.1 s it
-/// empties as `e^(-K t)`, `K = (k_abs / ABSORB_LENGTH) ∫ ω ds` along the strand (ω the
-/// distance weight), to the hair's slight filling. At 13, 25 and 49 points (5, 2.5 and 1.25 mm
-/// apart), on every backend, the drop keeps that fraction within 0.03. (With the rate per
-/// point, as before, the three kept 0.047, 0.003 and 0: a finer groom soaked a drop faster.)
+/// straight 6 cm strand (1 g/m, every point pinned, a pull too weak to move the drop); over
+/// 0.1 s it empties as `e^(-K t)`, `K = (k_abs / ABSORB_LENGTH) ∫ ω ds` along the strand (ω
+/// the distance weight), to the hair's slight filling. At 13, 25 and 49 points (5, 2.5 and
+/// 1.25 mm apart), on every backend, the drop keeps that fraction within 0.03. (With the rate
+/// per point, as before, the three kept 0.047, 0.003 and 0: a finer groom soaked a drop
+/// faster.) The 1 mg drop's drag rate, 2000 /s, needs the particles' implicit drag.
 #[test]
 fn a_drop_soaks_into_hair_at_the_same_rate_at_any_sampling() {
     let _g = serial();
