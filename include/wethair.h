@@ -564,7 +564,8 @@ typedef struct WetHairSimDesc {
   struct WetHairSpring bend;
   // Gravity, m/s². Default (0, 0, -9.81).
   float gravity[3];
-  // Linear air drag on hair points, N·s/m. Default 0.
+  // Linear air drag on hair points, N·s/m: on each `air_drag_length` m of hair, or on
+  // every point where that is 0 (the paper's). Default 0.
   float air_drag;
   // Substeps per step, 1..=1024. Default 4.
   uint32_t substeps;
@@ -677,6 +678,15 @@ typedef struct WetHairSimDesc {
   float held_water_flow_length;
   // Unused; keep 0.
   uint32_t reserved8;
+  // The length of hair `air_drag` is quoted over, m, 0..=1 (since 0.8.0): a point takes
+  // `air_drag ℓ / air_drag_length`, `ℓ` half of each rest segment it ends, so a strand feels
+  // the same drag in a wind however finely it is sampled. 0: every point takes `air_drag`
+  // (before 0.8.0, a finer groom felt more). `wethair_sim_desc_init` gives 0.02 (the paper
+  // scene's segment); `wethair_sim_desc_default` and a 344-byte layout (0.7.0), which ended
+  // before it, give 0.
+  float air_drag_length;
+  // Unused; keep 0.
+  uint32_t reserved9;
 } WetHairSimDesc;
 
 // What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.

@@ -260,8 +260,14 @@ pub struct SimParams {
     pub damping_model: DampingModel,
     /// Gravity, m/s².
     pub gravity: Vec3,
-    /// Linear air drag on hair points, N·s/m.
+    /// Linear air drag on hair points, N·s/m: on every point as given when `air_drag_length`
+    /// is 0, else on each `air_drag_length` m of hair (`physics/per_length.rs`).
     pub air_drag: f32,
+    /// The length of hair `air_drag` is quoted over, m, 0..=1: a point takes `air_drag ℓ / L`,
+    /// `ℓ` half of each rest segment it ends, so a strand feels the same drag however finely it
+    /// is sampled. 0: every point takes `air_drag` (the paper's, and [`SimParams::paper`]'s);
+    /// [`SimParams::default`]: [`crate::physics::per_length::DEFAULT_LENGTH`].
+    pub air_drag_length: f32,
     /// Substeps per [`crate::Simulation::step`] (the paper: 4).
     pub substeps: u32,
     /// How each substep advances the strands.
@@ -329,6 +335,12 @@ pub struct SimParams {
 pub const DEFAULT_BUDGET_STRIDE: u32 = 128;
 
 impl SimParams {
+    /// Each hair point's air drag: `air_drag` on every point, or quoted over `air_drag_length`
+    /// of hair.
+    pub fn hair_drag(&self) -> crate::physics::per_length::PerLength {
+        crate::physics::per_length::PerLength::new(self.air_drag, self.air_drag_length)
+    }
+
     /// The strand stride of the error estimate: the host's, or the budget's default when a
     /// tolerance is set without one (0: no estimate).
     pub fn estimate_stride(&self) -> u32 {
@@ -350,6 +362,7 @@ impl Default for SimParams {
             spring_model: SpringModel::MATERIAL,
             material: MaterialParams::HAIR,
             integrator: Integrator::AUTO,
+            air_drag_length: crate::physics::per_length::DEFAULT_LENGTH,
             ..SimParams::paper()
         }
     }
@@ -373,6 +386,7 @@ impl SimParams {
             damping_model: DampingModel::AXIAL,
             gravity: Vec3::new(0.0, 0.0, -9.81),
             air_drag: 0.0,
+            air_drag_length: 0.0,
             substeps: 4,
             integrator: Integrator::SYMPLECTIC_EULER,
             solver_iterations: 1,
@@ -441,6 +455,13 @@ impl SimParams {
         }
         check_finite3("gravity", self.gravity.to_array())?;
         check_non_negative("air drag", self.air_drag)?;
+        let max = crate::physics::per_length::MAX_LENGTH;
+        if !(self.air_drag_length.is_finite() && (0.0..=max).contains(&self.air_drag_length)) {
+            return Err(invalid!(
+                "air_drag_length must be in [0, {max}] m, got {}",
+                self.air_drag_length
+            ));
+        }
         if self.substeps == 0 || self.substeps > MAX_SUBSTEPS {
             return Err(invalid!("substeps must be 1..={MAX_SUBSTEPS}, got {}", self.substeps));
         }

@@ -39,7 +39,8 @@ pub struct Reference {
     springs: Vec<Spring>,
     axial: bool,
     gravity: DVec3,
-    drag: f64,
+    /// Each hair point's air drag, N·s/m (`physics/per_length.rs`'s law, in f64).
+    drag: Vec<f64>,
     water_drag: f64,
     r_min: f64,
     r_max: f64,
@@ -70,9 +71,15 @@ impl Reference {
         // Rest lengths and constants from the f32 rest pose, as both backends take them.
         let sp = crate::plan::point_springs(groom, params);
         let bend = crate::plan::has_bend(params, groom.max_strand_points());
+        let mut drag = vec![params.air_drag as f64; hair];
         for s in 0..groom.strand_count() {
             let r = groom.strand_range(s);
             for i in r.clone() {
+                if params.air_drag_length > 0.0 {
+                    let before = if i > r.start { sp[i - 1].rest[0] as f64 } else { 0.0 };
+                    let length = 0.5 * (before + sp[i].rest[0] as f64);
+                    drag[i] = params.air_drag as f64 * length / params.air_drag_length as f64;
+                }
                 if i + 1 < r.end {
                     springs.push(Spring {
                         a: i,
@@ -105,7 +112,7 @@ impl Reference {
             springs,
             axial: params.damping_model == DampingModel::AXIAL,
             gravity: params.gravity.as_dvec3(),
-            drag: params.air_drag as f64,
+            drag,
             water_drag: w.drag as f64,
             r_min: w.r_min as f64,
             r_max: w.r_max as f64,
@@ -155,7 +162,7 @@ impl Reference {
     fn accel(&self, s: &State, out: &mut [DVec3]) {
         let f = out;
         for (i, fi) in f.iter_mut().enumerate() {
-            let drag = if i < self.hair { self.drag } else { self.water_drag };
+            let drag = if i < self.hair { self.drag[i] } else { self.water_drag };
             *fi = -drag * s.v[i];
         }
         for sp in &self.springs {

@@ -190,6 +190,10 @@ fn bad_wet_values_are_refused_by_name_and_write_nothing() {
         (|d| d.held_water_flow_length = -0.02, "flow_length"),
         (|d| d.held_water_flow_length = f32::NAN, "flow_length"),
         (|d| d.held_water_flow_length = 2.0, "flow_length"),
+        (|d| d.air_drag_length = -0.02, "air_drag_length"),
+        (|d| d.air_drag_length = f32::NAN, "air_drag_length"),
+        (|d| d.air_drag_length = f32::INFINITY, "air_drag_length"),
+        (|d| d.air_drag_length = 2.0, "air_drag_length"),
         (|d| d.wind.velocity = [f32::NAN, 0.0, 0.0], "wind velocity"),
         (|d| d.wind.gust = -0.5, "gust"),
     ] {
@@ -275,8 +279,9 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
         assert!(at(std::ptr::addr_of!((*d).guides) as *const u8) >= 296);
         assert!(at(std::ptr::addr_of!((*d).held_water_free_ratio) as *const u8) >= 328);
         assert!(at(std::ptr::addr_of!((*d).held_water_flow_length) as *const u8) >= 336);
+        assert!(at(std::ptr::addr_of!((*d).air_drag_length) as *const u8) >= 344);
     }
-    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 344, "no padding at the end");
+    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 352, "no padding at the end");
     assert_eq!(std::mem::size_of::<WetHairStats>(), 120);
 }
 
@@ -335,6 +340,54 @@ fn the_flow_length_reaches_c_hosts_and_older_ones_get_the_default() {
     assert!(
         faster > at_default,
         "four times the speed sheds more: {faster} vs {at_default}"
+    );
+    unsafe { wethair_groom_destroy(g) };
+}
+
+/// The length of hair the air drag is quoted over, through C (since 0.8.0):
+/// `wethair_sim_desc_init` gives 0.02 m, the 0.1.0 defaults 0 (every point takes `air_drag`,
+/// the paper's), and a 0.7.0 host (344 bytes) gets 0 whatever lies past its struct, so it runs
+/// as it did. A steady wind blows the paper strands' tips the same from a 0.7.0 host as with 0
+/// set; quoted over 2 cm (the strands' segment) the tips take half, so they are blown less
+/// (0.036 m against 0.052 after two seconds). (tests/material.rs checks the law itself.)
+#[test]
+fn the_drag_length_reaches_c_hosts_and_older_ones_get_the_default() {
+    let old = WetHairSimDesc::default_values();
+    assert_eq!(old.air_drag_length, 0.0, "the paper's default, and an older host's");
+    let g = paper(16);
+    // The tips' mean x after two seconds (position first, 7 floats a vertex).
+    let tips = |length: f32, size: u32, wind: f32| -> f32 {
+        let mut d = wet_desc(g);
+        assert_eq!(d.air_drag_length, 0.02, "init's default");
+        d.held_water.enabled = 0;
+        d.air_drag = 2.0e-3;
+        d.wind.velocity = [wind, 0.0, 0.0];
+        d.air_drag_length = length;
+        d.struct_size = size;
+        let s = create(&d);
+        for _ in 0..120 {
+            assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
+        }
+        let mut v = vec![0.0f32; 16 * 6 * 7];
+        let mut written = 0usize;
+        let r = unsafe { wethair_sim_get_vertex_buffer(s, v.as_mut_ptr(), v.len(), &mut written) };
+        assert_eq!(r, WETHAIR_OK, "{}", last_error());
+        unsafe { wethair_sim_destroy(s) };
+        (0..16).map(|k| v[(k * 6 + 5) * 7]).sum::<f32>() / 16.0
+    };
+    // How far a 3 m/s wind moves them from where they hang in still air.
+    let blown = |length: f32, size: u32| tips(length, size, 3.0) - tips(length, size, 0.0);
+    let full = std::mem::size_of::<WetHairSimDesc>() as u32;
+    let per_point = blown(0.0, full);
+    assert_eq!(
+        blown(f32::NAN, 344).to_bits(),
+        per_point.to_bits(),
+        "a 0.7.0 host: per point"
+    );
+    let at_segment = blown(0.02, full);
+    assert!(
+        0.0 < at_segment && at_segment < per_point,
+        "tips blown {per_point} m per point, {at_segment} m over 2 cm"
     );
     unsafe { wethair_groom_destroy(g) };
 }

@@ -658,13 +658,15 @@ fn gpu_implicit_survives_stiff_springs_at_frame_rate() {
 }
 
 /// The wind reaches the GPU's `drag` and `water_integrate` as it does the CPU's: a dry paper
-/// scene with air drag in a gusty wind matches the CPU, and rain blown by it lands alike.
+/// scene with air drag per length of hair (its roots and tips take half) in a gusty wind
+/// matches the CPU, and rain blown by it lands alike.
 #[test]
 fn wind_and_rain_match_the_cpu() {
     let _serial = serial();
     let groom = paper_scene(2_000, 6).unwrap();
     let mut params = SimParams::paper_scene_with_head();
     params.air_drag = 2.0e-3;
+    params.air_drag_length = 0.02;
     params.water.domain_radius = 5.0; // no drop leaves: both backends hold them all
     params.wind = wethair::Wind {
         velocity: Vec3::new(3.0, 1.0, 0.0),

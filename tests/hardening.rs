@@ -385,6 +385,7 @@ fn hostile_floats_never_panic_nor_leak_non_finite_values() {
         field!(gravity[0]),
         field!(gravity[2]),
         field!(air_drag),
+        field!(air_drag_length),
         field!(friction),
         field!(water.r_min),
         field!(water.r_max),

@@ -400,3 +400,35 @@ fn adhesion_row_and_point_forms_agree() {
         "the test cloud should put particles within r_max"
     );
 }
+
+/// The air drag's law (`physics/per_length.rs`): quoted over a length `L`, a strand's points' drag
+/// coefficients sum to `c` times its length over `L` however its segments are cut, its ends
+/// taking half a segment's; with `L` = 0 every point takes `c` as given.
+#[test]
+fn air_drag_per_length_sums_to_the_strand_and_per_point_stays_as_given() {
+    use wethair::physics::per_length::PerLength;
+    let c = 3.0e-3f32;
+    let per_length = PerLength::new(c, 0.02);
+    for segments in [vec![0.02f32; 5], vec![0.005, 0.03, 0.01, 0.04, 0.015]] {
+        let total: f32 = segments.iter().sum();
+        let at = |i: usize| {
+            let before = if i > 0 { segments[i - 1] } else { 0.0 };
+            per_length.at(before, segments.get(i).copied().unwrap_or(0.0))
+        };
+        let sum: f32 = (0..=segments.len()).map(at).sum();
+        assert!(
+            (sum - c * total / 0.02).abs() < 1e-6 * c,
+            "{segments:?}: {sum} against {}",
+            c * total / 0.02
+        );
+        assert!(
+            (at(0) - c * segments[0] / 0.04).abs() < 1e-9,
+            "the root takes half its segment"
+        );
+    }
+    let per_point = PerLength::new(c, 0.0);
+    assert!(!per_point.per_length() && per_length.per_length());
+    assert_eq!(per_point.at(0.005, 0.04), c);
+    assert_eq!(per_point.at(0.0, 0.0), c);
+    assert!(PerLength::new(0.0, 0.02).is_zero() && PerLength::new(0.0, 0.0).is_zero());
+}

@@ -10,7 +10,7 @@ use super::layout::{Layout, ParamRow, StateRow};
 use super::pool::{for_chunks, for_chunks2, Pool};
 use crate::engine::WaterLedger;
 use crate::params::HeldWater;
-use crate::physics::lanes::{Lane, L3, W};
+use crate::physics::lanes::{rest_segments, Lane, L3, W};
 use crate::physics::wet;
 
 /// Blocks per parallel task of the per-point passes.
@@ -96,9 +96,9 @@ impl Held {
                 capacity[r][l] = wet::capacity(m, cfg.capacity_ratio);
                 hold[r][l] = wet::hold_limit(m, cfg.capacity_ratio, cfg.free_ratio);
                 if !share.is_empty() {
-                    // The rest segments the point ends (a strand's last point has no next).
-                    let before = if i > 0 { lay.params[r - 1].stretch.rest[l] } else { 0.0 };
-                    share[r][l] = wet::absorb_share(before, lay.params[r].stretch.rest[l]);
+                    let block = &lay.params[b * lay.rows..(b + 1) * lay.rows];
+                    let (before, after) = rest_segments(block, i, l);
+                    share[r][l] = wet::absorb_share(before, after);
                 }
             }
         }

@@ -69,7 +69,8 @@ pub(super) struct Ctx<'a> {
     pub(super) avx2: bool,
     pub(super) h: f32,
     pub(super) g: [f32; 3],
-    pub(super) drag: f32,
+    /// Each hair point's air drag coefficient (per point, or per length of hair).
+    pub(super) drag: crate::physics::per_length::PerLength,
     /// The wind this step, m/s (drag pulls hair toward it).
     pub(super) wind: [f32; 3],
     /// The liquid bridges (held water with bridges, some pair found).
@@ -184,12 +185,24 @@ fn block_substep_impl<const AXIAL: bool>(
     // Pass: drag toward the wind (or clear the force accumulators). The implicit solve takes
     // drag itself, implicitly.
     let [wx, wy, wz] = ctx.wind;
-    let drag = if ctx.integrator.is_implicit() { 0.0 } else { ctx.drag };
-    for (fi, r) in f.iter_mut().zip(rows.iter()) {
-        for l in 0..W {
-            fi.x[l] = drag * (wx - r.v.x[l]);
-            fi.y[l] = drag * (wy - r.v.y[l]);
-            fi.z[l] = drag * (wz - r.v.z[l]);
+    let explicit_drag = !ctx.integrator.is_implicit();
+    if explicit_drag && ctx.drag.per_length() {
+        for (i, (fi, r)) in f.iter_mut().zip(rows.iter()).enumerate() {
+            let c = ctx.drag.row(params, i);
+            for l in 0..W {
+                fi.x[l] = c[l] * (wx - r.v.x[l]);
+                fi.y[l] = c[l] * (wy - r.v.y[l]);
+                fi.z[l] = c[l] * (wz - r.v.z[l]);
+            }
+        }
+    } else {
+        let drag = if explicit_drag { ctx.drag.per_point } else { 0.0 };
+        for (fi, r) in f.iter_mut().zip(rows.iter()) {
+            for l in 0..W {
+                fi.x[l] = drag * (wx - r.v.x[l]);
+                fi.y[l] = drag * (wy - r.v.y[l]);
+                fi.z[l] = drag * (wz - r.v.z[l]);
+            }
         }
     }
     // Pass: stretch springs (i, i+1) (XPBD projects them as constraints instead).

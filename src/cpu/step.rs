@@ -592,7 +592,7 @@ impl CpuBackend {
             avx2: self.avx2,
             h,
             g: p.gravity.to_array(),
-            drag: p.air_drag,
+            drag: p.hair_drag(),
             wind: self.wind.to_array(),
             cohesion: cohesion.as_ref(),
             bend: has_bend(p, self.lay.rows),

@@ -150,7 +150,8 @@ pub struct WetHairSimDesc {
     pub bend: WetHairSpring,
     /// Gravity, m/s². Default (0, 0, -9.81).
     pub gravity: [f32; 3],
-    /// Linear air drag on hair points, N·s/m. Default 0.
+    /// Linear air drag on hair points, N·s/m: on each `air_drag_length` m of hair, or on
+    /// every point where that is 0 (the paper's). Default 0.
     pub air_drag: f32,
     /// Substeps per step, 1..=1024. Default 4.
     pub substeps: u32,
@@ -263,6 +264,15 @@ pub struct WetHairSimDesc {
     pub held_water_flow_length: f32,
     /// Unused; keep 0.
     pub reserved8: u32,
+    /// The length of hair `air_drag` is quoted over, m, 0..=1 (since 0.8.0): a point takes
+    /// `air_drag ℓ / air_drag_length`, `ℓ` half of each rest segment it ends, so a strand feels
+    /// the same drag in a wind however finely it is sampled. 0: every point takes `air_drag`
+    /// (before 0.8.0, a finer groom felt more). `wethair_sim_desc_init` gives 0.02 (the paper
+    /// scene's segment); `wethair_sim_desc_default` and a 344-byte layout (0.7.0), which ended
+    /// before it, give 0.
+    pub air_drag_length: f32,
+    /// Unused; keep 0.
+    pub reserved9: u32,
 }
 
 /// Which strands are guides (`WetHairGuides::choice`).
@@ -727,6 +737,8 @@ impl WetHairSimDesc {
             reserved7: 0,
             held_water_flow_length: p.held_water.flow_length,
             reserved8: 0,
+            air_drag_length: p.air_drag_length,
+            reserved9: 0,
         }
     }
 
@@ -837,6 +849,7 @@ impl WetHairSimDesc {
             damping_model,
             gravity: Vec3::from(self.gravity),
             air_drag: self.air_drag,
+            air_drag_length: self.air_drag_length,
             substeps: self.substeps,
             integrator,
             solver_iterations: self.solver_iterations,

@@ -11,7 +11,8 @@ gpu_record! {
         pub h: f32,
         /// 1 / substep, computed on the host as the CPU backend does.
         pub inv_h: f32,
-        /// Air drag on hair, N·s/m.
+        /// Air drag on every hair point, N·s/m (`PerLength::per_point`; 0 where `drag_scale` is
+        /// set).
         pub drag: f32,
         /// Collider friction.
         pub friction: f32,
@@ -64,8 +65,9 @@ gpu_record! {
         pub wet_bend_ratio: f32,
         /// 1 when each particle carries its own water (held water), else 0.
         pub massive: u32,
-        /// Padding (a uniform's size is a multiple of 16 bytes).
-        pub pad0: u32,
+        /// Air drag per metre of a point's two rest segments summed, N·s/m² (`PerLength::scale`;
+        /// 0: `drag` on every point).
+        pub drag_scale: f32,
         /// How fast held water above the hold limit runs down a vertical strand, m/s
         /// (`HeldWater::flow_speed`; 0: no flow).
         pub flow_speed: f32,

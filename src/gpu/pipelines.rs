@@ -35,6 +35,7 @@ const BDF2: &str = include_str!("shaders/bdf2.wgsl");
 const EULER_START: &str = "fn start_of(idx: u32, st: State) -> State {\n    return st;\n}\n";
 const HELD: &str = include_str!("shaders/held.wgsl");
 const ABSORB: &str = include_str!("shaders/absorb.wgsl");
+const REST_SEGMENTS: &str = include_str!("shaders/rest_segments.wgsl");
 const SCAN: &str = include_str!("shaders/scan.wgsl");
 const BRIDGES: &str = include_str!("shaders/bridges.wgsl");
 const COHESION: &str = include_str!("shaders/cohesion.wgsl");
@@ -117,7 +118,7 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
     let adhesion_at_x = adhesion_call("x");
     for p in passes {
         body.push_str(match p {
-            Pass::Drag => "    drag(v, &f);\n",
+            Pass::Drag => "    drag(i, v, &f);\n",
             Pass::StretchSprings => "    stretch_springs(i, pt, x, v, &f);\n",
             Pass::BendSprings => "    bend_springs(i, pt, x, v, &f);\n",
             Pass::Adhesion => &adhesion_at_x,
@@ -142,7 +143,7 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
         });
     }
     format!(
-        "{}{HAIR}\n{EXPLICIT_POINT}\n{}{}\n// Passes of this scene, in the CPU's order.\n@compute @workgroup_size(WG)\n\
+        "{}{REST_SEGMENTS}{HAIR}\n{EXPLICIT_POINT}\n{}{}\n// Passes of this scene, in the CPU's order.\n@compute @workgroup_size(WG)\n\
          fn hair_substep(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,\n\
          \x20               @builtin(local_invocation_index) lid: u32) {{\n    let i = linear_id(wid, nwg, lid);\n\
          \x20   if (i >= P.points) {{\n        return;\n    }}\n    let pt = points[i];\n    let s = state_in[i];\n\
@@ -168,7 +169,7 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
     let wet = passes.contains(&Pass::Adhesion);
     let forces = has_forces(passes);
     let mut out = format!(
-        "{}{HAIR}\n{EXPLICIT_POINT}\n{}{}\n{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
+        "{}{REST_SEGMENTS}{HAIR}\n{EXPLICIT_POINT}\n{}{}\n{}\nconst P_MAX: u32 = {}u;\nconst ITERATIONS: u32 = {}u;\nconst HAS_FORCES: bool = {forces};\n\
          const COLLIDE: bool = {};\n{IMPLICIT}\n",
         prelude(c),
         if wet { adhesion(c) } else { String::new() },
@@ -206,7 +207,7 @@ pub fn water_source(c: SceneConsts) -> String {
 /// The held-water module (scenes with held water only).
 pub fn held_source(c: SceneConsts) -> String {
     format!(
-        "{}{SCAN}\n{HELD}\n{GRID}\n{GRID_MARKS}\n{ABSORB}\n{EXPLICIT_POINT}",
+        "{}{SCAN}\n{HELD}\n{GRID}\n{GRID_MARKS}\n{REST_SEGMENTS}{ABSORB}\n{EXPLICIT_POINT}",
         prelude(c)
     )
 }
@@ -217,7 +218,7 @@ pub fn held_source(c: SceneConsts) -> String {
 pub fn bridges_source(c: SceneConsts, buckets: u32, points: u32) -> String {
     format!(
         "{}const BRIDGE_BUCKETS: u32 = {buckets}u;\nconst BRIDGE_BLOCKS: u32 = {}u;\nconst BRIDGE_POINTS: u32 = {points}u;\n\
-         {SCAN}\n{ABSORB}\n{BRIDGES}",
+         {SCAN}\n{REST_SEGMENTS}{ABSORB}\n{BRIDGES}",
         prelude(c),
         buckets / super::buffers::SCAN_BLOCK,
     )

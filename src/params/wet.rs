@@ -224,8 +224,8 @@ impl HeldWater {
 
 /// A uniform wind with gusts (docs/WET_MODEL.md §8): `velocity` times `1 + gust` times the
 /// mean of three sines whose frequencies and phases come from `seed`. It acts by linear drag
-/// on hair points (`air_drag (W - v)`) and particles (`water.drag (W - v)`), and dries hair
-/// faster. Calm (zero velocity) adds nothing to any pass.
+/// on hair points (`c_i (W - v)`, [`crate::SimParams::hair_drag`]) and particles
+/// (`water.drag (W - v)`), and dries hair faster. Calm (zero velocity) adds nothing to any pass.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Wind {
     /// Mean wind velocity, m/s.

@@ -23,6 +23,7 @@
 
 use super::bdf2::{keep_rows, keep_velocity_rounding, start_rows, Bdf2Row};
 use super::lanes::{ParamRow, StateRow, L3, W};
+use super::per_length::PerLength;
 use super::spring::{SpringLanes, MIN_LENGTH};
 
 /// Half-bandwidth of a strand's matrix in scalars (a bend spring couples DOFs 6 ± 2 apart).
@@ -57,6 +58,8 @@ pub struct BandScratch {
     x: Vec<LaneD>,
     trial: Vec<LaneD>,
     grad: Vec<LaneD>,
+    /// Each point's inertial mass under implicit drag, `m + h c` (0 pinned; [`inertia`]).
+    mass: Vec<LaneD>,
     /// Each spring at the substep's start (stretch springs, then bend), for its damping.
     starts: Vec<SpringStart>,
 }
@@ -147,6 +150,7 @@ impl BandScratch {
             x: vec![[0.0; W]; 3 * points],
             trial: vec![[0.0; W]; 3 * points],
             grad: vec![[0.0; W]; 3 * points],
+            mass: vec![[0.0; W]; points],
             starts: vec![SpringStart::default(); 2 * points],
         }
     }
@@ -245,16 +249,16 @@ fn strand_terms<const AXIAL: bool>(
     starts: &[SpringStart],
     target: &[LaneD],
     rows: &[ParamRow],
+    mass: &[LaneD],
     bend: bool,
     h: f64,
-    hc: f64,
     mut grad: Option<&mut [LaneD]>,
     mut band: Option<&mut [[LaneD; BAND + 1]]>,
 ) -> LaneD {
     let p = x.len() / 3;
     let mut energy = [0.0f64; W];
     for i in 0..p {
-        let m: LaneD = std::array::from_fn(|l| inertia(rows[i].inv_mass[l], hc));
+        let m = mass[i];
         for c in 0..3 {
             for l in 0..W {
                 let e = x[3 * i + c][l] - target[3 * i + c][l];
@@ -285,7 +289,7 @@ fn strand_terms<const AXIAL: bool>(
 }
 
 /// The inertial term's mass of a point with inverse mass `w` under drag `hc = h c`: `m + h c`
-/// (0 for a pinned point).
+/// (0 for a pinned point; `c` the point's own, [`PerLength::row`]).
 #[inline(always)]
 fn inertia(w: f32, hc: f64) -> f64 {
     if w > 0.0 {
@@ -310,7 +314,7 @@ pub fn implicit_euler_block<const AXIAL: bool>(
     target: &dyn Fn(usize) -> Option<L3>,
     bend: bool,
     g: [f32; 3],
-    (drag, wind): (f32, [f32; 3]),
+    (drag, wind): (PerLength, [f32; 3]),
     h: f32,
     iterations: u32,
     mut bdf2: Option<(&mut [Bdf2Row], f32)>,
@@ -320,7 +324,10 @@ pub fn implicit_euler_block<const AXIAL: bool>(
     debug_assert!(bdf2.as_ref().is_none_or(|(hist, _)| hist.len() == p));
     let n = 3 * p;
     let hd = h as f64;
-    let hc = hd * drag as f64;
+    for i in 0..p {
+        let c = drag.row(rows, i);
+        sc.mass[i] = std::array::from_fn(|l| inertia(rows[i].inv_mass[l], hd * c[l] as f64));
+    }
     // The start (x̂, v̂): the state as it is, or BDF2's blend of it and its history.
     match &bdf2 {
         Some((hist, b)) => start_rows(state, hist, *b, &mut sc.start[..n], &mut sc.vstart[..n]),
@@ -339,7 +346,7 @@ pub fn implicit_euler_block<const AXIAL: bool>(
             let pin = t.as_ref().filter(|_| w == 0.0).map(|t| [t.x[l], t.y[l], t.z[l]]);
             // With drag: the target weighted toward x0 + h wind by h c against m.
             let m = if w > 0.0 { 1.0 / w as f64 } else { 0.0 };
-            let mw = m / (m + hc).max(f64::MIN_POSITIVE);
+            let mw = m / sc.mass[i][l].max(f64::MIN_POSITIVE);
             for c in 0..3 {
                 let (x0, v0) = (xs[c][l], vs[c][l]);
                 let inertial = x0 + hd * v0 + hd * hd * (fs[c] * w + g[c]) as f64;
@@ -364,9 +371,9 @@ pub fn implicit_euler_block<const AXIAL: bool>(
             &sc.starts[..2 * p],
             &sc.target[..n],
             rows,
+            &sc.mass[..p],
             bend,
             hd,
-            hc,
             Some(&mut sc.grad[..n]),
             Some(&mut sc.a[..n]),
         );
@@ -416,9 +423,9 @@ pub fn implicit_euler_block<const AXIAL: bool>(
                 &sc.starts[..2 * p],
                 &sc.target[..n],
                 rows,
+                &sc.mass[..p],
                 bend,
                 hd,
-                hc,
                 None,
                 None,
             );

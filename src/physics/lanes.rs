@@ -172,6 +172,16 @@ pub struct ParamRow {
     pub inv_mass: Lane,
 }
 
+/// The rest segments point `i` of a block's `rows` ends in lane `l`, m: (before, after), 0
+/// where the strand has none (row 0 has no segment before it; a strand's last point and its
+/// padding have no stretch spring, so no rest length after). What the hair a point stands
+/// for is reckoned from ([`super::per_length::PerLength::row`], [`super::wet::absorb_share`]).
+#[inline(always)]
+pub fn rest_segments(rows: &[ParamRow], i: usize, l: usize) -> (f32, f32) {
+    let before = if i > 0 { rows[i - 1].stretch.rest[l] } else { 0.0 };
+    (before, rows[i].stretch.rest[l])
+}
+
 // The bend spring's stiffness directly before the inverse mass (see `ParamRow`): fails the
 // build if either struct's fields are reordered.
 const _: () = assert!(

@@ -24,6 +24,7 @@ pub mod lanes;
 #[cfg(target_arch = "x86_64")]
 pub mod lanes_avx2;
 pub mod morton;
+pub mod per_length;
 pub mod roots;
 pub mod rounding;
 pub mod sdf;

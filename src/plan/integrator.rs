@@ -18,7 +18,7 @@ pub fn resolve_integrator(p: &SimParams, groom: &Groom) -> Integrator {
     }
     let h = 1.0 / (60.0 * p.substeps as f32);
     let springs = super::springs::point_springs(groom, p);
-    if super::springs::explicit_limit_max(groom, &springs, p.air_drag, h) < EXPLICIT_MARGIN {
+    if super::springs::explicit_limit_max(groom, &springs, p.hair_drag(), h) < EXPLICIT_MARGIN {
         Integrator::SYMPLECTIC_EULER
     } else if p.tolerance > 0.0 {
         Integrator::BDF2
@@ -32,7 +32,7 @@ pub fn resolve_integrator(p: &SimParams, groom: &Groom) -> Integrator {
 /// springs). Its largest rates may come from different points, so this errs short.
 pub fn explicit_max_substep(p: &SimParams, groom: &Groom) -> f32 {
     let springs = super::springs::point_springs(groom, p);
-    let (l, g) = super::springs::explicit_rates_max(groom, &springs, p.air_drag);
+    let (l, g) = super::springs::explicit_rates_max(groom, &springs, p.hair_drag());
     if l <= 0.0 {
         return if g > 0.0 {
             EXPLICIT_MARGIN / (2.0 * g)

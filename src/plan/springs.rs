@@ -4,6 +4,7 @@
 
 use crate::groom::Groom;
 use crate::params::{SimParams, SpringModel, SpringParams, MIN_MATERIAL_LENGTH};
+use crate::physics::per_length::PerLength;
 
 /// Per point, in the host's order: the rest length to the next point (stretch) and to the
 /// point after next (bend), 0 where the strand has no such point. Computed in f32 from the f32
@@ -88,23 +89,27 @@ pub fn point_springs(g: &Groom, p: &SimParams) -> Vec<PointSprings> {
 }
 
 /// The largest [`crate::params::explicit_limit`] over the groom's free points for substep `h`:
-/// each point with the stiffest stretch and bend spring it touches, and the air drag `air_drag`
-/// (N·s/m) on its mass.
-pub fn explicit_limit_max(g: &Groom, springs: &[PointSprings], air_drag: f32, h: f32) -> f32 {
-    point_rates(g, springs, air_drag).fold(0.0f32, |worst, (l, c)| worst.max(h * h * l + 2.0 * h * c))
+/// each point with the stiffest stretch and bend spring it touches, and its air drag on its
+/// mass.
+pub fn explicit_limit_max(g: &Groom, springs: &[PointSprings], drag: PerLength, h: f32) -> f32 {
+    point_rates(g, springs, drag).fold(0.0f32, |worst, (l, c)| worst.max(h * h * l + 2.0 * h * c))
 }
 
 /// The largest stiffness and damping rates ([`crate::params::explicit_rates`], the damping
-/// with the air drag's `air_drag / m`) over the groom's free points, each on its own:
+/// with the air drag's `c / m`) over the groom's free points, each on its own:
 /// `h² λ + 2 h γ` with these bounds every point's [`crate::params::explicit_limit`] at any `h`.
-pub fn explicit_rates_max(g: &Groom, springs: &[PointSprings], air_drag: f32) -> (f32, f32) {
-    point_rates(g, springs, air_drag).fold((0.0f32, 0.0f32), |(a, b), (l, c)| (a.max(l), b.max(c)))
+pub fn explicit_rates_max(g: &Groom, springs: &[PointSprings], drag: PerLength) -> (f32, f32) {
+    point_rates(g, springs, drag).fold((0.0f32, 0.0f32), |(a, b), (l, c)| (a.max(l), b.max(c)))
 }
 
 /// Each free point's rates, with the stiffest stretch and bend spring it touches, and its air
 /// drag: symplectic Euler takes the drag explicitly too, and a light point under a strong drag
 /// (`h c / m` > 2) diverges as a stiff spring does.
-fn point_rates<'a>(g: &'a Groom, springs: &'a [PointSprings], air_drag: f32) -> impl Iterator<Item = (f32, f32)> + 'a {
+fn point_rates<'a>(
+    g: &'a Groom,
+    springs: &'a [PointSprings],
+    drag: PerLength,
+) -> impl Iterator<Item = (f32, f32)> + 'a {
     (0..g.strand_count()).flat_map(move |s| {
         let r = g.strand_range(s);
         r.clone().filter(|&i| !g.pinned()[i]).map(move |i| {
@@ -114,15 +119,17 @@ fn point_rates<'a>(g: &'a Groom, springs: &'a [PointSprings], air_drag: f32) -> 
                 into.damping = into.damping.max(sp.damping);
             };
             take(&mut st, springs[i].stretch);
+            let mut before = 0.0;
             if i > r.start {
                 take(&mut st, springs[i - 1].stretch);
+                before = springs[i - 1].rest[0];
             }
             take(&mut bd, springs[i].bend);
             if i >= r.start + 2 {
                 take(&mut bd, springs[i - 2].bend);
             }
             let (l, c) = crate::params::explicit_rates(st, bd, g.masses()[i]);
-            (l, c + air_drag / g.masses()[i])
+            (l, c + drag.at(before, springs[i].rest[0]) / g.masses()[i])
         })
     })
 }

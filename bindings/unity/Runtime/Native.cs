@@ -182,6 +182,11 @@ namespace WetHair
         /// is sampled.</summary>
         public float held_water_flow_length;
         public uint reserved8;
+        /// <summary>Length of hair air_drag is quoted over, m (init's default 0.02; 0: every
+        /// point takes air_drag, as before 0.8.0): a strand feels the same drag in a wind
+        /// however finely it is sampled.</summary>
+        public float air_drag_length;
+        public uint reserved9;
     }
 
     /// <summary>Which strands are guides (WetHairGuideChoice).</summary>

@@ -24,10 +24,11 @@ impl GpuBackend {
         let a = p.attributes;
         let off = |bit| a.offset(bit).map_or(NO_ATTRIBUTE, |o| o as u32);
         let c = to.transform_point3(self.domain.center_local);
+        let hair_drag = p.hair_drag();
         let rec = Params {
             h,
             inv_h: 1.0 / h,
-            drag: p.air_drag,
+            drag: hair_drag.per_point,
             friction: p.friction,
             g: p.gravity.extend(0.0).to_array(),
             points: self.active_points,
@@ -58,7 +59,7 @@ impl GpuBackend {
             dry_air_speed: p.held_water.dry_air_speed,
             wet_bend_ratio: p.held_water.wet_bend_ratio,
             massive: p.held_water.enabled as u32,
-            pad0: 0,
+            drag_scale: hair_drag.scale,
             flow_speed: if p.held_water.flows() {
                 p.held_water.flow_speed()
             } else {

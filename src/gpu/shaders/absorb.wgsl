@@ -24,16 +24,7 @@ fn absorb_weight(d: f32) -> f32 {
 // wet::absorb_share: the length of hair point i stands for (half of each rest segment it
 // ends) over ABSORB_LENGTH.
 fn absorb_share(i: u32) -> f32 {
-    let pt = points[i];
-    var before = 0.0;
-    if (i > pt.first) {
-        before = points[i - 1u].rest_stretch;
-    }
-    var after = 0.0;
-    if (i < pt.last) {
-        after = pt.rest_stretch;
-    }
-    return (before + after) * ABSORB_SHARE_SCALE;
+    return rest_around(i) * ABSORB_SHARE_SCALE;
 }
 
 // wet::absorb_take_at: what point i takes of a particle within r_min this substep, in

@@ -30,9 +30,18 @@ fn spring(xa: vec3<f32>, xb: vec3<f32>, va: vec3<f32>, vb: vec3<f32>, rest: f32,
     return m * n + c * dv;
 }
 
+// physics/per_length.rs `PerLength::at`: point i's air drag coefficient, N·s/m: P.drag on every
+// point, or in proportion to the hair it stands for.
+fn drag_at(i: u32) -> f32 {
+    if (P.drag_scale > 0.0) {
+        return rest_around(i) * P.drag_scale;
+    }
+    return P.drag;
+}
+
 // Pass drag: linear air drag toward the wind (it starts the force sum, as on the CPU).
-fn drag(v: vec3<f32>, f: ptr<function, vec3<f32>>) {
-    *f = P.drag * (P.wind.xyz - v);
+fn drag(i: u32, v: vec3<f32>, f: ptr<function, vec3<f32>>) {
+    *f = drag_at(i) * (P.wind.xyz - v);
 }
 
 // Pass stretch_springs: the springs (i-1, i) and (i, i+1) this point belongs to, added in the

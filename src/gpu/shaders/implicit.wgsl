@@ -80,7 +80,7 @@ fn strand_terms(x: ptr<private, array<f32, N_MAX>>, base: u32, p: u32, hess: boo
     var e = 0.0;
     for (var i = 0u; i < p; i++) {
         let w = points[base + i].inv_mass;
-        let m = inertia(w);
+        let m = inertia(base + i, w);
         for (var c = 0u; c < 3u; c++) {
             let r = 3u * i + c;
             let d = (*x)[r] - tgt[r];
@@ -159,7 +159,7 @@ fn implicit_solve(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
         if (HAS_FORCES) {
             f = state_out[base + i].x.xyz;
         }
-        let t = tgt_of(pt, st, f);
+        let t = tgt_of(base + i, pt, st, f);
         for (var c = 0u; c < 3u; c++) {
             tgt[3u * i + c] = t[c];
         }
@@ -240,14 +240,14 @@ fn implicit_solve(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
     }
 }
 
-// The inertial term's mass under implicit drag, m + h c (0 pinned).
-fn inertia(w: f32) -> f32 {
-    return select(0.0, 1.0 / w + S.blend.z * P.drag, w > 0.0);
+// The inertial term's mass of point i under implicit drag, m + h c (0 pinned).
+fn inertia(i: u32, w: f32) -> f32 {
+    return select(0.0, 1.0 / w + S.blend.z * drag_at(i), w > 0.0);
 }
 
 // x~ = x + h v + h^2 (f / m + g) for a free point, weighted toward x + h wind by the drag's
 // share h c / (m + h c) (pinned points: unused).
-fn tgt_of(pt: Point, st: State, f: vec3<f32>) -> vec3<f32> {
+fn tgt_of(idx: u32, pt: Point, st: State, f: vec3<f32>) -> vec3<f32> {
     let h = S.blend.z;
     let inertial = st.x.xyz + h * st.v.xyz + h * h * (f * pt.inv_mass + P.g.xyz);
     let m = select(0.0, 1.0 / pt.inv_mass, pt.inv_mass > 0.0);
@@ -256,6 +256,6 @@ fn tgt_of(pt: Point, st: State, f: vec3<f32>) -> vec3<f32> {
     // does) read it as 0, and 0 / 0 made every pinned target NaN, the strand's energy NaN,
     // and the line search refuse every Newton step: hair froze under implicit Euler and BDF2
     // wherever the drag was 0.
-    let mw = select(0.0, m / (m + h * P.drag), m > 0.0);
+    let mw = select(0.0, m / (m + h * drag_at(idx)), m > 0.0);
     return mw * inertial + (1.0 - mw) * (st.x.xyz + h * P.wind.xyz);
 }

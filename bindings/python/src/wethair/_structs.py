@@ -171,6 +171,8 @@ class WetHairSimDesc(C.Structure):
         ("reserved7", u32),
         ("held_water_flow_length", f32),
         ("reserved8", u32),
+        ("air_drag_length", f32),
+        ("reserved9", u32),
     ]
 
 
