@@ -391,7 +391,8 @@ typedef struct WetHairWaterDesc {
   float r_min;
   // Influence radius r_max, m, > r_min, in [1e-6, 10].
   float r_max;
-  // Adhesion strength s, N, >= 0: peak pull between one particle and one hair point.
+  // Adhesion strength s, N, >= 0: peak pull between one particle and one hair point, or
+  // between one particle and `WetHairSimDesc::water_adhesion_length` m of hair.
   float adhesion;
   // Mass of one particle, kg, > 0.
   float particle_mass;
@@ -687,6 +688,16 @@ typedef struct WetHairSimDesc {
   float air_drag_length;
   // Unused; keep 0.
   uint32_t reserved9;
+  // The length of hair `water.adhesion` is quoted over, m, 0..=1 (since 0.8.0; here because
+  // `WetHairWaterDesc` sits inside this struct and cannot grow): a point pulls with
+  // `adhesion ℓ / water_adhesion_length`, `ℓ` half of each rest segment it ends, so a drop
+  // pulls a strand alike however finely it is sampled. 0: every point pulls with
+  // `adhesion` (the paper's eq. 2; before 0.8.0 a finer groom was pulled harder).
+  // `wethair_sim_desc_init` gives 0.02 (the paper scene's segment);
+  // `wethair_sim_desc_default` and a 344-byte layout (0.7.0) give 0.
+  float water_adhesion_length;
+  // Unused; keep 0.
+  uint32_t reserved10;
 } WetHairSimDesc;
 
 // What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.

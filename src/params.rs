@@ -197,8 +197,15 @@ pub struct WaterParams {
     pub r_min: f32,
     /// Influence radius `r_max`, m (> `r_min`): no pull beyond it.
     pub r_max: f32,
-    /// Adhesion strength `s`, N: the peak pull between one particle and one hair point.
+    /// Adhesion strength `s`, N: the peak pull between one particle and one hair point, or
+    /// between one particle and `adhesion_length` m of hair.
     pub adhesion: f32,
+    /// The length of hair `adhesion` is quoted over, m, 0..=1: a point pulls with
+    /// `s ℓ / L`, `ℓ` half of each rest segment it ends, so a drop pulls a strand alike
+    /// however finely it is sampled (`physics/per_length.rs`). 0: every point pulls with `s`
+    /// (the paper's, and [`SimParams::paper`]'s); [`SimParams::default`]:
+    /// [`crate::physics::per_length::DEFAULT_LENGTH`].
+    pub adhesion_length: f32,
     /// Mass of one particle, kg.
     pub particle_mass: f32,
     /// Linear drag on particles, N·s/m.
@@ -341,6 +348,12 @@ impl SimParams {
         crate::physics::per_length::PerLength::new(self.air_drag, self.air_drag_length)
     }
 
+    /// Each hair point's share of eq. 2's pull: 1, or the hair it stands for over
+    /// `water.adhesion_length`.
+    pub fn adhesion_share(&self) -> crate::physics::per_length::PerLength {
+        crate::physics::per_length::PerLength::new(1.0, self.water.adhesion_length)
+    }
+
     /// The strand stride of the error estimate: the host's, or the budget's default when a
     /// tolerance is set without one (0: no estimate).
     pub fn estimate_stride(&self) -> u32 {
@@ -363,6 +376,10 @@ impl Default for SimParams {
             material: MaterialParams::HAIR,
             integrator: Integrator::AUTO,
             air_drag_length: crate::physics::per_length::DEFAULT_LENGTH,
+            water: WaterParams {
+                adhesion_length: crate::physics::per_length::DEFAULT_LENGTH,
+                ..SimParams::paper().water
+            },
             ..SimParams::paper()
         }
     }
@@ -395,6 +412,7 @@ impl SimParams {
                 r_min: 0.002,
                 r_max: 0.008,
                 adhesion: 0.008,
+                adhesion_length: 0.0,
                 particle_mass: 1.0e-3,
                 drag: 2.0e-3,
                 capacity: 65_536,
@@ -455,13 +473,7 @@ impl SimParams {
         }
         check_finite3("gravity", self.gravity.to_array())?;
         check_non_negative("air drag", self.air_drag)?;
-        let max = crate::physics::per_length::MAX_LENGTH;
-        if !(self.air_drag_length.is_finite() && (0.0..=max).contains(&self.air_drag_length)) {
-            return Err(invalid!(
-                "air_drag_length must be in [0, {max}] m, got {}",
-                self.air_drag_length
-            ));
-        }
+        crate::physics::per_length::check_length("air_drag_length", self.air_drag_length)?;
         if self.substeps == 0 || self.substeps > MAX_SUBSTEPS {
             return Err(invalid!("substeps must be 1..={MAX_SUBSTEPS}, got {}", self.substeps));
         }
@@ -495,6 +507,7 @@ impl SimParams {
             return Err(invalid!("water r_max ({}) must exceed r_min ({})", w.r_max, w.r_min));
         }
         check_non_negative("water adhesion", w.adhesion)?;
+        crate::physics::per_length::check_length("water adhesion_length", w.adhesion_length)?;
         check_positive("water particle mass", w.particle_mass)?;
         check_non_negative("water drag", w.drag)?;
         check_non_negative("water wetting rate", w.wetting_rate)?;

@@ -45,6 +45,8 @@ pub struct Reference {
     r_min: f64,
     r_max: f64,
     adhesion: f64,
+    /// Each hair point's share of eq. 2's pull (1, or its hair over `water.adhesion_length`).
+    adhesion_share: Vec<f64>,
     /// Simulated time, s.
     pub time: f64,
 }
@@ -71,14 +73,21 @@ impl Reference {
         // Rest lengths and constants from the f32 rest pose, as both backends take them.
         let sp = crate::plan::point_springs(groom, params);
         let bend = crate::plan::has_bend(params, groom.max_strand_points());
+        // `physics/per_length.rs`'s law: the hair a point stands for, half of each rest
+        // segment it ends, over the length a coefficient is quoted over.
         let mut drag = vec![params.air_drag as f64; hair];
+        let mut adhesion_share = vec![1.0; hair];
+        let (drag_length, adhesion_length) = (params.air_drag_length as f64, params.water.adhesion_length as f64);
         for s in 0..groom.strand_count() {
             let r = groom.strand_range(s);
             for i in r.clone() {
-                if params.air_drag_length > 0.0 {
-                    let before = if i > r.start { sp[i - 1].rest[0] as f64 } else { 0.0 };
-                    let length = 0.5 * (before + sp[i].rest[0] as f64);
-                    drag[i] = params.air_drag as f64 * length / params.air_drag_length as f64;
+                let before = if i > r.start { sp[i - 1].rest[0] as f64 } else { 0.0 };
+                let length = 0.5 * (before + sp[i].rest[0] as f64);
+                if drag_length > 0.0 {
+                    drag[i] = params.air_drag as f64 * length / drag_length;
+                }
+                if adhesion_length > 0.0 {
+                    adhesion_share[i] = length / adhesion_length;
                 }
                 if i + 1 < r.end {
                     springs.push(Spring {
@@ -117,6 +126,7 @@ impl Reference {
             r_min: w.r_min as f64,
             r_max: w.r_max as f64,
             adhesion: w.adhesion as f64,
+            adhesion_share,
             time: 0.0,
         }
     }
@@ -189,7 +199,7 @@ impl Reference {
                 }
                 let dist = d2.sqrt();
                 let u = (2.0 * dist - self.r_min - self.r_max) / (self.r_min - self.r_max);
-                let fh = d * (self.adhesion * (1.0 - u * u) / dist);
+                let fh = d * (self.adhesion * (1.0 - u * u) / dist * self.adhesion_share[i]);
                 f[i] += fh;
                 f[j] -= fh;
             }

@@ -194,6 +194,9 @@ fn bad_wet_values_are_refused_by_name_and_write_nothing() {
         (|d| d.air_drag_length = f32::NAN, "air_drag_length"),
         (|d| d.air_drag_length = f32::INFINITY, "air_drag_length"),
         (|d| d.air_drag_length = 2.0, "air_drag_length"),
+        (|d| d.water_adhesion_length = -0.02, "adhesion_length"),
+        (|d| d.water_adhesion_length = f32::NAN, "adhesion_length"),
+        (|d| d.water_adhesion_length = 1.5, "adhesion_length"),
         (|d| d.wind.velocity = [f32::NAN, 0.0, 0.0], "wind velocity"),
         (|d| d.wind.gust = -0.5, "gust"),
     ] {
@@ -280,8 +283,9 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
         assert!(at(std::ptr::addr_of!((*d).held_water_free_ratio) as *const u8) >= 328);
         assert!(at(std::ptr::addr_of!((*d).held_water_flow_length) as *const u8) >= 336);
         assert!(at(std::ptr::addr_of!((*d).air_drag_length) as *const u8) >= 344);
+        assert!(at(std::ptr::addr_of!((*d).water_adhesion_length) as *const u8) >= 344);
     }
-    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 352, "no padding at the end");
+    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 360, "no padding at the end");
     assert_eq!(std::mem::size_of::<WetHairStats>(), 120);
 }
 
@@ -322,6 +326,8 @@ fn the_flow_length_reaches_c_hosts_and_older_ones_get_the_default() {
         let mut d = wet_desc(g);
         assert_eq!(d.held_water_flow_length, 0.02, "the default");
         d.held_water_flow_length = length;
+        // Eq. 2 per point, as a host older than 0.8.0 gets it (its drops pull the hair).
+        d.water_adhesion_length = 0.0;
         d.struct_size = size;
         let s = create(&d);
         assert_eq!(unsafe { wethair_sim_soak(s, 2.0) }, WETHAIR_OK);
@@ -388,6 +394,48 @@ fn the_drag_length_reaches_c_hosts_and_older_ones_get_the_default() {
     assert!(
         0.0 < at_segment && at_segment < per_point,
         "tips blown {per_point} m per point, {at_segment} m over 2 cm"
+    );
+    unsafe { wethair_groom_destroy(g) };
+}
+
+/// The length of hair eq. 2's pull is quoted over, through C (since 0.8.0): 0.02 m from
+/// `wethair_sim_desc_init`, 0 (every point pulls alike, the paper's) in the 0.1.0 defaults and
+/// for a 0.7.0 host (344 bytes) whatever lies past its struct. Drops among the paper strands
+/// move them alike from a 0.7.0 host and with 0 set, and otherwise over 2 cm (their roots and
+/// tips pull half as hard). (tests/material.rs checks the law itself.)
+#[test]
+fn the_adhesion_length_reaches_c_hosts_and_older_ones_get_the_default() {
+    assert_eq!(WetHairSimDesc::default_values().water_adhesion_length, 0.0);
+    let g = paper(16);
+    let run = |length: f32, size: u32| -> Vec<f32> {
+        let mut d = wet_desc(g);
+        assert_eq!(d.water_adhesion_length, 0.02, "init's default");
+        d.held_water.enabled = 0;
+        d.water_adhesion_length = length;
+        d.struct_size = size;
+        let s = create(&d);
+        // Above the head, among the roots: every strand has its root there.
+        let pos: Vec<f32> = (0..8).flat_map(|k| [0.01 * k as f32 - 0.04, 0.0, 0.11]).collect();
+        let r = unsafe { wethair_sim_add_water(s, pos.as_ptr(), std::ptr::null(), 8) };
+        assert_eq!(r, WETHAIR_OK, "{}", last_error());
+        for _ in 0..30 {
+            assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
+        }
+        let mut v = vec![0.0f32; 16 * 6 * 7];
+        let mut written = 0usize;
+        let r = unsafe { wethair_sim_get_vertex_buffer(s, v.as_mut_ptr(), v.len(), &mut written) };
+        assert_eq!(r, WETHAIR_OK, "{}", last_error());
+        unsafe { wethair_sim_destroy(s) };
+        v
+    };
+    let full = std::mem::size_of::<WetHairSimDesc>() as u32;
+    let bits = |v: Vec<f32>| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let per_point = bits(run(0.0, full));
+    assert_eq!(bits(run(f32::NAN, 344)), per_point, "a 0.7.0 host: per point");
+    assert_ne!(
+        bits(run(0.02, full)),
+        per_point,
+        "over 2 cm: the roots and tips pull half"
     );
     unsafe { wethair_groom_destroy(g) };
 }

@@ -352,6 +352,7 @@ fn adhesion_row_and_point_forms_agree() {
     adhesion::gather_run_lanes(
         &x,
         &[1.0; W],
+        &[1.0; W],
         run,
         0,
         &mut reactions,

@@ -95,6 +95,9 @@ pub(super) struct WaterCtx<'a> {
     pub(super) r_min: f32,
     pub(super) r_max: f32,
     pub(super) s: f32,
+    /// Each hair point's share of eq. 2's pull: 1, or the hair it stands for over
+    /// `water.adhesion_length`.
+    pub(super) share: crate::physics::per_length::PerLength,
     pub(super) wet_gain: f32,
     /// Absorption (held water on).
     pub(super) absorb: Option<AbsorbCtx<'a>>,
@@ -244,6 +247,13 @@ fn block_substep_impl<const AXIAL: bool>(
             // Morton-ordered strands keep most rows compact; a row too wide for MAX_RUNS columns
             // goes lane by lane.
             let (lo, hi, mask) = bounds_and_mask(ctx.avx2, &x, lanes);
+            // Each lane's pull: the mask's, or scaled by its share of the hair.
+            let share = w.share.row(params, i);
+            let weight = if w.share.per_length() {
+                std::array::from_fn(|l| mask[l] * share[l])
+            } else {
+                mask
+            };
             let mut runs = [(0u32, 0u32); MAX_RUNS];
             let mut acc = L3::ZERO;
             let mut near = [0.0f32; W];
@@ -265,6 +275,7 @@ fn block_substep_impl<const AXIAL: bool>(
                     w,
                     &x,
                     &mask,
+                    &weight,
                     &runs[..n],
                     reactions,
                     &mut acc,
@@ -275,8 +286,9 @@ fn block_substep_impl<const AXIAL: bool>(
                 while lanes != 0 {
                     let l = lanes.trailing_zeros() as usize;
                     lanes &= lanes - 1;
-                    let mut one = [0.0f32; W];
+                    let (mut one, mut one_weight) = ([0.0f32; W], [0.0f32; W]);
                     one[l] = 1.0;
+                    one_weight[l] = share[l];
                     let p = x.get(l);
                     let n = w
                         .grid
@@ -287,6 +299,7 @@ fn block_substep_impl<const AXIAL: bool>(
                         w,
                         &x,
                         &one,
+                        &one_weight,
                         &runs[..n],
                         reactions,
                         &mut acc,
@@ -499,6 +512,7 @@ fn gather_runs(
     w: &WaterCtx,
     x: &L3,
     mask: &[f32; W],
+    weight: &[f32; W],
     runs: &[(u32, u32)],
     reactions: &mut Vec<adhesion::Reaction>,
     acc: &mut L3,
@@ -511,13 +525,13 @@ fn gather_runs(
         // SAFETY: `avx2` comes from `is_x86_feature_detected!("avx2")` at create.
         unsafe {
             crate::physics::adhesion_avx2::gather_runs_lanes(
-                x, mask, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
+                x, mask, weight, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
             )
         };
         return;
     }
     let _ = avx2;
     adhesion::gather_runs_lanes(
-        x, mask, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
+        x, mask, weight, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
     );
 }

@@ -609,6 +609,7 @@ impl CpuBackend {
                 r_min: p.water.r_min,
                 r_max: p.water.r_max,
                 s: p.water.adhesion,
+                share: p.adhesion_share(),
                 // With held water, wetness is the saturation (written after the step).
                 wet_gain: if held.is_some() {
                     0.0

@@ -54,7 +54,7 @@ sized!(
     // 0.5.0: WetHairSimDesc grew to 328 (guides)
     // 0.6.0: WetHairSimDesc grew to 336 (held_water_free_ratio)
     // 0.7.0: WetHairSimDesc grew to 344 (held_water_flow_length)
-    // 0.8.0: WetHairSimDesc grew to 352 (air_drag_length)
+    // 0.8.0: WetHairSimDesc grew to 360 (air_drag_length, water_adhesion_length)
     WetHairAdvance = 16,
 );
 

@@ -79,7 +79,8 @@ pub struct WetHairWaterDesc {
     pub r_min: f32,
     /// Influence radius r_max, m, > r_min, in [1e-6, 10].
     pub r_max: f32,
-    /// Adhesion strength s, N, >= 0: peak pull between one particle and one hair point.
+    /// Adhesion strength s, N, >= 0: peak pull between one particle and one hair point, or
+    /// between one particle and `WetHairSimDesc::water_adhesion_length` m of hair.
     pub adhesion: f32,
     /// Mass of one particle, kg, > 0.
     pub particle_mass: f32,
@@ -273,6 +274,16 @@ pub struct WetHairSimDesc {
     pub air_drag_length: f32,
     /// Unused; keep 0.
     pub reserved9: u32,
+    /// The length of hair `water.adhesion` is quoted over, m, 0..=1 (since 0.8.0; here because
+    /// `WetHairWaterDesc` sits inside this struct and cannot grow): a point pulls with
+    /// `adhesion ℓ / water_adhesion_length`, `ℓ` half of each rest segment it ends, so a drop
+    /// pulls a strand alike however finely it is sampled. 0: every point pulls with
+    /// `adhesion` (the paper's eq. 2; before 0.8.0 a finer groom was pulled harder).
+    /// `wethair_sim_desc_init` gives 0.02 (the paper scene's segment);
+    /// `wethair_sim_desc_default` and a 344-byte layout (0.7.0) give 0.
+    pub water_adhesion_length: f32,
+    /// Unused; keep 0.
+    pub reserved10: u32,
 }
 
 /// Which strands are guides (`WetHairGuides::choice`).
@@ -739,6 +750,8 @@ impl WetHairSimDesc {
             reserved8: 0,
             air_drag_length: p.air_drag_length,
             reserved9: 0,
+            water_adhesion_length: w.adhesion_length,
+            reserved10: 0,
         }
     }
 
@@ -858,6 +871,7 @@ impl WetHairSimDesc {
                 r_min: w.r_min,
                 r_max: w.r_max,
                 adhesion: w.adhesion,
+                adhesion_length: self.water_adhesion_length,
                 particle_mass: w.particle_mass,
                 drag: w.drag,
                 capacity: w.capacity,

@@ -91,6 +91,15 @@ gpu_record! {
         /// Liquid bridges: the word of the bridge buffer where the points' masks of mutual
         /// bridges start, after every point's record (`bridge_words`; 0 without bridges).
         pub bridge_masks: u32,
+        /// Eq. 2's share per metre of a point's two rest segments summed, 1/m
+        /// (`SimParams::adhesion_share`'s `PerLength::scale`; 0: every point pulls alike).
+        pub adhesion_scale: f32,
+        /// Padding (a uniform's size is a multiple of 16 bytes).
+        pub pad0: u32,
+        /// Padding.
+        pub pad1: u32,
+        /// Padding.
+        pub pad2: u32,
     }
 }
 

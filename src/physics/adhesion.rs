@@ -84,7 +84,9 @@ pub struct Reaction {
 
 /// Eq. 2 between the `W` hair points of a lane row (`mask[l]` is 1 for lanes to include, 0
 /// otherwise) and every particle of a run, whose first particle sits in grid slot
-/// `first_slot`. Adds the forces on the hair lanes to `acc`, marks in `near` the lanes with a
+/// `first_slot`. Each lane's pull is scaled by `weight[l]`: its mask times its share of the
+/// pull where eq. 2 is quoted per length of hair (`physics/per_length.rs`), the mask itself
+/// where it is per point. Adds the forces on the hair lanes to `acc`, marks in `near` the lanes with a
 /// particle within `r_max`, and appends each touched particle's reaction (minus the sum over
 /// lanes) to `reactions`. One particle against eight hair points is one SIMD pass. With held
 /// water (`wet`), each particle pulls with `s` scaled by the water it holds, and the lanes it
@@ -94,6 +96,7 @@ pub struct Reaction {
 pub fn gather_run_lanes(
     x: &L3,
     mask: &Lane,
+    weight: &Lane,
     run: Run,
     first_slot: u32,
     reactions: &mut Vec<Reaction>,
@@ -136,7 +139,7 @@ pub fn gather_run_lanes(
         let (mut rx, mut ry, mut rz) = ([0.0f32; W], [0.0f32; W], [0.0f32; W]);
         let scale = force_scale_lanes(&d2s, r_min, r_max, s_j);
         for l in 0..W {
-            let m = scale[l] * mask[l];
+            let m = scale[l] * weight[l];
             rx[l] = m * (qx - x.x[l]);
             ry[l] = m * (qy - x.y[l]);
             rz[l] = m * (qz - x.z[l]);
@@ -159,6 +162,7 @@ pub fn gather_run_lanes(
 pub fn gather_runs_lanes(
     x: &L3,
     mask: &Lane,
+    weight: &Lane,
     runs: &[(u32, u32)],
     sorted: [&[f32]; 3],
     reactions: &mut Vec<Reaction>,
@@ -179,6 +183,7 @@ pub fn gather_runs_lanes(
         gather_run_lanes(
             x,
             mask,
+            weight,
             run,
             a,
             reactions,

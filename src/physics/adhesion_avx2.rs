@@ -53,6 +53,7 @@ fn offset_to(sorted: [&[f32]; 3], slot: u32, hx: __m256, hy: __m256, hz: __m256)
 pub unsafe fn gather_runs_lanes(
     x: &L3,
     mask: &Lane,
+    weight: &Lane,
     runs: &[(u32, u32)],
     sorted: [&[f32]; 3],
     reactions: &mut Vec<Reaction>,
@@ -68,6 +69,7 @@ pub unsafe fn gather_runs_lanes(
         unsafe { _mm256_loadu_ps(a.as_ptr()) }
     };
     let (hx, hy, hz, m) = (load(&x.x), load(&x.y), load(&x.z), load(mask));
+    let share = load(weight);
     let (mut ax, mut ay, mut az) = (load(&acc.x), load(&acc.y), load(&acc.z));
     let mut marks = load(near);
     let zero = _mm256_setzero_ps();
@@ -126,7 +128,7 @@ pub unsafe fn gather_runs_lanes(
             let shell = _mm256_sub_ps(one, _mm256_mul_ps(u, u));
             let v = _mm256_div_ps(_mm256_mul_ps(_mm256_set1_ps(s_j), shell), d);
             let keep = _mm256_and_ps(within, _mm256_cmp_ps::<_CMP_GE_OQ>(d2, min2));
-            let scale = _mm256_mul_ps(_mm256_and_ps(v, keep), m);
+            let scale = _mm256_mul_ps(_mm256_and_ps(v, keep), share);
             let (fx, fy, fz) = (
                 _mm256_mul_ps(scale, dx),
                 _mm256_mul_ps(scale, dy),
@@ -165,7 +167,14 @@ mod tests {
 
     /// Runs one row's gather over two runs of `q` (slots 2..5 and 7..), the lane form or the
     /// AVX2 one, from the same starting accumulators.
-    fn gather(avx2: bool, x: &L3, mask: &Lane, q: &[Vec<f32>; 3], wet: Option<(&[u32], &WaterRow)>) -> Out {
+    fn gather(
+        avx2: bool,
+        x: &L3,
+        mask: &Lane,
+        weight: &Lane,
+        q: &[Vec<f32>; 3],
+        wet: Option<(&[u32], &WaterRow)>,
+    ) -> Out {
         let (r_min, r_max, s) = (0.002f32, 0.008f32, 0.008f32);
         let runs = [(2, 5), (7, q[0].len() as u32)];
         let sorted = [&q[0][..], &q[1][..], &q[2][..]];
@@ -189,6 +198,7 @@ mod tests {
         type Gather = unsafe fn(
             &L3,
             &Lane,
+            &Lane,
             &[(u32, u32)],
             [&[f32]; 3],
             &mut Vec<Reaction>,
@@ -209,6 +219,7 @@ mod tests {
             gather(
                 x,
                 mask,
+                weight,
                 &runs,
                 sorted,
                 &mut reactions,
@@ -236,7 +247,8 @@ mod tests {
     }
 
     /// The AVX2 gather gives the lane form's bits: particles inside r_min, in the shell, at
-    /// r_max, beyond it and on a hair point; lanes masked out; dry and absorbing.
+    /// r_max, beyond it and on a hair point; lanes masked out; pulls per point and per length;
+    /// dry and absorbing.
     #[test]
     fn avx2_gives_the_lane_forms_bits() {
         assert!(
@@ -248,6 +260,8 @@ mod tests {
         for case in 0..300 {
             let mut x = L3::ZERO;
             let mut mask = [1.0f32; W];
+            // Per point (the mask) in two cases of three, else per length: uneven shares.
+            let mut weight = [1.0f32; W];
             // Saturations from 0 to 1.2 (water over capacity asks for nothing).
             let (mut water, mut capacity) = ([0u32; W], [0u32; W]);
             for l in 0..W {
@@ -256,6 +270,12 @@ mod tests {
                     glam::Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 0.02,
                 );
                 mask[l] = (rng.next_f32() > 0.2) as u32 as f32;
+                weight[l] = mask[l]
+                    * if case % 3 == 2 {
+                        0.25 + 2.0 * rng.next_f32()
+                    } else {
+                        1.0
+                    };
                 capacity[l] = 1000 + (rng.next_f32() * 4000.0) as u32;
                 water[l] = (rng.next_f32() * 1.2 * capacity[l] as f32) as u32;
             }
@@ -275,7 +295,10 @@ mod tests {
             }
             let mass: Vec<u32> = (0..n + 7).map(|k| (k as u32 * 977) % 4000).collect();
             for wet in [None, Some((&mass[..], &(water, capacity)))] {
-                let (a, b) = (gather(false, &x, &mask, &q, wet), gather(true, &x, &mask, &q, wet));
+                let (a, b) = (
+                    gather(false, &x, &mask, &weight, &q, wet),
+                    gather(true, &x, &mask, &weight, &q, wet),
+                );
                 (reactions, demands) = (reactions + a.0.len(), demands + a.3.len());
                 assert_eq!(bits(&a), bits(&b), "case {case}, wet {}", wet.is_some());
             }

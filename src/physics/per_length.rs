@@ -8,8 +8,8 @@
 //! resampled twice as finely swung in a wind as if the air were twice as thick, and a drop
 //! pulled it twice as hard. Quoted over a length `L` of hair, point `i` takes `c ℓ_i / L`,
 //! `ℓ_i` half of each rest segment it ends, so a strand feels `c / L` per metre however it is
-//! sampled; at the paper scene's 2 cm segments and `L` = 2 cm its inner points take `c`
-//! exactly as before.
+//! sampled; at the paper scene's 2 cm segments and `L` = 2 cm its inner points take `c` as
+//! before (to the rounding of `(ℓ + ℓ) c / 2L`), its roots and tips half.
 
 use super::lanes::{rest_segments, Lane, ParamRow, W};
 
@@ -19,6 +19,15 @@ pub const DEFAULT_LENGTH: f32 = 0.02;
 
 /// The largest length accepted, m.
 pub const MAX_LENGTH: f32 = 1.0;
+
+/// Checks a length a coefficient is quoted over: finite, in `[0, MAX_LENGTH]` (0: per point).
+pub(crate) fn check_length(name: &str, v: f32) -> crate::Result<()> {
+    if v.is_finite() && (0.0..=MAX_LENGTH).contains(&v) {
+        Ok(())
+    } else {
+        Err(crate::error::invalid!("{name} must be in [0, {MAX_LENGTH}] m, got {v}"))
+    }
+}
 
 /// A coefficient each hair point takes: the same on every point, or in proportion to the hair
 /// it stands for.

@@ -187,6 +187,11 @@ namespace WetHair
         /// however finely it is sampled.</summary>
         public float air_drag_length;
         public uint reserved9;
+        /// <summary>Length of hair water.adhesion is quoted over, m (init's default 0.02; 0:
+        /// every point pulls with adhesion, as before 0.8.0): a drop pulls a strand alike
+        /// however finely it is sampled.</summary>
+        public float water_adhesion_length;
+        public uint reserved10;
     }
 
     /// <summary>Which strands are guides (WetHairGuideChoice).</summary>

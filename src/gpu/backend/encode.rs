@@ -84,6 +84,10 @@ impl GpuBackend {
             } else {
                 0
             },
+            adhesion_scale: p.adhesion_share().scale,
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
         };
         self.dev
             .queue

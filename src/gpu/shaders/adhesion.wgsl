@@ -91,6 +91,11 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
     if (P.absorbs != 0u) {
         take = absorb_take_at(i);
     }
+    // The point's share of each pull (physics/per_length.rs: the CPU's lane weight).
+    var share = 1.0;
+    if (P.adhesion_scale > 0.0) {
+        share = rest_around(i) * P.adhesion_scale;
+    }
     for (var j = 0; j < span_cells(span); j++) {
         let c = span_cell(span, j);
         let run = cell_run(c);
@@ -111,7 +116,7 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
                     ask(k, demand);
                 }
             }
-            let m = force_scale(d2, s);
+            let m = force_scale(d2, s) * share;
             if (m == 0.0) {
                 continue;
             }

@@ -173,6 +173,8 @@ class WetHairSimDesc(C.Structure):
         ("reserved8", u32),
         ("air_drag_length", f32),
         ("reserved9", u32),
+        ("water_adhesion_length", f32),
+        ("reserved10", u32),
     ]
 
 

@@ -14,7 +14,8 @@ from .errors import check
 
 #: Presets: "current" is ``wethair_sim_desc_init`` (material springs, AUTO integrator: right
 #: for any groom); "paper" is the paper scene's exact parameters (``wethair_sim_desc_default``'s
-#: per-spring constants and symplectic Euler) in the current layout.
+#: per-spring constants and symplectic Euler; drag and eq. 2's pull per point) in the current
+#: layout.
 PRESETS = ("current", "paper")
 
 _ENUM_FIELDS = {
@@ -41,6 +42,9 @@ def sim_desc(preset: str = "current", **fields: Any) -> S.WetHairSimDesc:
         C.memmove(C.byref(d), C.byref(old), old.struct_size)  # the 0.1.0 prefix
         d.struct_size = C.sizeof(d)
         d.spring_model = SpringModel.PER_SPRING
+        # The paper's drag and pull on every point alike (fields past the 0.1.0 prefix).
+        d.air_drag_length = 0.0
+        d.water_adhesion_length = 0.0
     elif preset != "current":
         raise ValueError(f"wethair: unknown preset {preset!r} (one of {', '.join(PRESETS)})")
     for name, value in fields.items():
