@@ -350,6 +350,20 @@ fn the_flow_length_reaches_c_hosts_and_older_ones_get_the_default() {
     unsafe { wethair_groom_destroy(g) };
 }
 
+/// The vertices of the 16 paper strands of `s` after `frames` steps of 1/60 s (7 floats a
+/// vertex, position first); destroys `s`.
+fn stepped_vertices(s: *mut WetHairSim, frames: usize) -> Vec<f32> {
+    for _ in 0..frames {
+        assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
+    }
+    let mut v = vec![0.0f32; 16 * 6 * 7];
+    let mut written = 0usize;
+    let r = unsafe { wethair_sim_get_vertex_buffer(s, v.as_mut_ptr(), v.len(), &mut written) };
+    assert_eq!(r, WETHAIR_OK, "{}", last_error());
+    unsafe { wethair_sim_destroy(s) };
+    v
+}
+
 /// The length of hair the air drag is quoted over, through C (since 0.8.0):
 /// `wethair_sim_desc_init` gives 0.02 m, the 0.1.0 defaults 0 (every point takes `air_drag`,
 /// the paper's), and a 0.7.0 host (344 bytes) gets 0 whatever lies past its struct, so it runs
@@ -371,14 +385,7 @@ fn the_drag_length_reaches_c_hosts_and_older_ones_get_the_default() {
         d.air_drag_length = length;
         d.struct_size = size;
         let s = create(&d);
-        for _ in 0..120 {
-            assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
-        }
-        let mut v = vec![0.0f32; 16 * 6 * 7];
-        let mut written = 0usize;
-        let r = unsafe { wethair_sim_get_vertex_buffer(s, v.as_mut_ptr(), v.len(), &mut written) };
-        assert_eq!(r, WETHAIR_OK, "{}", last_error());
-        unsafe { wethair_sim_destroy(s) };
+        let v = stepped_vertices(s, 120);
         (0..16).map(|k| v[(k * 6 + 5) * 7]).sum::<f32>() / 16.0
     };
     // How far a 3 m/s wind moves them from where they hang in still air.
@@ -418,15 +425,7 @@ fn the_adhesion_length_reaches_c_hosts_and_older_ones_get_the_default() {
         let pos: Vec<f32> = (0..8).flat_map(|k| [0.01 * k as f32 - 0.04, 0.0, 0.11]).collect();
         let r = unsafe { wethair_sim_add_water(s, pos.as_ptr(), std::ptr::null(), 8) };
         assert_eq!(r, WETHAIR_OK, "{}", last_error());
-        for _ in 0..30 {
-            assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
-        }
-        let mut v = vec![0.0f32; 16 * 6 * 7];
-        let mut written = 0usize;
-        let r = unsafe { wethair_sim_get_vertex_buffer(s, v.as_mut_ptr(), v.len(), &mut written) };
-        assert_eq!(r, WETHAIR_OK, "{}", last_error());
-        unsafe { wethair_sim_destroy(s) };
-        v
+        stepped_vertices(s, 30)
     };
     let full = std::mem::size_of::<WetHairSimDesc>() as u32;
     let bits = |v: Vec<f32>| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();

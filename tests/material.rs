@@ -42,6 +42,32 @@ fn sag(groom: &Groom, params: SimParams, seconds: f32) -> f32 {
     rest.z - sim.positions()[groom.point_count() - 1].z
 }
 
+/// A simulation of `hanging_strand(length, n)` with every point pinned and one particle at
+/// rest `y0` m beside its middle.
+fn beside_pinned_strand(length: f32, n: u32, y0: f32, params: SimParams) -> Simulation {
+    let line = hanging_strand(length, n);
+    let pinned = vec![true; line.point_count()];
+    let masses = Some(line.masses().to_vec());
+    let groom = Groom::new(line.positions().to_vec(), &[n], Some(pinned), masses, 1.0).unwrap();
+    let mut sim = Simulation::new(&groom, params).unwrap();
+    sim.add_water(&[Vec3::new(y0, 0.0, -length / 2.0)], &[Vec3::ZERO])
+        .unwrap();
+    sim
+}
+
+/// `∫ f(d) dz` along a line `y0` m from a particle, over the stretch within `r_max` of it (`d`
+/// the distance to the particle), by the midpoint rule at 1 µm.
+fn along_reach(y0: f64, r_max: f64, f: impl Fn(f64) -> f64) -> f64 {
+    let reach = (r_max * r_max - y0 * y0).sqrt();
+    let ds = 1.0e-6;
+    (0..(2.0 * reach / ds) as usize)
+        .map(|k| {
+            let z = -reach + (k as f64 + 0.5) * ds;
+            f((y0 * y0 + z * z).sqrt()) * ds
+        })
+        .sum()
+}
+
 /// One strand sampled at 6, 16, 32 and 64 points sags by the same amount within 5% with the
 /// default (material) parameters, on every backend; the amount is the continuum value
 /// `ρ g L² / (2 EA)` within 5% (the bend springs, which also carry tension, add
@@ -170,32 +196,13 @@ fn a_drop_soaks_into_hair_at_the_same_rate_at_any_sampling() {
         params.water.adhesion = 1.0e-9;
         let w = &params.water;
         let (r_min, r_max) = (w.r_min as f64, w.r_max as f64);
-        // ∫ ω ds over the strand beside the drop, by the midpoint rule at 1 µm.
-        let reach = (r_max * r_max - y0 * y0).sqrt();
-        let ds = 1.0e-6;
-        let integral: f64 = (0..(2.0 * reach / ds) as usize)
-            .map(|k| {
-                let s = -reach + (k as f64 + 0.5) * ds;
-                ((r_max - (y0 * y0 + s * s).sqrt()) / (r_max - r_min)).clamp(0.0, 1.0) * ds
-            })
-            .sum();
+        // ∫ ω ds over the strand beside the drop.
+        let integral = along_reach(y0, r_max, |d| ((r_max - d) / (r_max - r_min)).clamp(0.0, 1.0));
         let k = hw.absorb_rate as f64 / wethair::physics::wet::ABSORB_LENGTH as f64 * integral;
         let want = (-k * seconds).exp();
         let mut kept = Vec::new();
         for n in [13, 25, 49] {
-            let line = hanging_strand(length, n);
-            let pinned = vec![true; line.point_count()];
-            let groom = Groom::new(
-                line.positions().to_vec(),
-                &[n],
-                Some(pinned),
-                Some(line.masses().to_vec()),
-                1.0,
-            )
-            .unwrap();
-            let mut sim = Simulation::new(&groom, params.clone()).unwrap();
-            sim.add_water(&[Vec3::new(y0 as f32, 0.0, -length / 2.0)], &[Vec3::ZERO])
-                .unwrap();
+            let mut sim = beside_pinned_strand(length, n, y0 as f32, params.clone());
             let full = sim.water_ledger().unwrap().in_particles as f64;
             for _ in 0..(seconds * 60.0).round() as usize {
                 sim.step(1.0 / 60.0).unwrap();
@@ -295,33 +302,15 @@ fn a_drop_pulls_a_strand_alike_at_any_sampling() {
         params.water.drag = 0.0;
         let w = &params.water;
         let (r_min, r_max, s) = (w.r_min as f64, w.r_max as f64, w.adhesion as f64);
-        // (s / L) ∫ g(d) y0 / d dz over the strand beside the drop, by the midpoint rule at 1 µm.
-        let reach = (r_max * r_max - y0 * y0).sqrt();
-        let ds = 1.0e-6;
-        let integral: f64 = (0..(2.0 * reach / ds) as usize)
-            .map(|k| {
-                let z = -reach + (k as f64 + 0.5) * ds;
-                let d = (y0 * y0 + z * z).sqrt();
-                let u = (2.0 * d - r_min - r_max) / (r_min - r_max);
-                (1.0 - u * u) * y0 / d * ds
-            })
-            .sum();
+        // ∫ g(d) y0 / d dz over the strand beside the drop.
+        let integral = along_reach(y0, r_max, |d| {
+            let u = (2.0 * d - r_min - r_max) / (r_min - r_max);
+            (1.0 - u * u) * y0 / d
+        });
         let want = s / w.adhesion_length as f64 * integral / w.particle_mass as f64 * dt;
         let mut got = Vec::new();
         for n in [13, 25, 49] {
-            let line = hanging_strand(length, n);
-            let pinned = vec![true; line.point_count()];
-            let groom = Groom::new(
-                line.positions().to_vec(),
-                &[n],
-                Some(pinned),
-                Some(line.masses().to_vec()),
-                1.0,
-            )
-            .unwrap();
-            let mut sim = Simulation::new(&groom, params.clone()).unwrap();
-            sim.add_water(&[Vec3::new(y0 as f32, 0.0, -length / 2.0)], &[Vec3::ZERO])
-                .unwrap();
+            let mut sim = beside_pinned_strand(length, n, y0 as f32, params.clone());
             sim.step(dt as f32).unwrap();
             let (_, vel) = sim.water().unwrap();
             got.push(-vel[0].x as f64);
