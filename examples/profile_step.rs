@@ -8,7 +8,9 @@
 //! `SOAK=s`: with the full model, every point soaked to saturation `s` before the first step;
 //! `FAR=1`: the particles 100 m above the head, out of the hair's reach (the lock step's own cost);
 //! `GPU=1`: on the GPU backend, so a GPU change is held to the same hash; `LEDGER=1`: where the
-//! water is at the end, as shares of what was added, and the drops in flight and gone).
+//! water is at the end, as shares of what was added, and the drops in flight and gone;
+//! `PER_LENGTH=1`: eq. 2's pull and the air drag quoted per 2 cm of hair, as
+//! `wethair_sim_desc_init` gives them, instead of per point).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -59,6 +61,10 @@ fn main() {
     }
     if let Some(n) = std::env::var_os("ITERATIONS") {
         params.solver_iterations = n.to_str().and_then(|s| s.parse().ok()).expect("ITERATIONS=number");
+    }
+    if std::env::var_os("PER_LENGTH").is_some() {
+        params.water.adhesion_length = wethair::physics::per_length::DEFAULT_LENGTH;
+        params.air_drag_length = wethair::physics::per_length::DEFAULT_LENGTH;
     }
     if std::env::var_os("FULL").is_some() {
         params.held_water = wethair::HeldWater::ON; // the full wet model
