@@ -62,9 +62,14 @@ public class WetHairHair : MonoBehaviour
             desc.held_water.capacity_ratio = 0.01f;
             desc.held_water_free_ratio = 0.02f;
             desc.held_water.drip_mass = 3e-5f;
+            // The paper's drag and pull on every point alike, as the main job runs it.
+            desc.air_drag_length = 0f;
+            desc.water_adhesion_length = 0f;
         }
         desc.backend = (uint)Backend.Auto;
-        desc.air_drag = 0.002f; // so the wind moves the hair, not only the water
+        // So the wind moves the hair, not only the water: per 2 cm of a loaded groom's hair
+        // (init's air_drag_length), so the same however finely the file samples it.
+        desc.air_drag = 0.002f;
         desc.held_water.enabled = fullWetModel ? 1u : 0u;
         // On Unity's Vulkan renderer this runs on Unity's own VkDevice (see the README).
         sim = new Simulation(groom, desc, new[] { new WetHairCollider { shape = 0, radius = 0.1f } }, onUnityDevice: true);
