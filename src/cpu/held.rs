@@ -10,7 +10,7 @@ use super::layout::{Layout, ParamRow, StateRow};
 use super::pool::{for_chunks, for_chunks2, Pool};
 use crate::engine::WaterLedger;
 use crate::params::HeldWater;
-use crate::physics::lanes::{rest_segments, Lane, L3, W};
+use crate::physics::lanes::{Lane, L3, W};
 use crate::physics::wet;
 
 /// Blocks per parallel task of the per-point passes.
@@ -26,10 +26,6 @@ pub struct Held {
     /// Hold limit per point, quanta (0 on padding lanes; `wet::hold_limit`): what it holds
     /// against gravity, in and between its fibres.
     pub hold: AlignedRows<[u32; W]>,
-    /// Per point, the length of hair it stands for over `wet::ABSORB_LENGTH`
-    /// (`wet::absorb_share`; 0 on padding lanes): absorption asks in proportion to it (empty
-    /// unless the scene absorbs).
-    pub share: AlignedRows<Lane>,
     /// Per row, the dry values the wet parameters are computed from.
     dry: Vec<DryRow>,
     /// The layout's row parameters with each free point's inverse mass from its dry mass plus
@@ -80,11 +76,6 @@ impl Held {
             .collect();
         let mut capacity = AlignedRows::filled([0u32; W], n_rows);
         let mut hold = AlignedRows::filled([0u32; W], n_rows);
-        let mut share = if cfg.absorbs() {
-            AlignedRows::filled([0.0; W], n_rows)
-        } else {
-            AlignedRows::default()
-        };
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
             let first = lay.strand_first[s] as usize;
@@ -95,11 +86,6 @@ impl Held {
                 }
                 capacity[r][l] = wet::capacity(m, cfg.capacity_ratio);
                 hold[r][l] = wet::hold_limit(m, cfg.capacity_ratio, cfg.free_ratio);
-                if !share.is_empty() {
-                    let block = &lay.params[b * lay.rows..(b + 1) * lay.rows];
-                    let (before, after) = rest_segments(block, i, l);
-                    share[r][l] = wet::absorb_share(before, after);
-                }
             }
         }
         let flows = cfg.flows();
@@ -107,7 +93,6 @@ impl Held {
             water: AlignedRows::filled([0; W], n_rows),
             capacity,
             hold,
-            share,
             dry,
             params: lay.params.clone(),
             params_wet: vec![false; n_rows],
@@ -269,7 +254,6 @@ impl Held {
         self.water.capacity() * 4 * W
             + self.capacity.capacity() * 4 * W
             + self.hold.capacity() * 4 * W
-            + self.share.capacity() * std::mem::size_of::<Lane>()
             + self.dry.capacity() * std::mem::size_of::<DryRow>()
             + self.params.capacity() * std::mem::size_of::<ParamRow>()
             + self.params_wet.capacity()

@@ -111,8 +111,6 @@ pub(super) struct AbsorbCtx<'a> {
     /// The fraction of a particle a point standing for `wet::ABSORB_LENGTH` of hair takes
     /// within `r_min` in a substep (`wet::absorb_take`, once per substep, not once per pair).
     pub(super) take: f32,
-    /// Per row, each point's length of hair over `wet::ABSORB_LENGTH` (`Held::share`).
-    pub(super) share: &'a [Lane],
     /// Held water and hold limit per row, quanta (how full each point is at the substep's
     /// start).
     pub(super) held: &'a [[u32; W]],
@@ -189,23 +187,16 @@ fn block_substep_impl<const AXIAL: bool>(
     // drag itself, implicitly.
     let [wx, wy, wz] = ctx.wind;
     let explicit_drag = !ctx.integrator.is_implicit();
-    if explicit_drag && ctx.drag.per_length() {
-        for (i, (fi, r)) in f.iter_mut().zip(rows.iter()).enumerate() {
-            let c = ctx.drag.row(params, i);
-            for l in 0..W {
-                fi.x[l] = c[l] * (wx - r.v.x[l]);
-                fi.y[l] = c[l] * (wy - r.v.y[l]);
-                fi.z[l] = c[l] * (wz - r.v.z[l]);
-            }
-        }
-    } else {
-        let drag = if explicit_drag { ctx.drag.per_point } else { 0.0 };
-        for (fi, r) in f.iter_mut().zip(rows.iter()) {
-            for l in 0..W {
-                fi.x[l] = drag * (wx - r.v.x[l]);
-                fi.y[l] = drag * (wy - r.v.y[l]);
-                fi.z[l] = drag * (wz - r.v.z[l]);
-            }
+    for (i, (fi, r)) in f.iter_mut().zip(rows.iter()).enumerate() {
+        let c = if explicit_drag {
+            ctx.drag.row(params, i)
+        } else {
+            [0.0; W]
+        };
+        for l in 0..W {
+            fi.x[l] = c[l] * (wx - r.v.x[l]);
+            fi.y[l] = c[l] * (wy - r.v.y[l]);
+            fi.z[l] = c[l] * (wz - r.v.z[l]);
         }
     }
     // Pass: stretch springs (i, i+1) (XPBD projects them as constraints instead).
@@ -247,12 +238,14 @@ fn block_substep_impl<const AXIAL: bool>(
             // Morton-ordered strands keep most rows compact; a row too wide for MAX_RUNS columns
             // goes lane by lane.
             let (lo, hi, mask) = bounds_and_mask(ctx.avx2, &x, lanes);
-            // Each lane's pull: the mask's, or scaled by its share of the hair.
+            // Each lane's pull: its mask times its share of the hair (1 per point).
             let share = w.share.row(params, i);
-            let weight = if w.share.per_length() {
-                std::array::from_fn(|l| mask[l] * share[l])
+            let weight: Lane = std::array::from_fn(|l| mask[l] * share[l]);
+            // Absorption asks in proportion to the hair each point stands for.
+            let absorb_share = if w.absorb.is_some() {
+                crate::physics::wet::ABSORB_SHARE.row(params, i)
             } else {
-                mask
+                [0.0; W]
             };
             let mut runs = [(0u32, 0u32); MAX_RUNS];
             let mut acc = L3::ZERO;
@@ -262,7 +255,7 @@ fn block_substep_impl<const AXIAL: bool>(
                 strength_per_quantum: a.strength_per_quantum,
                 water: &a.held[base + i],
                 hold: &a.hold[base + i],
-                share: &a.share[base + i],
+                share: &absorb_share,
                 sat: None,
                 first_point: ((base + i) * W) as u32,
                 take: a.take,

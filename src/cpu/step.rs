@@ -623,7 +623,6 @@ impl CpuBackend {
                     take: crate::physics::wet::absorb_take(p.held_water.absorb_rate, h),
                     held: &hd.water,
                     hold: &hd.hold,
-                    share: &hd.share,
                 }),
             }),
         };

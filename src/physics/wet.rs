@@ -9,6 +9,7 @@
 //! amounts they move are rounded, once, to whole quanta.
 
 use super::lanes::{u32_as_f32, u32_as_f64, Lane, L3, W};
+use super::per_length::PerLength;
 use super::rounding::{floor_nonneg_lanes, round_nonneg};
 use glam::Vec3;
 
@@ -195,8 +196,15 @@ pub fn absorb_take(rate: f32, h: f32) -> f32 {
 /// length over `ABSORB_LENGTH` however finely it is sampled (docs/WET_MODEL.md §2).
 #[inline]
 pub fn absorb_share(before: f32, after: f32) -> f32 {
-    (before + after) * ABSORB_SHARE_SCALE
+    ABSORB_SHARE.at(before, after)
 }
+
+/// [`absorb_share`] as a per-length coefficient (1 over [`ABSORB_LENGTH`]), for a block's rows
+/// at once ([`PerLength::row`]).
+pub const ABSORB_SHARE: PerLength = PerLength {
+    per_point: 0.0,
+    scale: ABSORB_SHARE_SCALE,
+};
 
 /// The fraction a point of share `share` ([`absorb_share`]) takes of a particle within `r_min`
 /// in a substep whose take over [`ABSORB_LENGTH`] is `take` ([`absorb_take`]): in proportion,
