@@ -201,7 +201,7 @@ pub fn absorb_share(before: f32, after: f32) -> f32 {
 
 /// [`absorb_share`] as a per-length coefficient (1 over [`ABSORB_LENGTH`]), for a block's rows
 /// at once ([`PerLength::row`]).
-pub const ABSORB_SHARE: PerLength = PerLength {
+pub(crate) const ABSORB_SHARE: PerLength = PerLength {
     per_point: 0.0,
     scale: ABSORB_SHARE_SCALE,
 };
