@@ -98,6 +98,8 @@ pub(super) struct WaterCtx<'a> {
     /// Each hair point's share of eq. 2's pull: 1, or the hair it stands for over
     /// `water.adhesion_length`.
     pub(super) share: crate::physics::per_length::PerLength,
+    /// Eq. 2's stability limit this substep (`physics/pull_limit.rs`).
+    pub(super) limit: crate::physics::pull_limit::PullLimit,
     pub(super) wet_gain: f32,
     /// Absorption (held water on).
     pub(super) absorb: Option<AbsorbCtx<'a>>,
@@ -262,6 +264,7 @@ fn block_substep_impl<const AXIAL: bool>(
                 out: &mut worker.demands,
             });
             let reactions = &mut worker.reactions;
+            let inv_mass = &params[i].inv_mass;
             if let Some(n) = w.grid.runs_in_box(lo - w.r_max, hi + w.r_max, &mut runs) {
                 gather_runs(
                     ctx.avx2,
@@ -269,6 +272,7 @@ fn block_substep_impl<const AXIAL: bool>(
                     &x,
                     &mask,
                     &weight,
+                    inv_mass,
                     &runs[..n],
                     reactions,
                     &mut acc,
@@ -293,6 +297,7 @@ fn block_substep_impl<const AXIAL: bool>(
                         &x,
                         &one,
                         &one_weight,
+                        inv_mass,
                         &runs[..n],
                         reactions,
                         &mut acc,
@@ -495,9 +500,10 @@ fn bounds_and_mask(avx2: bool, x: &L3, lanes: u32) -> (glam::Vec3, glam::Vec3, L
 }
 
 /// Eq. 2 between the lanes of `x` in `mask` and the particles of grid `runs` (slices of the
-/// grid-ordered particles): adds the hair's forces to `acc`, marks `near` lanes, and appends
-/// the particles' reactions to `reactions` (this worker's). `avx2`: run the gather's AVX2
-/// form (the same bits).
+/// grid-ordered particles), under its stability limit (`physics/pull_limit.rs`, from the
+/// row's `inv_mass`): adds the hair's forces to `acc`, marks `near` lanes, and appends the
+/// particles' reactions to `reactions` (this worker's). `avx2`: run the gather's AVX2 form
+/// (the same bits).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn gather_runs(
@@ -506,6 +512,7 @@ fn gather_runs(
     x: &L3,
     mask: &[f32; W],
     weight: &[f32; W],
+    inv_mass: &[f32; W],
     runs: &[(u32, u32)],
     reactions: &mut Vec<adhesion::Reaction>,
     acc: &mut L3,
@@ -517,14 +524,14 @@ fn gather_runs(
     if avx2 {
         // SAFETY: `avx2` comes from `is_x86_feature_detected!("avx2")` at create.
         unsafe {
-            crate::physics::adhesion_avx2::gather_runs_lanes(
-                x, mask, weight, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
+            crate::physics::adhesion_avx2::gather_row_lanes(
+                x, mask, weight, inv_mass, &w.limit, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
             )
         };
         return;
     }
     let _ = avx2;
-    adhesion::gather_runs_lanes(
-        x, mask, weight, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
+    adhesion::gather_row_lanes(
+        x, mask, weight, inv_mass, &w.limit, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
     );
 }

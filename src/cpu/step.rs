@@ -93,6 +93,10 @@ pub struct CpuBackend {
     pub(super) active_blocks: usize,
     /// The last step's adhesion pairs over its substeps (`Counters::adhesion_pairs`).
     pub(super) adhesion_pairs: u64,
+    /// The largest share of eq. 2's pull times inverse mass of any hair point, dry (held
+    /// water only makes points heavier): which rows may skip the stability limit's count
+    /// (`physics/pull_limit.rs`).
+    pull_weight_max: f32,
 }
 
 /// Chunks of blocks per worker thread. With water the work is uneven (the rows near
@@ -177,6 +181,7 @@ impl CpuBackend {
             followers: None,
             active_blocks: 0,
             adhesion_pairs: 0,
+            pull_weight_max: crate::physics::pull_limit::weight_inv_mass_max(groom, params.adhesion_share()),
         };
         cpu.active_blocks = cpu.lay.blocks;
         if params.skinned_roots {
@@ -610,6 +615,13 @@ impl CpuBackend {
                 r_max: p.water.r_max,
                 s: p.water.adhesion,
                 share: p.adhesion_share(),
+                limit: crate::physics::pull_limit::PullLimit::new(
+                    h,
+                    p.water.r_min,
+                    p.water.r_max,
+                    (!p.held_water.absorbs()).then_some(p.water.adhesion),
+                    self.pull_weight_max,
+                ),
                 // With held water, wetness is the saturation (written after the step).
                 wet_gain: if held.is_some() {
                     0.0

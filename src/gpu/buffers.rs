@@ -94,12 +94,14 @@ gpu_record! {
         /// Eq. 2's share per metre of a point's two rest segments summed, 1/m
         /// (`SimParams::adhesion_share`'s `PerLength::scale`; 0: every point pulls alike).
         pub adhesion_scale: f32,
+        /// Eq. 2's stability limit: the substep's `h²` times the profile's steepest slope
+        /// (`physics/pull_limit.rs` `PullLimit::slope_h2`).
+        pub pull_slope_h2: f32,
+        /// Eq. 2's stability limit: how many candidate particles a point may have with no
+        /// need to count them (`PullLimit::free`; 0: every point counts).
+        pub pull_free: u32,
         /// Padding (a uniform's size is a multiple of 16 bytes).
         pub pad0: u32,
-        /// Padding.
-        pub pad1: u32,
-        /// Padding.
-        pub pad2: u32,
     }
 }
 

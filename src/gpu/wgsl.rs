@@ -164,6 +164,10 @@ pub fn constants() -> Vec<(&'static str, Const)> {
         ("BAND", U32(implicit::BAND as u32)),
         ("MIN_LENGTH", F32(spring::MIN_LENGTH)),
         ("MIN_DISTANCE", F32(adhesion::MIN_DISTANCE)),
+        (
+            "PULL_STIFFNESS_LIMIT",
+            F32(crate::physics::pull_limit::PULL_STIFFNESS_LIMIT),
+        ),
         ("ON_AXIS_D2", F32(collide::ON_AXIS_D2)),
         ("PIVOT_FLOOR_F32", F32(implicit::PIVOT_FLOOR_F32)),
         ("ARMIJO_C1", F32(implicit::ARMIJO_C1 as f32)),

@@ -5,6 +5,7 @@
 //! `g` is 0 at `r_min` and `r_max`, 1 halfway, negative (repulsive) inside `r_min`.
 
 use super::lanes::{hsum, Lane, L3, W};
+use super::pull_limit::PullLimit;
 use glam::Vec3;
 
 /// Below this distance (m) the direction between a hair point and a particle is undefined;
@@ -195,6 +196,36 @@ pub fn gather_runs_lanes(
             wet.as_deref_mut(),
         );
     }
+}
+
+/// One row's whole gather under eq. 2's stability limit (`physics/pull_limit.rs`): the lanes'
+/// weights limited from their inverse masses `inv_mass` and the particles within reach, then
+/// [`gather_runs_lanes`] with them. The lane form of `adhesion_avx2::gather_row_lanes`.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn gather_row_lanes(
+    x: &L3,
+    mask: &Lane,
+    weight: &Lane,
+    inv_mass: &Lane,
+    limit: &PullLimit,
+    runs: &[(u32, u32)],
+    sorted: [&[f32]; 3],
+    reactions: &mut Vec<Reaction>,
+    acc: &mut L3,
+    near: &mut Lane,
+    r_min: f32,
+    r_max: f32,
+    s: f32,
+    wet: Option<&mut super::absorb::WetRow>,
+) {
+    let limited = {
+        let strength = |slot| wet.as_deref().map_or(s, |w| w.strength(slot));
+        limit.row_weights(x, weight, inv_mass, runs, sorted, r_max, strength)
+    };
+    gather_runs_lanes(
+        x, mask, &limited, runs, sorted, reactions, acc, near, r_min, r_max, s, wet,
+    );
 }
 
 #[cfg(test)]

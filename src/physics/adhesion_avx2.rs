@@ -13,6 +13,7 @@
 use super::absorb::WetRow;
 use super::adhesion::{Reaction, MIN_DISTANCE};
 use super::lanes::{Lane, L3, W};
+use super::pull_limit::PullLimit;
 use std::arch::x86_64::*;
 
 /// The most particles within reach a row lists before it pulls them (the list is on the stack).
@@ -43,17 +44,21 @@ fn offset_to(sorted: [&[f32]; 3], slot: u32, hx: __m256, hy: __m256, hz: __m256)
     ((dx, dy, dz), d2)
 }
 
-/// [`super::adhesion::gather_runs_lanes`] on AVX2: the same arguments, effects and bits. One
-/// call per row: called per run, the kernel did not inline it and paid a call per run.
+/// [`super::adhesion::gather_row_lanes`] on AVX2: the same arguments, effects and bits. One
+/// call per row: called per run, the kernel did not inline it and paid a call per run. The
+/// stability limit's sums come from the first list of particles within reach when it holds
+/// all of them (a row with more counts them first, as the lane form does).
 ///
 /// # Safety
 /// The CPU must support AVX2 (callers check `is_x86_feature_detected!("avx2")` once).
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
-pub unsafe fn gather_runs_lanes(
+pub unsafe fn gather_row_lanes(
     x: &L3,
     mask: &Lane,
     weight: &Lane,
+    inv_mass: &Lane,
+    limit: &PullLimit,
     runs: &[(u32, u32)],
     sorted: [&[f32]; 3],
     reactions: &mut Vec<Reaction>,
@@ -69,7 +74,9 @@ pub unsafe fn gather_runs_lanes(
         unsafe { _mm256_loadu_ps(a.as_ptr()) }
     };
     let (hx, hy, hz, m) = (load(&x.x), load(&x.y), load(&x.z), load(mask));
-    let share = load(weight);
+    // The lanes' weights, limited once the first list is made.
+    let mut share = load(weight);
+    let mut limited = false;
     let (mut ax, mut ay, mut az) = (load(&acc.x), load(&acc.y), load(&acc.z));
     let mut marks = load(near);
     let zero = _mm256_setzero_ps();
@@ -102,6 +109,16 @@ pub unsafe fn gather_runs_lanes(
                 r += 1;
                 slot = runs.get(r).map_or(0, |run| run.0);
             }
+        }
+        if !limited {
+            limited = true;
+            let strength = |slot| wet.as_deref().map_or(s, |w| w.strength(slot));
+            let w = if r >= runs.len() {
+                limit.listed_weights(x, weight, inv_mass, &hits[..n], sorted, r_max, strength)
+            } else {
+                limit.row_weights(x, weight, inv_mass, runs, sorted, r_max, strength)
+            };
+            share = load(&w);
         }
         for &slot in &hits[..n] {
             let ((dx, dy, dz), d2) = offset_to(sorted, slot, hx, hy, hz);
@@ -157,6 +174,7 @@ mod tests {
     use super::super::absorb::{Demand, WetRow};
     use super::super::adhesion::{self, Reaction};
     use super::super::lanes::{Lane, L3, W};
+    use super::super::pull_limit::PullLimit;
     use crate::scenes::Lcg;
 
     /// What one gather produced: the reactions, the forces on the lanes, the marks and the
@@ -167,11 +185,14 @@ mod tests {
 
     /// Runs one row's gather over two runs of `q` (slots 2..5 and 7..), the lane form or the
     /// AVX2 one, from the same starting accumulators.
+    #[allow(clippy::too_many_arguments)]
     fn gather(
         avx2: bool,
         x: &L3,
         mask: &Lane,
         weight: &Lane,
+        inv_mass: &Lane,
+        limit: &PullLimit,
         q: &[Vec<f32>; 3],
         wet: Option<(&[u32], &WaterRow)>,
     ) -> Out {
@@ -199,6 +220,8 @@ mod tests {
             &L3,
             &Lane,
             &Lane,
+            &Lane,
+            &PullLimit,
             &[(u32, u32)],
             [&[f32]; 3],
             &mut Vec<Reaction>,
@@ -210,9 +233,9 @@ mod tests {
             Option<&mut WetRow>,
         );
         let gather: Gather = if avx2 {
-            super::gather_runs_lanes
+            super::gather_row_lanes
         } else {
-            adhesion::gather_runs_lanes
+            adhesion::gather_row_lanes
         };
         // SAFETY: the AVX2 form runs only after the caller asserted AVX2.
         unsafe {
@@ -220,6 +243,8 @@ mod tests {
                 x,
                 mask,
                 weight,
+                inv_mass,
+                limit,
                 &runs,
                 sorted,
                 &mut reactions,
@@ -256,7 +281,7 @@ mod tests {
             "this test checks the AVX2 build: run it on a CPU with AVX2"
         );
         let mut rng = Lcg(5);
-        let (mut reactions, mut demands) = (0, 0);
+        let (mut reactions, mut demands, mut limited) = (0, 0, 0);
         for case in 0..300 {
             let mut x = L3::ZERO;
             let mut mask = [1.0f32; W];
@@ -294,19 +319,30 @@ mod tests {
                 }
             }
             let mass: Vec<u32> = (0..n + 7).map(|k| (k as u32 * 977) % 4000).collect();
+            // Inverse masses from a paper-scene point's (1 g) to a real groom's (10 mg) and
+            // pinned (0), so that the stability limit holds some lanes and not others.
+            let inv_mass: Lane = std::array::from_fn(|l| [1.0e3, 1.0e5, 0.0, 3.0e4][(l + case) % 4]);
+            let h = 1.0 / (60.0 * (1 + case % 8) as f32);
             for wet in [None, Some((&mass[..], &(water, capacity)))] {
+                let heaviest = (0..W).map(|l| weight[l] * inv_mass[l]).fold(0.0, f32::max);
+                let limit = PullLimit::new(h, 0.002, 0.008, wet.is_none().then_some(0.008), heaviest);
                 let (a, b) = (
-                    gather(false, &x, &mask, &weight, &q, wet),
-                    gather(true, &x, &mask, &weight, &q, wet),
+                    gather(false, &x, &mask, &weight, &inv_mass, &limit, &q, wet),
+                    gather(true, &x, &mask, &weight, &inv_mass, &limit, &q, wet),
                 );
                 (reactions, demands) = (reactions + a.0.len(), demands + a.3.len());
                 assert_eq!(bits(&a), bits(&b), "case {case}, wet {}", wet.is_some());
+                let sorted = [&q[0][..], &q[1][..], &q[2][..]];
+                let runs = [(2, 5), (7, n as u32)];
+                let held = limit.row_weights(&x, &weight, &inv_mass, &runs, sorted, 0.008, |_| 0.008);
+                limited += (held != weight) as u32;
             }
         }
-        // The cases reach the force and the absorption, not only the rejections.
+        // The cases reach the force, the absorption and the stability limit, not only the
+        // rejections.
         assert!(
-            reactions > 500 && demands > 200,
-            "{reactions} reactions, {demands} demands"
+            reactions > 500 && demands > 200 && limited > 100,
+            "{reactions} reactions, {demands} demands, {limited} rows limited"
         );
     }
 }

@@ -25,6 +25,7 @@ pub mod lanes;
 pub mod lanes_avx2;
 pub mod morton;
 pub mod per_length;
+pub mod pull_limit;
 pub mod roots;
 pub mod rounding;
 pub mod sdf;

@@ -25,6 +25,13 @@ impl GpuBackend {
         let off = |bit| a.offset(bit).map_or(NO_ATTRIBUTE, |o| o as u32);
         let c = to.transform_point3(self.domain.center_local);
         let hair_drag = p.hair_drag();
+        let limit = crate::physics::pull_limit::PullLimit::new(
+            h,
+            p.water.r_min,
+            p.water.r_max,
+            (!p.held_water.absorbs()).then_some(p.water.adhesion),
+            self.pull_weight_max,
+        );
         let rec = Params {
             h,
             inv_h: 1.0 / h,
@@ -85,9 +92,9 @@ impl GpuBackend {
                 0
             },
             adhesion_scale: p.adhesion_share().scale,
+            pull_slope_h2: limit.slope_h2,
+            pull_free: limit.free,
             pad0: 0,
-            pad1: 0,
-            pad2: 0,
         };
         self.dev
             .queue

@@ -97,6 +97,9 @@ pub struct GpuBackend {
     /// simulated fraction keeps (`followers.rs`).
     active_points: u32,
     active_strands: u32,
+    /// The largest share of eq. 2's pull times inverse mass of any hair point (the stability
+    /// limit's bound, `physics/pull_limit.rs`).
+    pull_weight_max: f32,
     strand_first: Vec<u32>,
     rest_local: Vec<Vec3>,
     bend: bool,
@@ -421,6 +424,7 @@ impl GpuBackend {
             points,
             active_points: points,
             active_strands: strands,
+            pull_weight_max: crate::physics::pull_limit::weight_inv_mass_max(groom, params.adhesion_share()),
             strand_first: groom.strand_first.clone(),
             rest_local: pos.to_vec(),
             bend,

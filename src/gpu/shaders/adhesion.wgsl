@@ -76,6 +76,57 @@ fn mark_near(i: u32) {
     atomicOr(&absorb_scratch[near_word(i)], near_bit(i));
 }
 
+// physics/pull_limit.rs `pull_limit`: the factor on a hair point's pulls, 1 while
+// q = slope_h2 strengths weight inv_mass stays within the limit, else LIMIT / q.
+fn pull_limit(strengths: f32, weight: f32, inv_mass: f32) -> f32 {
+    let q = P.pull_slope_h2 * strengths * weight * inv_mass;
+    if (q > PULL_STIFFNESS_LIMIT) {
+        return PULL_STIFFNESS_LIMIT / q;
+    }
+    return 1.0;
+}
+
+// A particle's pull strength: eq. 2's s, or with absorption the water it holds.
+fn strength_of(k: u32) -> f32 {
+    if (P.absorbs != 0u) {
+        return f32(sorted[k].mass) * P.strength_per_quantum;
+    }
+    return P.adhesion;
+}
+
+// physics/pull_limit.rs `PullLimit::row_weights` for one point: its weight with the limit
+// applied, from the particles of the span within r_max. A point whose cells hold at most
+// `pull_free` candidates skips the count (it cannot reach the limit).
+fn limited_weight(i: u32, x: vec3<f32>, span: Span, weight: f32) -> f32 {
+    let inv_mass = points[i].inv_mass;
+    if (weight == 0.0 || inv_mass == 0.0) {
+        return weight;
+    }
+    let r = P.r_max;
+    var candidates = 0u;
+    for (var j = 0; j < span_cells(span); j++) {
+        let run = cell_run(span_cell(span, j));
+        candidates += run.y - run.x;
+    }
+    if (candidates <= P.pull_free) {
+        return weight;
+    }
+    // strengths_in_reach
+    var strengths = 0.0;
+    for (var j = 0; j < span_cells(span); j++) {
+        let c = span_cell(span, j);
+        let run = cell_run(c);
+        for (var k = run.x; k < run.y; k++) {
+            let y = sorted[k].x.xyz;
+            let d = y - x;
+            if (dot(d, d) <= r * r && in_cell(y, c)) {
+                strengths += strength_of(k);
+            }
+        }
+    }
+    return weight * pull_limit(strengths, weight, inv_mass);
+}
+
 // Pass adhesion: returns the force on hair point i at x and sets `near` when a particle is
 // within r_max (for wetting). With absorption, a particle pulls with the water it still holds
 // and the point (at saturation `sat`) asks it for water.
@@ -96,6 +147,8 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
     if (P.adhesion_scale > 0.0) {
         share = rest_around(i) * P.adhesion_scale;
     }
+    // Its stability limit (physics/pull_limit.rs).
+    share = limited_weight(i, x, span, share);
     for (var j = 0; j < span_cells(span); j++) {
         let c = span_cell(span, j);
         let run = cell_run(c);

@@ -1,0 +1,284 @@
+//! Eq. 2's stability limit (docs/METHOD.md §2, "The pull's stability limit"): the pull is
+//! explicit, and on light hair it is stiffer than a substep can follow.
+//!
+//! Eq. 2's force `s g(d)` is steepest at its shell's two edges, `|s g'(d)| = 4 s / (r_max −
+//! r_min)`: 5.3 N/m a pair with the paper's `s` = 8 mN, `r_min` = 2 mm, `r_max` = 8 mm. A
+//! paper-scene point weighs 1 g, and one pair there gives `h² K / m` = 0.09 at a 240 Hz
+//! substep. A real groom's point weighs 10 mg (1 g/m, 1 cm segments), and the same pair, even
+//! quoted per 2 cm of hair, gives 4.6: past symplectic Euler's bound of 4, and the implicit
+//! solves take the pull explicitly too. Particles also pile up where nothing pushes them
+//! apart (the paper's model has no particle-particle force): the TressFX ponytail under 1,000
+//! drops had 70 within reach of one point. Such a point rings in the drops' well and tears its
+//! segments (measured: 24 % strain at 4 substeps, 170 % at 16, against 0.6 % dry).
+//!
+//! So each hair point's pulls are scaled, per substep, by `min(1, LIMIT / q)`, `q = h² K / m`
+//! with `K` the sum of its pairs' steepest slopes: a point whose pulls together are within
+//! [`PULL_STIFFNESS_LIMIT`] of the bound keeps eq. 2 exactly (the same bits), a stiffer one
+//! pulls with the most stiffness the substep follows. The pair's two forces take the same
+//! factor, so momentum is conserved as before. As `h → 0` the factor goes to 1: more
+//! substeps give more of eq. 2, and the f64 reference (`reference.rs`, the limit `h → 0`)
+//! has none.
+
+use super::lanes::{Lane, L3, W};
+use super::per_length::PerLength;
+use crate::groom::Groom;
+
+/// The most `h² K / m` eq. 2 may give a hair point in a substep: a quarter of symplectic
+/// Euler's bound of 4, the rest left to the springs (which take up to 3.6 of it where
+/// [`crate::Integrator::AUTO`] picks symplectic Euler) and to the bridges' own share.
+pub const PULL_STIFFNESS_LIMIT: f32 = 1.0;
+
+/// What a substep `h` and eq. 2's shell make of one newton of pull strength: `h²` times the
+/// profile's steepest slope `4 / (r_max − r_min)`, so that a point pulled with strengths
+/// summing to `S` and inverse mass `w` has `q = slope_h2 · S · w`.
+#[inline]
+pub fn slope_h2(h: f32, r_min: f32, r_max: f32) -> f32 {
+    h * h * (4.0 / (r_max - r_min))
+}
+
+/// The factor on a hair point's pulls: 1 while `q = slope_h2 · strengths · weight · inv_mass`
+/// stays within [`PULL_STIFFNESS_LIMIT`], else `LIMIT / q` (`strengths`: the sum of the
+/// strengths of the particles within its reach; `weight`: its share of each, 1 per point;
+/// `inv_mass`: 0 for a pinned point, which nothing moves).
+#[inline(always)]
+pub fn pull_limit(slope_h2: f32, strengths: f32, weight: f32, inv_mass: f32) -> f32 {
+    let q = slope_h2 * strengths * weight * inv_mass;
+    if q > PULL_STIFFNESS_LIMIT {
+        PULL_STIFFNESS_LIMIT / q
+    } else {
+        1.0
+    }
+}
+
+/// The largest share of eq. 2's pull (`share`: [`crate::SimParams::adhesion_share`]) times
+/// inverse mass of any free point of `groom`: [`PullLimit::new`]'s `weight_inv_mass`, the same
+/// for both backends (held water only makes points heavier, so the dry groom bounds it).
+pub fn weight_inv_mass_max(groom: &Groom, share: PerLength) -> f32 {
+    let mut most = 0.0f32;
+    for s in 0..groom.strand_count() {
+        let range = groom.strand_range(s);
+        let pts = &groom.positions[range.clone()];
+        for (k, i) in range.enumerate() {
+            if groom.pinned[i] {
+                continue;
+            }
+            let before = if k > 0 { (pts[k] - pts[k - 1]).length() } else { 0.0 };
+            let after = pts.get(k + 1).map_or(0.0, |p| (*p - pts[k]).length());
+            most = most.max(share.at(before, after) / groom.mass[i]);
+        }
+    }
+    most
+}
+
+/// A sum of at most this many strengths is exact to well within [`FREE_MARGIN`], so
+/// [`PullLimit::free`] never exceeds it.
+const MAX_FREE: u32 = 1000;
+
+/// The relative margin [`PullLimit::free`] keeps below the limit: more than the rounding of a
+/// sum of [`MAX_FREE`] strengths (`1000 · 2⁻²⁴ = 6e-5`) and of `q`'s three products.
+const FREE_MARGIN: f32 = 1.0e-3;
+
+/// One substep's inputs to the limit.
+#[derive(Clone, Copy, Debug)]
+pub struct PullLimit {
+    /// [`slope_h2`] of the substep and the shell.
+    pub slope_h2: f32,
+    /// How many candidate particles a row may have with no lane able to reach the limit, all
+    /// of them within its reach at full strength: such a row skips the count (most rows of
+    /// heavy hair; none of light hair). 0: every row counts.
+    pub free: u32,
+}
+
+impl PullLimit {
+    /// The limit for a substep `h` and eq. 2's shell. `strongest`: the most strength one
+    /// particle can have, when it is known (`s` without absorption; with it, drips may be
+    /// heavier than a full particle); `weight_inv_mass`: the largest share times inverse mass
+    /// of any hair point (held water only makes points heavier).
+    pub fn new(h: f32, r_min: f32, r_max: f32, strongest: Option<f32>, weight_inv_mass: f32) -> PullLimit {
+        let slope_h2 = slope_h2(h, r_min, r_max);
+        let free = match strongest {
+            Some(s) => {
+                let one = slope_h2 * s * weight_inv_mass * (1.0 + FREE_MARGIN);
+                if one > 0.0 {
+                    (PULL_STIFFNESS_LIMIT / one).min(MAX_FREE as f32) as u32
+                } else {
+                    MAX_FREE
+                }
+            }
+            None => 0,
+        };
+        PullLimit { slope_h2, free }
+    }
+}
+
+impl PullLimit {
+    /// A row's lane weights (`weight`: mask times share, 0 off the row) with the limit
+    /// applied, from the particles in grid `runs` of `sorted` (coordinates in grid order),
+    /// `strength` of each by grid slot; `inv_mass` the row's. Returns `weight` itself, the
+    /// same bits, wherever no lane is past the limit.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn row_weights(
+        &self,
+        x: &L3,
+        weight: &Lane,
+        inv_mass: &Lane,
+        runs: &[(u32, u32)],
+        sorted: [&[f32]; 3],
+        r_max: f32,
+        strength: impl Fn(u32) -> f32,
+    ) -> Lane {
+        let candidates = runs.iter().map(|&(a, e)| e - a).sum();
+        let slots = runs.iter().flat_map(|&(a, e)| a..e);
+        self.weights(x, weight, inv_mass, candidates, slots, sorted, r_max, strength)
+    }
+
+    /// [`PullLimit::row_weights`] from `listed`: the grid slots, in grid order, of the
+    /// particles within `r_max` of some lane of the row (the AVX2 gather's list); the same
+    /// bits, since the particles left out add nothing to any lane's sum.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn listed_weights(
+        &self,
+        x: &L3,
+        weight: &Lane,
+        inv_mass: &Lane,
+        listed: &[u32],
+        sorted: [&[f32]; 3],
+        r_max: f32,
+        strength: impl Fn(u32) -> f32,
+    ) -> Lane {
+        let slots = listed.iter().copied();
+        self.weights(x, weight, inv_mass, listed.len() as u32, slots, sorted, r_max, strength)
+    }
+
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn weights(
+        &self,
+        x: &L3,
+        weight: &Lane,
+        inv_mass: &Lane,
+        candidates: u32,
+        slots: impl Iterator<Item = u32>,
+        sorted: [&[f32]; 3],
+        r_max: f32,
+        strength: impl Fn(u32) -> f32,
+    ) -> Lane {
+        if candidates <= self.free {
+            return *weight;
+        }
+        let strengths = strengths_in_reach(x, weight, slots, sorted, r_max, strength);
+        std::array::from_fn(|l| weight[l] * pull_limit(self.slope_h2, strengths[l], weight[l], inv_mass[l]))
+    }
+}
+
+/// Per lane with a nonzero `weight`, the sum of the strengths of the particles in `slots`
+/// within `r_max`, in the order given (grid order: the same bits on every run and thread
+/// count).
+#[inline]
+fn strengths_in_reach(
+    x: &L3,
+    weight: &Lane,
+    slots: impl Iterator<Item = u32>,
+    sorted: [&[f32]; 3],
+    r_max: f32,
+    strength: impl Fn(u32) -> f32,
+) -> Lane {
+    let r2 = r_max * r_max;
+    let mut sum = [0.0f32; W];
+    for k in slots {
+        let j = k as usize;
+        let (qx, qy, qz) = (sorted[0][j], sorted[1][j], sorted[2][j]);
+        let mut hit = 0u32;
+        let mut inside = [false; W];
+        for l in 0..W {
+            let (dx, dy, dz) = (qx - x.x[l], qy - x.y[l], qz - x.z[l]);
+            inside[l] = dx * dx + dy * dy + dz * dz <= r2 && weight[l] > 0.0;
+            hit |= inside[l] as u32;
+        }
+        if hit == 0 {
+            continue;
+        }
+        let s = strength(k);
+        for l in 0..W {
+            sum[l] += if inside[l] { s } else { 0.0 };
+        }
+    }
+    sum
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A light point within reach of several particles is held to the limit exactly, a heavy
+    /// one keeps its weight's bits, and a pinned one (inverse mass 0) is never limited.
+    #[test]
+    fn the_limit_caps_light_points_and_leaves_the_rest_alone() {
+        let (r_min, r_max, h) = (0.002f32, 0.008f32, 1.0 / 240.0);
+        let limit = PullLimit::new(h, r_min, r_max, Some(0.008), 1.0e5);
+        assert_eq!(limit.free, 0, "light hair counts every row");
+        // Three particles 5 mm from lane 0, all within reach of lanes 0..3 (on one spot).
+        let (xs, ys, zs) = (vec![0.005f32; 3], vec![0.0f32; 3], vec![0.0f32; 3]);
+        let sorted = [&xs[..], &ys[..], &zs[..]];
+        let x = L3::ZERO;
+        let weight: Lane = [1.0, 0.5, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0];
+        // 10 mg, 10 mg, 1 g, pinned.
+        let inv_mass: Lane = [1.0e5, 1.0e5, 1.0e3, 0.0, 1.0, 1.0, 1.0, 1.0];
+        let got = limit.row_weights(&x, &weight, &inv_mass, &[(0, 3)], sorted, r_max, |_| 0.008);
+        let q0 = limit.slope_h2 * 0.024 * 1.0e5;
+        assert!(q0 > 10.0, "the light lane is far past the limit ({q0})");
+        assert_eq!(got[0], PULL_STIFFNESS_LIMIT / q0, "held to the limit");
+        // Its share halves q: the lane still ends at the limit, the same stiffness.
+        let q1 = limit.slope_h2 * 0.024 * 0.5 * 1.0e5;
+        assert_eq!(got[1], 0.5 * (PULL_STIFFNESS_LIMIT / q1));
+        assert_eq!(got[2].to_bits(), 1.0f32.to_bits(), "1 g: within the limit, untouched");
+        assert_eq!(got[3].to_bits(), 1.0f32.to_bits(), "pinned: untouched");
+        assert_eq!(&got[4..], &[0.0; 4], "lanes off the row stay off");
+        // A particle beyond r_max adds nothing.
+        let far = [vec![0.0085f32], vec![0.0f32], vec![0.0f32]];
+        let sorted = [&far[0][..], &far[1][..], &far[2][..]];
+        let none = limit.row_weights(&x, &weight, &inv_mass, &[(0, 1)], sorted, r_max, |_| 1.0);
+        assert_eq!(none, weight);
+    }
+
+    /// The shortcut (every candidate within reach at full strength) never changes a result:
+    /// with and without it the weights are the same bits, on rows of random particles, and
+    /// heavy hair skips the count on rows of up to `free` candidates.
+    #[test]
+    fn skipping_the_count_gives_the_counted_bits() {
+        let (r_min, r_max) = (0.002f32, 0.008f32);
+        let paper = PullLimit::new(1.0 / 240.0, r_min, r_max, Some(0.008), 1.0e3);
+        assert_eq!(
+            paper.free, 10,
+            "a paper-scene point (1 g) takes 10 full pulls at 240 Hz"
+        );
+        let mut rng = crate::scenes::Lcg(5);
+        let mut limited = 0;
+        for trial in 0..400 {
+            let n = 1 + trial % 23;
+            let c: Vec<Vec<f32>> = (0..3)
+                .map(|_| (0..n).map(|_| (rng.next_f32() - 0.5) * 0.012).collect())
+                .collect();
+            let sorted = [&c[0][..], &c[1][..], &c[2][..]];
+            let x = L3 {
+                x: std::array::from_fn(|_| (rng.next_f32() - 0.5) * 0.004),
+                y: std::array::from_fn(|_| (rng.next_f32() - 0.5) * 0.004),
+                z: std::array::from_fn(|_| (rng.next_f32() - 0.5) * 0.004),
+            };
+            let weight: Lane = std::array::from_fn(|_| rng.next_f32());
+            let heaviest = 10f32.powf(2.0 + 2.0 * rng.next_f32());
+            let inv_mass: Lane = std::array::from_fn(|_| heaviest * rng.next_f32());
+            let h = 1.0 / (60.0 * (1 + trial % 8) as f32);
+            let quick = PullLimit::new(h, r_min, r_max, Some(0.008), heaviest);
+            let counted = PullLimit { free: 0, ..quick };
+            let runs = [(0, n as u32)];
+            let a = quick.row_weights(&x, &weight, &inv_mass, &runs, sorted, r_max, |_| 0.008);
+            let b = counted.row_weights(&x, &weight, &inv_mass, &runs, sorted, r_max, |_| 0.008);
+            assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "trial {trial}");
+            limited += (b != weight) as u32;
+        }
+        assert!(limited > 40, "the rows reach the limit too ({limited} of 400)");
+    }
+}
