@@ -181,7 +181,7 @@ impl CpuBackend {
             followers: None,
             active_blocks: 0,
             adhesion_pairs: 0,
-            pull_weight_max: crate::physics::pull_limit::weight_inv_mass_max(groom, params.adhesion_share()),
+            pull_weight_max: crate::plan::water::pull_weight_max(params, groom),
         };
         cpu.active_blocks = cpu.lay.blocks;
         if params.skinned_roots {

@@ -21,8 +21,6 @@
 //! has none.
 
 use super::lanes::{Lane, L3, W};
-use super::per_length::PerLength;
-use crate::groom::Groom;
 
 /// The most `h² K / m` eq. 2 may give a hair point in a substep: a quarter of symplectic
 /// Euler's bound of 4, the rest left to the springs (which take up to 3.6 of it where
@@ -51,26 +49,6 @@ pub fn pull_limit(slope_h2: f32, strengths: f32, weight: f32, inv_mass: f32) -> 
     }
 }
 
-/// The largest share of eq. 2's pull (`share`: [`crate::SimParams::adhesion_share`]) times
-/// inverse mass of any free point of `groom`: [`PullLimit::new`]'s `weight_inv_mass`, the same
-/// for both backends (held water only makes points heavier, so the dry groom bounds it).
-pub fn weight_inv_mass_max(groom: &Groom, share: PerLength) -> f32 {
-    let mut most = 0.0f32;
-    for s in 0..groom.strand_count() {
-        let range = groom.strand_range(s);
-        let pts = &groom.positions[range.clone()];
-        for (k, i) in range.enumerate() {
-            if groom.pinned[i] {
-                continue;
-            }
-            let before = if k > 0 { (pts[k] - pts[k - 1]).length() } else { 0.0 };
-            let after = pts.get(k + 1).map_or(0.0, |p| (*p - pts[k]).length());
-            most = most.max(share.at(before, after) / groom.mass[i]);
-        }
-    }
-    most
-}
-
 /// A sum of at most this many strengths is exact to well within [`FREE_MARGIN`], so
 /// [`PullLimit::free`] never exceeds it.
 const MAX_FREE: u32 = 1000;
@@ -94,7 +72,7 @@ impl PullLimit {
     /// The limit for a substep `h` and eq. 2's shell. `strongest`: the most strength one
     /// particle can have, when it is known (`s` without absorption; with it, drips may be
     /// heavier than a full particle); `weight_inv_mass`: the largest share times inverse mass
-    /// of any hair point (held water only makes points heavier).
+    /// of any hair point ([`crate::plan::water::pull_weight_max`]).
     pub fn new(h: f32, r_min: f32, r_max: f32, strongest: Option<f32>, weight_inv_mass: f32) -> PullLimit {
         let slope_h2 = slope_h2(h, r_min, r_max);
         let free = match strongest {

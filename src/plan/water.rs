@@ -1,5 +1,5 @@
-//! Water rules both backends apply: the domain particles are culled outside of, and the checks
-//! on particles a host adds.
+//! Water rules both backends apply: the domain particles are culled outside of, the checks
+//! on particles a host adds, and the bound eq. 2's stability limit starts from.
 
 use crate::error::{invalid, Result};
 use crate::groom::Groom;
@@ -45,4 +45,21 @@ pub fn check_new_particles(pos: &[Vec3], vel: &[Vec3]) -> Result<()> {
         return Err(invalid!("water velocity {i} is not finite: {:?}", vel[i]));
     }
     Ok(())
+}
+
+/// The largest share of eq. 2's pull times inverse mass of any free point of `groom` under
+/// `params`: what `physics::pull_limit::PullLimit::new` bounds a row's stiffness with, the
+/// same for both backends (held water only makes points heavier, so the dry groom bounds it).
+pub fn pull_weight_max(params: &SimParams, groom: &Groom) -> f32 {
+    let share = params.adhesion_share();
+    let rest = super::springs::rest_lengths(groom);
+    let mut most = 0.0f32;
+    for s in 0..groom.strand_count() {
+        let r = groom.strand_range(s);
+        for i in r.clone().filter(|&i| !groom.pinned()[i]) {
+            let before = if i > r.start { rest[i - 1][0] } else { 0.0 };
+            most = most.max(share.at(before, rest[i][0]) / groom.masses()[i]);
+        }
+    }
+    most
 }

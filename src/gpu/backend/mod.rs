@@ -424,7 +424,7 @@ impl GpuBackend {
             points,
             active_points: points,
             active_strands: strands,
-            pull_weight_max: crate::physics::pull_limit::weight_inv_mass_max(groom, params.adhesion_share()),
+            pull_weight_max: crate::plan::water::pull_weight_max(params, groom),
             strand_first: groom.strand_first.clone(),
             rest_local: pos.to_vec(),
             bend,

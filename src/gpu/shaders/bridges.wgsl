@@ -314,17 +314,9 @@ fn bridge_pairs(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     bridge[P.bridge_masks + i] = mask;
 }
 
-// Each point's length of hair, m: half of each adjacent segment at rest.
+// Each point's length of hair, m: half of each adjacent segment at rest (rest_segments.wgsl).
 fn hair_length(i: u32) -> f32 {
-    let pt = points[i];
-    var l = 0.0;
-    if (i > pt.first) {
-        l += 0.5 * points[i - 1u].rest_stretch;
-    }
-    if (i < pt.last) {
-        l += 0.5 * pt.rest_stretch;
-    }
-    return l;
+    return 0.5 * rest_around(i);
 }
 
 // What stiffness a point may still take: a quarter of what an explicit substep holds stably,
