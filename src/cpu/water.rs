@@ -12,9 +12,10 @@ use crate::physics::collide::Colliders;
 use crate::physics::grid::Grid;
 use crate::physics::integrate::particle_velocity;
 use crate::physics::lanes::W;
+use crate::physics::pull_limit::{particle_limit, slope_h2};
 use crate::physics::wet;
 use crate::plan::{check_new_particles, WaterDomain};
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, Vec3, Vec4};
 
 /// Particles a task of `water_integrate` moves (fewer, and the pass runs on the calling
 /// thread alone).
@@ -43,8 +44,9 @@ pub struct Water {
     /// Positions in grid order (slot k is particle k since the build), coordinates apart.
     pub sorted: [Vec<f32>; 3],
     /// Force on each particle, in grid order: the hair's reactions (its drag is taken as it
-    /// moves).
-    pub force: Vec<Vec3>,
+    /// moves) in `xyz`, and in `w` how stiffly they hold it (`Reaction::stiffness`, summed: its
+    /// side of eq. 2's stability limit).
+    pub force: Vec<Vec4>,
     /// Domain centre in head space.
     pub center_local: Vec3,
     /// Domain radius, m.
@@ -344,8 +346,9 @@ impl Water {
         // the rate a full particle does (`drag / particle_mass`) and falls alike; it is taken
         // implicitly as the particle moves (`integrate::particle_velocity`).
         let drag_rate = p.drag * inv_m0;
+        let (slope_h2, per_mass) = (slope_h2(h, p.r_min, p.r_max), p.adhesion * inv_m0);
         self.force.clear();
-        self.force.resize(self.vel.len(), Vec3::ZERO);
+        self.force.resize(self.vel.len(), Vec4::ZERO);
         // Each particle sums its reactions in the order given. With many, each task takes a
         // range of particles and reads the blocks' runs of reactions that touch it, keeping its
         // own: the sums are the same, and the scattered adds are shared (a million drops: most
@@ -364,7 +367,7 @@ impl Water {
                 range,
                 |r| r.slot,
                 |r| {
-                    force[(r.slot - start) as usize] += Vec3::from(r.f);
+                    force[(r.slot - start) as usize] += Vec3::from(r.f).extend(r.stiffness);
                 },
             );
         });
@@ -386,7 +389,15 @@ impl Water {
                     Some(&q) => (1.0 / wet::to_kg(q)) as f32,
                 };
                 let rate = if inv_m > 0.0 { drag_rate } else { 0.0 };
-                *v = particle_velocity(*v, force[j] * inv_m + g, rate, wind, h);
+                // Its side of eq. 2's stability limit: held by more hair than a substep
+                // follows, it moves as though heavier (`pull_limit::particle_limit`).
+                let f = force[j];
+                let b = if inv_m > 0.0 {
+                    particle_limit(slope_h2, per_mass, f.w)
+                } else {
+                    1.0
+                };
+                *v = particle_velocity(*v, b * (f.truncate() * inv_m + g), b * rate, wind, h);
                 *x += h * *v;
                 colliders.push_out_point(x, v, friction);
             }

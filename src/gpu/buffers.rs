@@ -378,9 +378,16 @@ pub const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
     .union(wgpu::BufferUsages::COPY_SRC);
 
 /// Words per particle in the `water_force` buffer: the hair's summed reaction on it, each of x,
-/// y, z as a 64-bit fixed-point integer (low word, high word; two words of padding), so
-/// the sum is the same in any order.
+/// y, z as a 64-bit fixed-point integer (low word, high word), then how stiffly the hair holds
+/// it as a 32-bit one ([`STIFFNESS_SCALE`]) and a word of padding, so the sums are the same in
+/// any order.
 pub const WATER_FORCE_WORDS: u32 = 8;
+
+/// Fixed-point units per unit of [`crate::physics::adhesion::pair_stiffness`] in a particle's
+/// sum of how stiffly the hair holds it (2^16): each pair's rounding is 8e-6 of the stiffest
+/// pair's, and the sum's 32 bits hold 65,535 such pairs, more than a drop finds within reach
+/// of the densest groom (the paper scene's most, 430).
+pub const STIFFNESS_SCALE: f32 = 65_536.0;
 
 /// Fixed-point units per unit of adhesion strength in the adhesion sums (2^32).
 pub const FIXED_SCALE: f32 = 4_294_967_296.0;

@@ -115,6 +115,7 @@ pub fn constants() -> Vec<(&'static str, Const)> {
         ("GRID_COUNT_HEADER", U32(buffers::GRID_COUNT_HEADER)),
         ("WATER_FORCE_WORDS", U32(buffers::WATER_FORCE_WORDS)),
         ("FIXED_SCALE", F32(buffers::FIXED_SCALE)),
+        ("STIFFNESS_SCALE", F32(buffers::STIFFNESS_SCALE)),
         ("G_LO", U32(gh::LO)),
         ("G_CELL", U32(gh::CELL)),
         ("G_INV", U32(gh::INV)),

@@ -44,6 +44,28 @@ pub fn force_scale(d2: f32, r_min: f32, r_max: f32, s: f32) -> f32 {
     }
 }
 
+/// How stiffly a particle at squared distance `d2` is held by one hair point, per unit of its
+/// strength and in units of the profile's steepest slope `4 / (r_max − r_min)`: the largest
+/// restoring eigenvalue of the pull's derivative in the particle's position (hair point fixed),
+/// `max(s g'(d), s g(d) / d)` (along the pair and across it), is `s 4 / (r_max − r_min)` times
+/// `max(u, (r_max − r_min) g(d) / 4d)`, `u` the profile's variable, 1 at `r_min`. 0 wherever
+/// [`force_scale`] is. By Weyl's inequality a sum of these bounds the particle's stiffest
+/// restoring mode under every pair at once, which the particle's side of the stability limit
+/// holds to what a substep follows (`physics/pull_limit.rs` `particle_limit`).
+#[inline(always)]
+pub fn pair_stiffness(d2: f32, r_min: f32, r_max: f32) -> f32 {
+    let inside = (d2 <= r_max * r_max) & (d2 >= MIN_DISTANCE * MIN_DISTANCE);
+    let d = d2.sqrt();
+    let u = (2.0 * d - r_min - r_max) / (r_min - r_max);
+    let across = (0.25 * (r_max - r_min)) * (1.0 - u * u) / d;
+    let k = if u > across { u } else { across };
+    if inside {
+        k
+    } else {
+        0.0
+    }
+}
+
 /// [`force_scale`] on every lane at once. Written with `&&` and the divide behind the branch,
 /// as it once was, the compiler kept a scalar square root and two divides behind a branch per
 /// lane, and the eq. 2 pass ran at a quarter of its vector speed.
@@ -81,6 +103,11 @@ pub struct Reaction {
     pub slot: u32,
     /// Force on the particle, N.
     pub f: [f32; 3],
+    /// How stiffly the row holds the particle, per unit of its strength and in the profile's
+    /// steepest slopes: [`pair_stiffness`] times each lane's weight (its share with the hair
+    /// side's limit), summed over the lanes. The particle's side of the stability limit
+    /// (`physics/pull_limit.rs` `particle_limit`) sums it.
+    pub stiffness: f32,
 }
 
 /// Eq. 2 between the `W` hair points of a lane row (`mask[l]` is 1 for lanes to include, 0
@@ -138,8 +165,10 @@ pub fn gather_run_lanes(
             None => s,
         };
         let (mut rx, mut ry, mut rz) = ([0.0f32; W], [0.0f32; W], [0.0f32; W]);
+        let mut holds = [0.0f32; W];
         let scale = force_scale_lanes(&d2s, r_min, r_max, s_j);
         for l in 0..W {
+            holds[l] = pair_stiffness(d2s[l], r_min, r_max) * weight[l];
             let m = scale[l] * weight[l];
             rx[l] = m * (qx - x.x[l]);
             ry[l] = m * (qy - x.y[l]);
@@ -151,6 +180,7 @@ pub fn gather_run_lanes(
         reactions.push(Reaction {
             slot,
             f: [-hsum(&rx), -hsum(&ry), -hsum(&rz)],
+            stiffness: hsum(&holds),
         });
     }
     *near = marks;
@@ -231,6 +261,61 @@ pub fn gather_row_lanes(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The pulls' restoring stiffness on a particle (minus the derivative of its force in its
+    /// position, hair fixed), by central differences of [`force_on_hair`], as a symmetric
+    /// 3x3's largest eigenvalue (power iteration on it shifted to be positive definite).
+    fn stiffest_mode(hair: &[Vec3], water: Vec3, r_min: f32, r_max: f32, s: f32) -> f32 {
+        let e = 1.0e-6f32;
+        let force = |y: Vec3| -> glam::DVec3 {
+            hair.iter()
+                .map(|&x| -force_on_hair(x, y, r_min, r_max, s).as_dvec3())
+                .sum()
+        };
+        let cols: [glam::DVec3; 3] = std::array::from_fn(|a| {
+            let d = Vec3::AXES[a] * e;
+            -(force(water + d) - force(water - d)) / (2.0 * e as f64)
+        });
+        let k = glam::DMat3::from_cols(cols[0], cols[1], cols[2]);
+        let k = (k + k.transpose()) * 0.5;
+        let shifted = k + glam::DMat3::IDENTITY * (k.x_axis.length() + k.y_axis.length() + k.z_axis.length());
+        let mut v = glam::DVec3::new(0.3, 0.5, 0.8).normalize();
+        for _ in 0..200 {
+            v = (shifted * v).normalize_or(v);
+        }
+        v.dot(k * v) as f32
+    }
+
+    /// [`pair_stiffness`] is one pair's stiffest restoring mode at every distance in the
+    /// shell (along the pair inside the profile's peak, across it outside), and their sum
+    /// bounds the mode of many pairs at once (Weyl's inequality), which the particle's side of
+    /// the stability limit relies on.
+    #[test]
+    fn pair_stiffness_bounds_the_particles_stiffest_mode() {
+        let (r_min, r_max, s) = (0.002f32, 0.008f32, 0.008f32);
+        let steepest = s * 4.0 / (r_max - r_min);
+        for d in [0.0025f32, 0.004, 0.005, 0.006, 0.0075] {
+            let hair = [Vec3::new(d, 0.0, 0.0)];
+            let want = stiffest_mode(&hair, Vec3::ZERO, r_min, r_max, s);
+            let got = steepest * pair_stiffness(d * d, r_min, r_max);
+            assert!((got - want).abs() <= 2e-3 * steepest, "d {d}: {got} against {want}");
+        }
+        let mut rng = crate::scenes::Lcg(9);
+        for trial in 0..50 {
+            let hair: Vec<Vec3> = (0..1 + trial % 40)
+                .map(|_| (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5) * 0.014)
+                .collect();
+            let mode = stiffest_mode(&hair, Vec3::ZERO, r_min, r_max, s);
+            let bound: f32 = hair
+                .iter()
+                .map(|x| steepest * pair_stiffness(x.length_squared(), r_min, r_max))
+                .sum();
+            assert!(
+                mode <= bound * 1.001 + 1e-3,
+                "trial {trial}: mode {mode} above the bound {bound}"
+            );
+        }
+    }
 
     /// The lane form gives the one-point form's bits on every lane: inside the shell, at its
     /// edges, beyond `r_max`, below the minimum distance and at 0.

@@ -83,6 +83,7 @@ pub unsafe fn gather_row_lanes(
     let r2 = _mm256_set1_ps(r_max * r_max);
     let min2 = _mm256_set1_ps(MIN_DISTANCE * MIN_DISTANCE);
     let (two, one) = (_mm256_set1_ps(2.0), _mm256_set1_ps(1.0));
+    let quarter = _mm256_set1_ps(0.25 * (r_max - r_min));
     let (rmin, rmax, width) = (
         _mm256_set1_ps(r_min),
         _mm256_set1_ps(r_max),
@@ -146,6 +147,8 @@ pub unsafe fn gather_row_lanes(
             let v = _mm256_div_ps(_mm256_mul_ps(_mm256_set1_ps(s_j), shell), d);
             let keep = _mm256_and_ps(within, _mm256_cmp_ps::<_CMP_GE_OQ>(d2, min2));
             let scale = _mm256_mul_ps(_mm256_and_ps(v, keep), share);
+            // `adhesion::pair_stiffness`: the larger of u and (r_max - r_min) g / 4d.
+            let held = _mm256_max_ps(u, _mm256_div_ps(_mm256_mul_ps(quarter, shell), d));
             let (fx, fy, fz) = (
                 _mm256_mul_ps(scale, dx),
                 _mm256_mul_ps(scale, dy),
@@ -157,6 +160,7 @@ pub unsafe fn gather_row_lanes(
             reactions.push(Reaction {
                 slot,
                 f: [-hsum(fx), -hsum(fy), -hsum(fz)],
+                stiffness: hsum(_mm256_mul_ps(_mm256_and_ps(held, keep), share)),
             });
         }
     }
@@ -262,10 +266,15 @@ mod tests {
     /// Every output as bits, one list (lengths first, so outputs of other sizes differ).
     fn bits(o: &Out) -> Vec<u32> {
         let mut v = vec![o.0.len() as u32, o.3.len() as u32];
-        v.extend(
-            o.0.iter()
-                .flat_map(|r| [r.slot, r.f[0].to_bits(), r.f[1].to_bits(), r.f[2].to_bits()]),
-        );
+        v.extend(o.0.iter().flat_map(|r| {
+            [
+                r.slot,
+                r.f[0].to_bits(),
+                r.f[1].to_bits(),
+                r.f[2].to_bits(),
+                r.stiffness.to_bits(),
+            ]
+        }));
         v.extend([o.1.x, o.1.y, o.1.z, o.2].concat().iter().map(|f| f.to_bits()));
         v.extend(o.3.iter().flat_map(|d| [d.slot, d.point, d.quanta]));
         v

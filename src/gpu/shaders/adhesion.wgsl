@@ -13,6 +13,19 @@
 // Absorption's per-particle scratch (buffers::absorb_words; a placeholder without absorption).
 @group(1) @binding(3) var<storage, read_write> absorb_scratch: array<atomic<u32>>;
 
+// physics/adhesion.rs `pair_stiffness`: how stiffly one hair point holds a particle at squared
+// distance d2, per unit of its strength, in the profile's steepest slopes: the larger of u and
+// (r_max - r_min) g(d) / 4d, 0 where force_scale is 0.
+fn pair_stiffness(d2: f32) -> f32 {
+    if (d2 > P.r_max * P.r_max || d2 < MIN_DISTANCE * MIN_DISTANCE) {
+        return 0.0;
+    }
+    let d = sqrt(d2);
+    let u = (2.0 * d - P.r_min - P.r_max) / (P.r_min - P.r_max);
+    let across = (0.25 * (P.r_max - P.r_min)) * (1.0 - u * u) / d;
+    return max(u, across);
+}
+
 // Eq. 2's factor (physics/adhesion.rs `force_scale`): s g(d) / d within [MIN_DISTANCE, r_max],
 // else 0, for a particle of strength s.
 fn force_scale(d2: f32, s: f32) -> f32 {
@@ -84,6 +97,13 @@ fn pull_limit(strengths: f32, weight: f32, inv_mass: f32) -> f32 {
         return PULL_STIFFNESS_LIMIT / q;
     }
     return 1.0;
+}
+
+// physics/pull_limit.rs `particle_limit`: the factor on a particle's inverse mass, from how
+// stiffly the hair holds it (`stiffness`) and its strength over its mass (eq. 2's s over a
+// full particle's mass, whatever water it holds).
+fn particle_limit(stiffness: f32) -> f32 {
+    return pull_limit(P.adhesion * P.particle_inv_mass, stiffness, 1.0);
 }
 
 // A particle's pull strength: eq. 2's s, or with absorption the water it holds.
@@ -169,6 +189,11 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
                     ask(k, demand);
                 }
             }
+            // How stiffly the point holds the particle, for its side of the stability limit.
+            let held = u32(pair_stiffness(d2) * share * STIFFNESS_SCALE + 0.5);
+            if (held != 0u) {
+                add_stiffness(k, held);
+            }
             let m = force_scale(d2, s) * share;
             if (m == 0.0) {
                 continue;
@@ -209,8 +234,6 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
     }
     let p = sorted[k];
     let react = reaction(k);
-    // The sums start at zero for the next substep's hair kernel.
-    clear_reactions(k);
     var inv_m = P.particle_inv_mass;
     if (P.massive != 0u) {
         // A held-water particle weighs the water it held when the hair's pull on it was
@@ -222,11 +245,18 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
             inv_m = 1.0 / (f32(p.mass) * WATER_QUANTUM);
         }
     }
+    let stiffness = f32(stiffness_sum(k)) / STIFFNESS_SCALE;
+    // The sums start at zero for the next substep's hair kernel.
+    clear_reactions(k);
     var rate = 0.0;
+    // Its side of eq. 2's stability limit: held by more hair than a substep follows, it moves
+    // as though heavier (physics/pull_limit.rs `particle_limit`).
+    var b = 1.0;
     if (inv_m > 0.0) {
         rate = P.water_drag_rate;
+        b = particle_limit(stiffness);
     }
-    var v = particle_velocity(p.v.xyz, react * inv_m + P.g.xyz, rate, P.wind.xyz, P.h);
+    var v = particle_velocity(p.v.xyz, b * (react * inv_m + P.g.xyz), b * rate, P.wind.xyz, P.h);
     var x = p.x.xyz + P.h * v;
     for (var c = 0u; c < N_COLLIDERS; c++) {
         collide(&x, &v, S.colliders[c], P.friction);

@@ -24,10 +24,20 @@ fn reaction_sum(k: u32, a: u32) -> vec2<u32> {
     return vec2<u32>(atomicLoad(&water_force[at]), atomicLoad(&water_force[at + 1u]));
 }
 
+// Adds v to particle k's sum of how stiffly the hair holds it (word 6).
+fn add_stiffness(k: u32, v: u32) {
+    atomicAdd(&water_force[WATER_FORCE_WORDS * k + 6u], v);
+}
+
+// Particle k's sum of how stiffly the hair holds it, STIFFNESS_SCALE units.
+fn stiffness_sum(k: u32) -> u32 {
+    return atomicLoad(&water_force[WATER_FORCE_WORDS * k + 6u]);
+}
+
 // Particle k's sums back to zero, once water_integrate has read them (the next build may give
 // the slot to another particle).
 fn clear_reactions(k: u32) {
-    for (var w = 0u; w < 6u; w++) {
+    for (var w = 0u; w < 7u; w++) {
         atomicStore(&water_force[WATER_FORCE_WORDS * k + w], 0u);
     }
 }

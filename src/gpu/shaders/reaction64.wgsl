@@ -18,10 +18,21 @@ fn reaction_sum(k: u32, a: u32) -> vec2<u32> {
     return vec2<u32>(u32(s), u32(s >> 32u));
 }
 
+// Adds v to particle k's sum of how stiffly the hair holds it (word 6, the fourth u64's low
+// word: the sum stays below 2^32, so its high word stays 0).
+fn add_stiffness(k: u32, v: u32) {
+    atomicAdd(&water_force[(WATER_FORCE_WORDS * k) / 2u + 3u], u64(v));
+}
+
+// Particle k's sum of how stiffly the hair holds it, STIFFNESS_SCALE units.
+fn stiffness_sum(k: u32) -> u32 {
+    return u32(atomicLoad(&water_force[(WATER_FORCE_WORDS * k) / 2u + 3u]));
+}
+
 // Particle k's sums back to zero, once water_integrate has read them (the next build may give
 // the slot to another particle).
 fn clear_reactions(k: u32) {
-    for (var a = 0u; a < 3u; a++) {
+    for (var a = 0u; a < 4u; a++) {
         atomicStore(&water_force[(WATER_FORCE_WORDS * k) / 2u + a], u64(0u));
     }
 }
