@@ -165,10 +165,10 @@ pub fn gather_run_lanes(
             None => s,
         };
         let (mut rx, mut ry, mut rz) = ([0.0f32; W], [0.0f32; W], [0.0f32; W]);
-        let mut holds = [0.0f32; W];
+        let mut stiff = [0.0f32; W];
         let scale = force_scale_lanes(&d2s, r_min, r_max, s_j);
         for l in 0..W {
-            holds[l] = pair_stiffness(d2s[l], r_min, r_max) * weight[l];
+            stiff[l] = pair_stiffness(d2s[l], r_min, r_max) * weight[l];
             let m = scale[l] * weight[l];
             rx[l] = m * (qx - x.x[l]);
             ry[l] = m * (qy - x.y[l]);
@@ -180,7 +180,7 @@ pub fn gather_run_lanes(
         reactions.push(Reaction {
             slot,
             f: [-hsum(&rx), -hsum(&ry), -hsum(&rz)],
-            stiffness: hsum(&holds),
+            stiffness: hsum(&stiff),
         });
     }
     *near = marks;

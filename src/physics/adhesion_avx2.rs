@@ -148,7 +148,7 @@ pub unsafe fn gather_row_lanes(
             let keep = _mm256_and_ps(within, _mm256_cmp_ps::<_CMP_GE_OQ>(d2, min2));
             let scale = _mm256_mul_ps(_mm256_and_ps(v, keep), share);
             // `adhesion::pair_stiffness`: the larger of u and (r_max - r_min) g / 4d.
-            let held = _mm256_max_ps(u, _mm256_div_ps(_mm256_mul_ps(quarter, shell), d));
+            let stiff = _mm256_max_ps(u, _mm256_div_ps(_mm256_mul_ps(quarter, shell), d));
             let (fx, fy, fz) = (
                 _mm256_mul_ps(scale, dx),
                 _mm256_mul_ps(scale, dy),
@@ -160,7 +160,7 @@ pub unsafe fn gather_row_lanes(
             reactions.push(Reaction {
                 slot,
                 f: [-hsum(fx), -hsum(fy), -hsum(fz)],
-                stiffness: hsum(_mm256_mul_ps(_mm256_and_ps(held, keep), share)),
+                stiffness: hsum(_mm256_mul_ps(_mm256_and_ps(stiff, keep), share)),
             });
         }
     }

@@ -190,9 +190,9 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
                 }
             }
             // How stiffly the point holds the particle, for its side of the stability limit.
-            let held = u32(pair_stiffness(d2) * share * STIFFNESS_SCALE + 0.5);
-            if (held != 0u) {
-                add_stiffness(k, held);
+            let stiff = u32(pair_stiffness(d2) * share * STIFFNESS_SCALE + 0.5);
+            if (stiff != 0u) {
+                add_stiffness(k, stiff);
             }
             let m = force_scale(d2, s) * share;
             if (m == 0.0) {
