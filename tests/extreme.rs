@@ -4,6 +4,7 @@
 
 use glam::{Mat4, Quat, Vec3};
 use wethair::groom::{paper_scene, Groom};
+use wethair::physics::clumping::mean_nearest_tip_distance;
 use wethair::scenes::Lcg;
 use wethair::{Backend, Error, Integrator, SimParams, Simulation};
 
@@ -238,21 +239,23 @@ fn a_light_drop_in_a_cage_of_points_stays_in_it() {
 }
 
 /// The paper scene's drops at its own 4 substeps keep to what finer substeps give (docs/METHOD.md
-/// §2, the drop's side of the limit): 1,000 drops of 1 g in the hair, 60 frames of the head's
-/// motion, the drops left in the domain counted at 4 and at 16 substeps. Where the hair clumps
-/// around a drop it finds up to 430 points within reach, and its stiffest mode reached 1.5
-/// times symplectic Euler's bound at 4 substeps (measured against the pulls' summed Jacobian
-/// by a measuring example). Before the drop's side was limited, 4 substeps flung most drops
-/// out of the domain: 360 were left against 736 at 16 (measured). Now 716 (measured), within
-/// 5 %. CPU only: the same law runs on the GPU (`a_light_drop_in_a_cage_of_points_stays_in_it`
-/// and the parity tests hold it there), and 16 substeps of this scene on lavapipe would cost
-/// the suite minutes.
+/// §2, the drop's side of the limit): 1,000 drops of 1 g in the hair, 120 frames of the head's
+/// motion, at 4 and at 16 substeps: the drops left in the domain and the tips' clumping (mean
+/// distance to the nearest other tip). Where the hair clumps around a drop it finds up to 430
+/// points within reach, and its stiffest mode reached 1.5 times symplectic Euler's bound at 4
+/// substeps (measured against the pulls' summed Jacobian by a measuring example). Before the
+/// drop's side was limited, 4 substeps flung most drops out of the domain and the rest rang:
+/// 252 drops were left against 736 at 16, moving at 0.43 m/s on average against 0.035, and
+/// the tips clumped to 1.99 mm against 1.38 (measured). Now 716 drops and 1.39 mm (measured):
+/// each within 5 %. CPU only: the same law runs on the GPU
+/// (`a_light_drop_in_a_cage_of_points_stays_in_it` and the parity tests hold it there), and 16
+/// substeps of this scene on lavapipe would cost the suite minutes.
 #[test]
 fn the_paper_scenes_drops_at_4_substeps_keep_to_16s() {
     let _serial = serial();
     let groom = paper_scene(10_000, 6).unwrap();
     let drops = wethair::scenes::on_hair(groom.positions(), 1000, &mut Lcg(7));
-    let left = |substeps: u32| {
+    let run_at = |substeps: u32| {
         let params = SimParams {
             backend: Backend::CPU,
             substeps,
@@ -260,13 +263,21 @@ fn the_paper_scenes_drops_at_4_substeps_keep_to_16s() {
         };
         let mut sim = Simulation::new(&groom, params).unwrap();
         sim.add_water(&drops, &[]).unwrap();
-        run(&mut sim, 60, 1.0 / 60.0).unwrap();
-        sim.water().unwrap().0.len()
+        run(&mut sim, 120, 1.0 / 60.0).unwrap();
+        let x = sim.positions();
+        let tips: Vec<Vec3> = (0..groom.strand_count())
+            .map(|s| x[groom.strand_range(s).end - 1])
+            .collect();
+        (sim.water().unwrap().0.len(), mean_nearest_tip_distance(&tips))
     };
-    let (coarse, fine) = (left(4), left(16));
+    let ((coarse, coarse_clump), (fine, fine_clump)) = (run_at(4), run_at(16));
     assert!(
         coarse.abs_diff(fine) * 20 <= fine,
         "{coarse} drops left at 4 substeps, {fine} at 16"
+    );
+    assert!(
+        (coarse_clump - fine_clump).abs() <= 0.05 * fine_clump,
+        "the tips clumped to {coarse_clump} m at 4 substeps, {fine_clump} m at 16"
     );
 }
 
