@@ -390,14 +390,15 @@ impl Water {
                 };
                 let rate = if inv_m > 0.0 { drag_rate } else { 0.0 };
                 // Its side of eq. 2's stability limit: held by more hair than a substep
-                // follows, it moves as though heavier (`pull_limit::particle_limit`).
+                // follows, it responds to its forces more slowly, its drag damping it at its
+                // own rate (`pull_limit::particle_limit`).
                 let f = force[j];
                 let b = if inv_m > 0.0 {
                     particle_limit(slope_h2, per_mass, f.w)
                 } else {
                     1.0
                 };
-                *v = particle_velocity(*v, b * (f.truncate() * inv_m + g), b * rate, wind, h);
+                *v = particle_velocity(*v, b * (f.truncate() * inv_m + g), rate, b * wind, h);
                 *x += h * *v;
                 colliders.push_out_point(x, v, friction);
             }

@@ -28,9 +28,9 @@
 //! substeps, and 10 mg drops left at 64 m/s. The sum it limits is sharper than the hair
 //! side's (each pair's own stiffness at its distance, [`super::adhesion::pair_stiffness`],
 //! not the steepest slope), since a drop meets hundreds of points where a point meets a few
-//! drops. While it acts the particle's inertia, not its forces, takes the factor, so momentum
-//! is not conserved then (the hair takes the full pull, the drop a part); where it rests,
-//! nothing changes.
+//! drops. While it acts the particle's response to its forces, not the forces, takes the
+//! factor, so momentum is not conserved then (the hair takes the full pull, the drop a part);
+//! where it rests, nothing changes.
 
 use super::lanes::{Lane, L3, W};
 
@@ -68,12 +68,16 @@ pub fn pull_limit(slope_h2: f32, strengths: f32, weight: f32, inv_mass: f32) -> 
 /// [`super::adhesion::pair_stiffness`] times the hair points' weights, summed
 /// ([`super::adhesion::Reaction::stiffness`]), which bounds its stiffest restoring mode.
 ///
-/// The particle moves as though that much heavier: its inertia is raised and its forces kept,
-/// so where it comes to rest (its forces balanced, the hair carrying exactly its weight) is
-/// unchanged, while its pulls' stiffness is held to what the substep follows. Its forces
-/// cannot take the factor instead, as a hair point's do: the sum is known only once every
-/// point has pulled, and a drop's first substep among a groom's light points, unlimited,
-/// alone flings it out of reach.
+/// The factor slows the particle's response to its forces (pulls, gravity, the wind's push):
+/// it moves as though that much heavier, while its drag still damps its speed at its own
+/// rate, `v' = (v + h f (a + k w)) / (1 + h k)` (`integrate::particle_velocity` with `f a`
+/// and `f w`). Where it comes to rest (its forces balanced, the hair carrying exactly its
+/// weight) is unchanged, and its pulls' stiffness is held to what the substep follows. Had
+/// the damping slowed too (the inertia alone raised), a light drop held past the limit would
+/// ring in its well for seconds: its drag's rate falls by the same factor. Its forces cannot
+/// take the factor instead, as a hair point's do: the sum is known only once every point has
+/// pulled, and a drop's first substep among a groom's light points, unlimited, alone flings
+/// it out of reach.
 #[inline(always)]
 pub fn particle_limit(slope_h2: f32, strength_per_mass: f32, stiffness: f32) -> f32 {
     pull_limit(slope_h2, strength_per_mass, stiffness, 1.0)
