@@ -393,12 +393,13 @@ impl Water {
                 // follows, it responds to its forces more slowly, its drag damping it at its
                 // own rate (`pull_limit::particle_limit`).
                 let f = force[j];
-                let b = if inv_m > 0.0 {
+                let factor = if inv_m > 0.0 {
                     particle_limit(slope_h2, per_mass, f.w)
                 } else {
                     1.0
                 };
-                *v = particle_velocity(*v, b * (f.truncate() * inv_m + g), rate, b * wind, h);
+                let a = factor * (f.truncate() * inv_m + g);
+                *v = particle_velocity(*v, a, rate, factor * wind, h);
                 *x += h * *v;
                 colliders.push_out_point(x, v, friction);
             }

@@ -61,7 +61,7 @@ pub fn pull_limit(slope_h2: f32, strengths: f32, weight: f32, inv_mass: f32) -> 
     }
 }
 
-/// The particle's side of the limit: the factor on a water particle's inverse mass, 1 while
+/// The particle's side of the limit: the factor on a water particle's response to its forces, 1 while
 /// `q = slope_h2 · strength_per_mass · stiffness` stays within [`PULL_STIFFNESS_LIMIT`], else
 /// `LIMIT / q`. `strength_per_mass`: eq. 2's `s` over the particle's mass, the same for every
 /// drop (with held water both scale with the water it holds); `stiffness`: its pairs'

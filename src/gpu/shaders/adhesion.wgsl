@@ -252,12 +252,13 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
     // Its side of eq. 2's stability limit: held by more hair than a substep follows, it
     // responds to its forces more slowly, its drag damping it at its own rate
     // (physics/pull_limit.rs `particle_limit`).
-    var b = 1.0;
+    var factor = 1.0;
     if (inv_m > 0.0) {
         rate = P.water_drag_rate;
-        b = particle_limit(stiffness);
+        factor = particle_limit(stiffness);
     }
-    var v = particle_velocity(p.v.xyz, b * (react * inv_m + P.g.xyz), rate, b * P.wind.xyz, P.h);
+    let a = factor * (react * inv_m + P.g.xyz);
+    var v = particle_velocity(p.v.xyz, a, rate, factor * P.wind.xyz, P.h);
     var x = p.x.xyz + P.h * v;
     for (var c = 0u; c < N_COLLIDERS; c++) {
         collide(&x, &v, S.colliders[c], P.friction);
