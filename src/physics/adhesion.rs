@@ -21,10 +21,17 @@ pub fn profile(d: f32, r_min: f32, r_max: f32) -> f32 {
     shell(d, r_min, r_max)
 }
 
+/// The profile's variable `u = (2d − r_min − r_max) / (r_min − r_max)`: 1 at `r_min`, 0 halfway,
+/// −1 at `r_max`.
+#[inline(always)]
+fn profile_variable(d: f32, r_min: f32, r_max: f32) -> f32 {
+    (2.0 * d - r_min - r_max) / (r_min - r_max)
+}
+
 /// Eq. 2's parabola without the cut-off at `r_max` (callers apply it).
 #[inline(always)]
 fn shell(d: f32, r_min: f32, r_max: f32) -> f32 {
-    let u = (2.0 * d - r_min - r_max) / (r_min - r_max);
+    let u = profile_variable(d, r_min, r_max);
     1.0 - u * u
 }
 
@@ -56,7 +63,7 @@ pub fn force_scale(d2: f32, r_min: f32, r_max: f32, s: f32) -> f32 {
 pub fn pair_stiffness(d2: f32, r_min: f32, r_max: f32) -> f32 {
     let inside = (d2 <= r_max * r_max) & (d2 >= MIN_DISTANCE * MIN_DISTANCE);
     let d = d2.sqrt();
-    let u = (2.0 * d - r_min - r_max) / (r_min - r_max);
+    let u = profile_variable(d, r_min, r_max);
     let across = (0.25 * (r_max - r_min)) * (1.0 - u * u) / d;
     let k = if u > across { u } else { across };
     if inside {

@@ -13,6 +13,11 @@
 // Absorption's per-particle scratch (buffers::absorb_words; a placeholder without absorption).
 @group(1) @binding(3) var<storage, read_write> absorb_scratch: array<atomic<u32>>;
 
+// physics/adhesion.rs `profile_variable`: 1 at r_min, 0 halfway, -1 at r_max.
+fn profile_variable(d: f32) -> f32 {
+    return (2.0 * d - P.r_min - P.r_max) / (P.r_min - P.r_max);
+}
+
 // physics/adhesion.rs `pair_stiffness`: how stiffly one hair point holds a particle at squared
 // distance d2, per unit of its strength, in the profile's steepest slopes: the larger of u and
 // (r_max - r_min) g(d) / 4d, 0 where force_scale is 0.
@@ -21,7 +26,7 @@ fn pair_stiffness(d2: f32) -> f32 {
         return 0.0;
     }
     let d = sqrt(d2);
-    let u = (2.0 * d - P.r_min - P.r_max) / (P.r_min - P.r_max);
+    let u = profile_variable(d);
     let across = (0.25 * (P.r_max - P.r_min)) * (1.0 - u * u) / d;
     return max(u, across);
 }
@@ -33,7 +38,7 @@ fn force_scale(d2: f32, s: f32) -> f32 {
         return 0.0;
     }
     let d = sqrt(d2);
-    let u = (2.0 * d - P.r_min - P.r_max) / (P.r_min - P.r_max);
+    let u = profile_variable(d);
     return s * (1.0 - u * u) / d;
 }
 
