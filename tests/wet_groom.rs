@@ -54,9 +54,12 @@ fn max_strain(groom: &Groom, x: &[Vec3]) -> f32 {
 /// limit its points rang in the drops' wells and tore their segments: the longest was 68 %
 /// past its rest length at frame 2 and 113 % at frame 10, then 10-35 % once most drops had
 /// fallen through, against 0.8 % dry (measured 2026-11-29 every second frame). With the
-/// limit the kilogram of water dragging through the hair stretches it by at most 2.5 % (at
-/// frame 10), and within 0.6 % once the drops are gone; the bound is twice that. The drops
-/// still move the hair.
+/// limit the hair rings no more: the kilogram of water dragging through it (125 times the
+/// hair's own mass) stretches the longest segment by 13.6 % at frame 9, less than eq. 2's own
+/// load does where the limit hardly acts (30.5 % at frame 21 at 64 substeps, 25.8 % at 16;
+/// measured 2026-12-01). When the limit counted each pair at the steepest slope it held the
+/// pulls to a third and less, and the drops slid through the hair at 2.5 %. The bound is
+/// 20 %. The drops still move the hair.
 #[test]
 fn a_real_groom_under_a_thousand_drops_keeps_its_length() {
     let _g = serial();
@@ -79,12 +82,49 @@ fn a_real_groom_under_a_thousand_drops_keeps_its_length() {
         let (a, b) = (dry.positions(), wet.positions());
         let moved = a.iter().zip(&b).map(|(p, q)| p.distance(*q)).sum::<f32>() / a.len() as f32;
         println!("{backend:?}: longest stretch {worst}, mean distance from the dry twin {moved} m");
-        assert!(worst < 0.05, "{backend:?}: a segment stretched by {worst}");
+        assert!(worst < 0.2, "{backend:?}: a segment stretched by {worst}");
         assert!(
             moved > 1.0e-3,
             "{backend:?}: the drops moved the hair by {moved} m on average"
         );
     }
+}
+
+/// The hair side of eq. 2's stability limit holds a light point's pulls to what a substep
+/// follows, and no further: the ponytail (10 mg points) with 1,000 drops of 10 mg placed in
+/// it clumps at the default 4 substeps about as it does at 64, where the limit hardly acts.
+/// The limit sums each pair's own stiffness at its distance (`adhesion::pair_stiffness`);
+/// with the profile's steepest slope for every pair, as it first did, the tips' clumping
+/// after a second was 8.9 mm at 4 substeps against 4.6 at 64 (94 % off); now 5.3 against
+/// 4.5 (measured 2026-12-01). The drops are light enough to stay in the hair at any substep.
+#[test]
+fn a_real_groom_clumps_at_4_substeps_as_at_64() {
+    let groom = ponytail();
+    let clumping = |substeps: u32| {
+        let params = SimParams {
+            backend: Backend::CPU,
+            substeps,
+            water: wethair::WaterParams {
+                particle_mass: 1.0e-5,
+                ..SimParams::default().water
+            },
+            ..SimParams::default()
+        };
+        let mut sim = Simulation::new(&groom, params).unwrap();
+        sim.add_water(&on_hair(groom.positions(), 1000, &mut Lcg(7)), &[])
+            .unwrap();
+        for _ in 0..60 {
+            sim.step(DT).unwrap();
+        }
+        assert_eq!(sim.stats().particles, 1000, "{substeps} substeps: drops left the hair");
+        sim.stats().clumping
+    };
+    let (coarse, fine) = (clumping(4), clumping(64));
+    println!("tips' clumping: {coarse} m at 4 substeps, {fine} m at 64");
+    assert!(
+        (coarse / fine - 1.0).abs() < 0.3,
+        "4 substeps clump the tips to {coarse} m against {fine} m at 64"
+    );
 }
 
 #[test]

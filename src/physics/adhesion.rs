@@ -51,26 +51,42 @@ pub fn force_scale(d2: f32, r_min: f32, r_max: f32, s: f32) -> f32 {
     }
 }
 
-/// How stiffly a particle at squared distance `d2` is held by one hair point, per unit of its
-/// strength and in units of the profile's steepest slope `4 / (r_max − r_min)`: the largest
-/// restoring eigenvalue of the pull's derivative in the particle's position (hair point fixed),
-/// `max(s g'(d), s g(d) / d)` (along the pair and across it), is `s 4 / (r_max − r_min)` times
-/// `max(u, (r_max − r_min) g(d) / 4d)`, `u` the profile's variable, 1 at `r_min`. 0 wherever
-/// [`force_scale`] is. By Weyl's inequality a sum of these bounds the particle's stiffest
-/// restoring mode under every pair at once, which the particle's side of the stability limit
-/// holds to what a substep follows (`physics/pull_limit.rs` `particle_limit`).
+/// How stiffly a particle at squared distance `d2` and a hair point hold each other, per unit
+/// of the pull's strength and in units of the profile's steepest slope `4 / (r_max − r_min)`:
+/// the largest restoring eigenvalue of the pull's derivative in the particle's position (hair
+/// point fixed), or in the hair point's (the same matrix), `max(s g'(d), s g(d) / d)` (along
+/// the pair and across it), is `s 4 / (r_max − r_min)` times `max(u, (r_max − r_min) g(d) /
+/// 4d)`, `u` the profile's variable, 1 at `r_min` (the across term held to its bound of 1,
+/// [`stiffest_pair`]). 0 wherever [`force_scale`] is. By Weyl's inequality a sum of these
+/// bounds the stiffest restoring mode under every pair at once, which both sides of the
+/// stability limit hold to what a substep follows (`physics/pull_limit.rs` `pull_limit` for
+/// a hair point, `particle_limit` for a particle).
 #[inline(always)]
 pub fn pair_stiffness(d2: f32, r_min: f32, r_max: f32) -> f32 {
     let inside = (d2 <= r_max * r_max) & (d2 >= MIN_DISTANCE * MIN_DISTANCE);
     let d = d2.sqrt();
     let u = profile_variable(d, r_min, r_max);
     let across = (0.25 * (r_max - r_min)) * (1.0 - u * u) / d;
+    // At most 1 ([`stiffest_pair`]); held there against rounding, which near the hair point
+    // of a shell with no hollow (`r_min` 0) takes `1 − u²` from a difference of two numbers
+    // next to 1.
+    let across = if across < 1.0 { across } else { 1.0 };
     let k = if u > across { u } else { across };
     if inside {
         k
     } else {
         0.0
     }
+}
+
+/// The most [`pair_stiffness`] can be at any distance: `(r_max + r_min) / (r_max − r_min)`,
+/// `u` as the particle nears the hair point (1.67 with the paper's shell). Within the shell
+/// `u ≤ 1`, and the across term, `w (1 − u)(1 + u) / 2 (w (1 − u) + 2 r_min)` with
+/// `w = r_max − r_min`, is at most `(1 + u) / 2 ≤ 1`; inside `r_min` it is negative and `u`
+/// grows toward the hair point. The stability limit's shortcut bounds a row's pairs with it.
+#[inline]
+pub fn stiffest_pair(r_min: f32, r_max: f32) -> f32 {
+    ((r_max + r_min) / (r_max - r_min)).max(1.0)
 }
 
 /// [`force_scale`] on every lane at once. Written with `&&` and the divide behind the branch,
@@ -258,7 +274,7 @@ pub fn gather_row_lanes(
 ) {
     let limited = {
         let strength = |slot| wet.as_deref().map_or(s, |w| w.strength(slot));
-        limit.row_weights(x, weight, inv_mass, runs, sorted, r_max, strength)
+        limit.row_weights(x, weight, inv_mass, runs, sorted, strength)
     };
     gather_runs_lanes(
         x, mask, &limited, runs, sorted, reactions, acc, near, r_min, r_max, s, wet,
@@ -320,6 +336,30 @@ mod tests {
             assert!(
                 mode <= bound * 1.001 + 1e-3,
                 "trial {trial}: mode {mode} above the bound {bound}"
+            );
+        }
+    }
+
+    /// No distance gives a pair more stiffness than [`stiffest_pair`] (what the stability
+    /// limit's shortcut assumes), and the bound is reached: near the hair point for a shell
+    /// with a hollow, at the inner edge for one without (`r_min` 0).
+    #[test]
+    fn no_pair_is_stiffer_than_the_stiffest() {
+        for (r_min, r_max) in [(0.002f32, 0.008f32), (0.0, 0.008), (0.0005, 0.02), (0.007, 0.008)] {
+            let most = stiffest_pair(r_min, r_max);
+            let mut seen = 0.0f32;
+            for k in 0..=200_000 {
+                let d = MIN_DISTANCE + r_max * k as f32 / 200_000.0;
+                let got = pair_stiffness(d * d, r_min, r_max);
+                assert!(
+                    got <= most * (1.0 + 1e-5),
+                    "r {r_min}..{r_max}, d {d}: {got} above {most}"
+                );
+                seen = seen.max(got);
+            }
+            assert!(
+                seen >= most * 0.999,
+                "r {r_min}..{r_max}: the bound {most} is not reached ({seen})"
             );
         }
     }

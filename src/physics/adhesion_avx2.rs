@@ -115,9 +115,9 @@ pub unsafe fn gather_row_lanes(
             limited = true;
             let strength = |slot| wet.as_deref().map_or(s, |w| w.strength(slot));
             let w = if r >= runs.len() {
-                limit.listed_weights(x, weight, inv_mass, &hits[..n], sorted, r_max, strength)
+                limit.listed_weights(x, weight, inv_mass, &hits[..n], sorted, strength)
             } else {
-                limit.row_weights(x, weight, inv_mass, runs, sorted, r_max, strength)
+                limit.row_weights(x, weight, inv_mass, runs, sorted, strength)
             };
             share = load(&w);
         }
@@ -147,8 +147,10 @@ pub unsafe fn gather_row_lanes(
             let v = _mm256_div_ps(_mm256_mul_ps(_mm256_set1_ps(s_j), shell), d);
             let keep = _mm256_and_ps(within, _mm256_cmp_ps::<_CMP_GE_OQ>(d2, min2));
             let scale = _mm256_mul_ps(_mm256_and_ps(v, keep), share);
-            // `adhesion::pair_stiffness`: the larger of u and (r_max - r_min) g / 4d.
-            let stiff = _mm256_max_ps(u, _mm256_div_ps(_mm256_mul_ps(quarter, shell), d));
+            // `adhesion::pair_stiffness`: the larger of u and (r_max - r_min) g / 4d, the
+            // latter at most 1.
+            let across = _mm256_min_ps(_mm256_div_ps(_mm256_mul_ps(quarter, shell), d), one);
+            let stiff = _mm256_max_ps(u, across);
             let (fx, fy, fz) = (
                 _mm256_mul_ps(scale, dx),
                 _mm256_mul_ps(scale, dy),
@@ -343,7 +345,7 @@ mod tests {
                 assert_eq!(bits(&a), bits(&b), "case {case}, wet {}", wet.is_some());
                 let sorted = [&q[0][..], &q[1][..], &q[2][..]];
                 let runs = [(2, 5), (7, n as u32)];
-                let held = limit.row_weights(&x, &weight, &inv_mass, &runs, sorted, 0.008, |_| 0.008);
+                let held = limit.row_weights(&x, &weight, &inv_mass, &runs, sorted, |_| 0.008);
                 limited += (held != weight) as u32;
             }
         }

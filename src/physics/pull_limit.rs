@@ -13,9 +13,17 @@
 //! first 10 frames at 4 substeps, and 200 % at 16, against 0.8 % dry.
 //!
 //! So each hair point's pulls are scaled, per substep, by `min(1, LIMIT / q)`, `q = h² K / m`
-//! with `K` the sum of its pairs' steepest slopes (times its share) and `LIMIT` =
+//! with `K` the sum of its pairs' stiffnesses (times its share) and `LIMIT` =
 //! [`PULL_STIFFNESS_LIMIT`]: a point with `q` within it keeps eq. 2 exactly (the same bits), a
-//! stiffer one pulls with the most stiffness the substep follows. The pair's two forces take
+//! stiffer one pulls with the most stiffness the substep follows. A pair's stiffness is its
+//! stiffest restoring mode at its distance ([`super::adhesion::pair_stiffness`]: the pull's
+//! derivative in the point's position has the same eigenvalues as in the particle's), and by
+//! Weyl's inequality their sum bounds the point's stiffest mode under all its pulls at once.
+//! The profile's steepest slope, which the sum once took for every pair, counted a pair at
+//! the shell's outer edge, where the pull is held by nothing (its slope there lets go), as
+//! stiffly as one at the inner edge: on the TressFX ponytail under 1,000 drops of 10 mg it
+//! held the tips' clumping at 7.6 mm after 2 s at 4 substeps against 4.4 at 64; with each
+//! pair's own stiffness it is 4.9 against 4.1. The pair's two forces take
 //! the same factor, so momentum is conserved as before. As `h → 0` the factor goes to 1: more
 //! substeps give more of eq. 2, and the f64 reference (`reference.rs`, the limit `h → 0`)
 //! has none.
@@ -25,13 +33,12 @@
 //! and their stiffest mode (from the pulls' summed derivative, measured) reached 1.5 times
 //! symplectic Euler's bound at the paper's 4 substeps. Such drops rang and were flung out: of
 //! 1,000 drops in the paper scene's hair, 360 were left after 60 frames against 736 at 16
-//! substeps, and 10 mg drops left at 64 m/s. The sum it limits is sharper than the hair
-//! side's (each pair's own stiffness at its distance, [`super::adhesion::pair_stiffness`],
-//! not the steepest slope), since a drop meets hundreds of points where a point meets a few
-//! drops. While it acts the particle's response to its forces, not the forces, takes the
+//! substeps, and 10 mg drops left at 64 m/s. It sums the same pair stiffnesses as the hair
+//! side, from the particle's side of each pair. While it acts the particle's response to its forces, not the forces, takes the
 //! factor, so momentum is not conserved then (the hair takes the full pull, the drop a part);
 //! where it rests, nothing changes.
 
+use super::adhesion::pair_stiffness;
 use super::lanes::{Lane, L3, W};
 
 /// The most `h² K / m` eq. 2 may give a hair point in a substep: a quarter of symplectic
@@ -47,13 +54,14 @@ pub fn slope_h2(h: f32, r_min: f32, r_max: f32) -> f32 {
     h * h * (4.0 / (r_max - r_min))
 }
 
-/// The factor on a hair point's pulls: 1 while `q = slope_h2 · strengths · weight · inv_mass`
-/// stays within [`PULL_STIFFNESS_LIMIT`], else `LIMIT / q` (`strengths`: the sum of the
-/// strengths of the particles within its reach; `weight`: its share of each, 1 per point;
+/// The factor on a hair point's pulls: 1 while `q = slope_h2 · stiffness · weight · inv_mass`
+/// stays within [`PULL_STIFFNESS_LIMIT`], else `LIMIT / q` (`stiffness`: over the particles
+/// within its reach, each one's strength times the pair's
+/// [`super::adhesion::pair_stiffness`], summed; `weight`: its share of each, 1 per point;
 /// `inv_mass`: 0 for a pinned point, which nothing moves).
 #[inline(always)]
-pub fn pull_limit(slope_h2: f32, strengths: f32, weight: f32, inv_mass: f32) -> f32 {
-    let q = slope_h2 * strengths * weight * inv_mass;
+pub fn pull_limit(slope_h2: f32, stiffness: f32, weight: f32, inv_mass: f32) -> f32 {
+    let q = slope_h2 * stiffness * weight * inv_mass;
     if q > PULL_STIFFNESS_LIMIT {
         PULL_STIFFNESS_LIMIT / q
     } else {
@@ -83,12 +91,13 @@ pub fn particle_limit(slope_h2: f32, strength_per_mass: f32, stiffness: f32) -> 
     pull_limit(slope_h2, strength_per_mass, stiffness, 1.0)
 }
 
-/// A sum of at most this many strengths is exact to well within [`FREE_MARGIN`], so
+/// A sum of at most this many stiffnesses is exact to well within [`FREE_MARGIN`], so
 /// [`PullLimit::free`] never exceeds it.
 const MAX_FREE: u32 = 1000;
 
 /// The relative margin [`PullLimit::free`] keeps below the limit: more than the rounding of a
-/// sum of [`MAX_FREE`] strengths (`1000 · 2⁻²⁴ = 6e-5`) and of `q`'s three products.
+/// sum of [`MAX_FREE`] terms (`1000 · 2⁻²⁴ = 6e-5`), of each pair's stiffness (a few
+/// roundings) and of `q`'s three products.
 const FREE_MARGIN: f32 = 1.0e-3;
 
 /// One substep's inputs to the limit.
@@ -97,9 +106,14 @@ pub struct PullLimit {
     /// [`slope_h2`] of the substep and the shell.
     pub slope_h2: f32,
     /// How many candidate particles a row may have with no lane able to reach the limit, all
-    /// of them within its reach at full strength: such a row skips the count (most rows of
-    /// heavy hair; none of light hair). 0: every row counts.
+    /// of them within its reach at full strength and at the distance where a pair is
+    /// stiffest ([`super::adhesion::stiffest_pair`]): such a row skips the count (most rows
+    /// of heavy hair; none of light hair). 0: every row counts.
     pub free: u32,
+    /// Eq. 2's shell, m: each pair's stiffness depends on where in it the particle sits.
+    pub r_min: f32,
+    /// See `r_min`.
+    pub r_max: f32,
 }
 
 impl PullLimit {
@@ -111,7 +125,8 @@ impl PullLimit {
         let slope_h2 = slope_h2(h, r_min, r_max);
         let free = match strongest {
             Some(s) => {
-                let one = slope_h2 * s * weight_inv_mass * (1.0 + FREE_MARGIN);
+                let stiffest = s * super::adhesion::stiffest_pair(r_min, r_max);
+                let one = slope_h2 * stiffest * weight_inv_mass * (1.0 + FREE_MARGIN);
                 if one > 0.0 {
                     (PULL_STIFFNESS_LIMIT / one).min(MAX_FREE as f32) as u32
                 } else {
@@ -120,7 +135,12 @@ impl PullLimit {
             }
             None => 0,
         };
-        PullLimit { slope_h2, free }
+        PullLimit {
+            slope_h2,
+            free,
+            r_min,
+            r_max,
+        }
     }
 }
 
@@ -138,12 +158,11 @@ impl PullLimit {
         inv_mass: &Lane,
         runs: &[(u32, u32)],
         sorted: [&[f32]; 3],
-        r_max: f32,
         strength: impl Fn(u32) -> f32,
     ) -> Lane {
         let candidates = runs.iter().map(|&(a, e)| e - a).sum();
         let slots = runs.iter().flat_map(|&(a, e)| a..e);
-        self.weights(x, weight, inv_mass, candidates, slots, sorted, r_max, strength)
+        self.weights(x, weight, inv_mass, candidates, slots, sorted, strength)
     }
 
     /// [`PullLimit::row_weights`] from `listed`: the grid slots, in grid order, of the
@@ -158,11 +177,10 @@ impl PullLimit {
         inv_mass: &Lane,
         listed: &[u32],
         sorted: [&[f32]; 3],
-        r_max: f32,
         strength: impl Fn(u32) -> f32,
     ) -> Lane {
         let slots = listed.iter().copied();
-        self.weights(x, weight, inv_mass, listed.len() as u32, slots, sorted, r_max, strength)
+        self.weights(x, weight, inv_mass, listed.len() as u32, slots, sorted, strength)
     }
 
     #[inline]
@@ -175,50 +193,55 @@ impl PullLimit {
         candidates: u32,
         slots: impl Iterator<Item = u32>,
         sorted: [&[f32]; 3],
-        r_max: f32,
         strength: impl Fn(u32) -> f32,
     ) -> Lane {
         if candidates <= self.free {
             return *weight;
         }
-        let strengths = strengths_in_reach(x, weight, slots, sorted, r_max, strength);
-        std::array::from_fn(|l| weight[l] * pull_limit(self.slope_h2, strengths[l], weight[l], inv_mass[l]))
+        let stiffness = self.stiffness_in_reach(x, weight, slots, sorted, strength);
+        std::array::from_fn(|l| weight[l] * pull_limit(self.slope_h2, stiffness[l], weight[l], inv_mass[l]))
     }
-}
 
-/// Per lane with a nonzero `weight`, the sum of the strengths of the particles in `slots`
-/// within `r_max`, in the order given (grid order: the same bits on every run and thread
-/// count).
-#[inline]
-fn strengths_in_reach(
-    x: &L3,
-    weight: &Lane,
-    slots: impl Iterator<Item = u32>,
-    sorted: [&[f32]; 3],
-    r_max: f32,
-    strength: impl Fn(u32) -> f32,
-) -> Lane {
-    let r2 = r_max * r_max;
-    let mut sum = [0.0f32; W];
-    for k in slots {
-        let j = k as usize;
-        let (qx, qy, qz) = (sorted[0][j], sorted[1][j], sorted[2][j]);
-        let mut hit = 0u32;
-        let mut inside = [false; W];
-        for l in 0..W {
-            let (dx, dy, dz) = (qx - x.x[l], qy - x.y[l], qz - x.z[l]);
-            inside[l] = dx * dx + dy * dy + dz * dz <= r2 && weight[l] > 0.0;
-            hit |= inside[l] as u32;
+    /// Per lane with a nonzero `weight`, over the particles in `slots` within `r_max`, each
+    /// one's strength times the pair's [`pair_stiffness`], summed in the order given (grid
+    /// order: the same bits on every run and thread count).
+    #[inline]
+    fn stiffness_in_reach(
+        &self,
+        x: &L3,
+        weight: &Lane,
+        slots: impl Iterator<Item = u32>,
+        sorted: [&[f32]; 3],
+        strength: impl Fn(u32) -> f32,
+    ) -> Lane {
+        let (r_min, r_max) = (self.r_min, self.r_max);
+        let r2 = r_max * r_max;
+        let mut sum = [0.0f32; W];
+        for k in slots {
+            let j = k as usize;
+            let (qx, qy, qz) = (sorted[0][j], sorted[1][j], sorted[2][j]);
+            let mut hit = 0u32;
+            let mut d2 = [0.0f32; W];
+            let mut inside = [false; W];
+            for l in 0..W {
+                let (dx, dy, dz) = (qx - x.x[l], qy - x.y[l], qz - x.z[l]);
+                d2[l] = dx * dx + dy * dy + dz * dz;
+                inside[l] = d2[l] <= r2 && weight[l] > 0.0;
+                hit |= inside[l] as u32;
+            }
+            if hit == 0 {
+                continue;
+            }
+            let s = strength(k);
+            // Branch-free per lane (a select after the square root and divisions), so that
+            // the loop vectorises.
+            let stiff: Lane = std::array::from_fn(|l| s * pair_stiffness(d2[l], r_min, r_max));
+            for l in 0..W {
+                sum[l] += if inside[l] { stiff[l] } else { 0.0 };
+            }
         }
-        if hit == 0 {
-            continue;
-        }
-        let s = strength(k);
-        for l in 0..W {
-            sum[l] += if inside[l] { s } else { 0.0 };
-        }
+        sum
     }
-    sum
 }
 
 #[cfg(test)]
@@ -239,12 +262,16 @@ mod tests {
         let weight: Lane = [1.0, 0.5, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0];
         // 10 mg, 10 mg, 1 g, pinned.
         let inv_mass: Lane = [1.0e5, 1.0e5, 1.0e3, 0.0, 1.0, 1.0, 1.0, 1.0];
-        let got = limit.row_weights(&x, &weight, &inv_mass, &[(0, 3)], sorted, r_max, |_| 0.008);
-        let q0 = limit.slope_h2 * 0.024 * 1.0e5;
-        assert!(q0 > 10.0, "the light lane is far past the limit ({q0})");
+        let got = limit.row_weights(&x, &weight, &inv_mass, &[(0, 3)], sorted, |_| 0.008);
+        // Each pair at 5 mm, the shell's middle, is held across only: 0.3 of the steepest slope.
+        let one = 0.008 * pair_stiffness(0.005 * 0.005, r_min, r_max);
+        assert!((one / 0.008 - 0.3).abs() < 1e-6, "{one}");
+        let k = one + one + one;
+        let q0 = limit.slope_h2 * k * 1.0e5;
+        assert!(q0 > 4.0, "the light lane is past symplectic Euler's bound ({q0})");
         assert_eq!(got[0], PULL_STIFFNESS_LIMIT / q0, "held to the limit");
         // Its share halves q: the lane still ends at the limit, the same stiffness.
-        let q1 = limit.slope_h2 * 0.024 * 0.5 * 1.0e5;
+        let q1 = limit.slope_h2 * k * 0.5 * 1.0e5;
         assert_eq!(got[1], 0.5 * (PULL_STIFFNESS_LIMIT / q1));
         assert_eq!(got[2].to_bits(), 1.0f32.to_bits(), "1 g: within the limit, untouched");
         assert_eq!(got[3].to_bits(), 1.0f32.to_bits(), "pinned: untouched");
@@ -252,7 +279,7 @@ mod tests {
         // A particle beyond r_max adds nothing.
         let far = [vec![0.0085f32], vec![0.0f32], vec![0.0f32]];
         let sorted = [&far[0][..], &far[1][..], &far[2][..]];
-        let none = limit.row_weights(&x, &weight, &inv_mass, &[(0, 1)], sorted, r_max, |_| 1.0);
+        let none = limit.row_weights(&x, &weight, &inv_mass, &[(0, 1)], sorted, |_| 1.0);
         assert_eq!(none, weight);
     }
 
@@ -264,8 +291,8 @@ mod tests {
         let (r_min, r_max) = (0.002f32, 0.008f32);
         let paper = PullLimit::new(1.0 / 240.0, r_min, r_max, Some(0.008), 1.0e3);
         assert_eq!(
-            paper.free, 10,
-            "a paper-scene point (1 g) takes 10 full pulls at 240 Hz"
+            paper.free, 6,
+            "a paper-scene point (1 g) takes 6 full pulls at their stiffest at 240 Hz"
         );
         let mut rng = crate::scenes::Lcg(5);
         let mut limited = 0;
@@ -287,8 +314,8 @@ mod tests {
             let quick = PullLimit::new(h, r_min, r_max, Some(0.008), heaviest);
             let counted = PullLimit { free: 0, ..quick };
             let runs = [(0, n as u32)];
-            let a = quick.row_weights(&x, &weight, &inv_mass, &runs, sorted, r_max, |_| 0.008);
-            let b = counted.row_weights(&x, &weight, &inv_mass, &runs, sorted, r_max, |_| 0.008);
+            let a = quick.row_weights(&x, &weight, &inv_mass, &runs, sorted, |_| 0.008);
+            let b = counted.row_weights(&x, &weight, &inv_mass, &runs, sorted, |_| 0.008);
             assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "trial {trial}");
             limited += (b != weight) as u32;
         }

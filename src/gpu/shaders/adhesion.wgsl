@@ -27,7 +27,8 @@ fn pair_stiffness(d2: f32) -> f32 {
     }
     let d = sqrt(d2);
     let u = profile_variable(d);
-    let across = (0.25 * (P.r_max - P.r_min)) * (1.0 - u * u) / d;
+    // At most 1 (physics/adhesion.rs `stiffest_pair`), held there against rounding.
+    let across = min((0.25 * (P.r_max - P.r_min)) * (1.0 - u * u) / d, 1.0);
     return max(u, across);
 }
 
@@ -96,15 +97,15 @@ fn mark_near(i: u32) {
 
 // physics/pull_limit.rs `pull_limit`: the factor on a hair point's pulls, 1 while
 // q = slope_h2 strengths weight inv_mass stays within the limit, else LIMIT / q.
-fn pull_limit(strengths: f32, weight: f32, inv_mass: f32) -> f32 {
-    let q = P.pull_slope_h2 * strengths * weight * inv_mass;
+fn pull_limit(stiffness: f32, weight: f32, inv_mass: f32) -> f32 {
+    let q = P.pull_slope_h2 * stiffness * weight * inv_mass;
     if (q > PULL_STIFFNESS_LIMIT) {
         return PULL_STIFFNESS_LIMIT / q;
     }
     return 1.0;
 }
 
-// physics/pull_limit.rs `particle_limit`: the factor on a particle's inverse mass, from how
+// physics/pull_limit.rs `particle_limit`: the factor on a particle's response to its forces, from how
 // stiffly the hair holds it (`stiffness`) and its strength over its mass (eq. 2's s over a
 // full particle's mass, whatever water it holds).
 fn particle_limit(stiffness: f32) -> f32 {
@@ -136,20 +137,21 @@ fn limited_weight(i: u32, x: vec3<f32>, span: Span, weight: f32) -> f32 {
     if (candidates <= P.pull_free) {
         return weight;
     }
-    // strengths_in_reach
-    var strengths = 0.0;
+    // stiffness_in_reach: each particle's strength times the pair's stiffness, summed.
+    var stiffness = 0.0;
     for (var j = 0; j < span_cells(span); j++) {
         let c = span_cell(span, j);
         let run = cell_run(c);
         for (var k = run.x; k < run.y; k++) {
             let y = sorted[k].x.xyz;
             let d = y - x;
-            if (dot(d, d) <= r * r && in_cell(y, c)) {
-                strengths += strength_of(k);
+            let d2 = dot(d, d);
+            if (d2 <= r * r && in_cell(y, c)) {
+                stiffness += strength_of(k) * pair_stiffness(d2);
             }
         }
     }
-    return weight * pull_limit(strengths, weight, inv_mass);
+    return weight * pull_limit(stiffness, weight, inv_mass);
 }
 
 // Pass adhesion: returns the force on hair point i at x and sets `near` when a particle is
