@@ -8,7 +8,10 @@
 //! lane at a time. On the paper scene with 1,000 particles (a frozen frame 30, one thread)
 //! the pass went from 2.7 ms to 1.2 ms a substep written this way. It then tests a row's
 //! candidates first and pulls the listed ones after (the same pulls in the same order): the
-//! paper scene with 1,000 particles 2.31 -> 2.22 ms a frame on 2 threads.
+//! paper scene with 1,000 particles 2.31 -> 2.22 ms a frame on 2 threads. Where the stability
+//! limit counts a row, its count computes each listed pair's distance, parabola and stiffness
+//! and the pulls take them from it (`Terms`) instead of computing them again: 6-15 % of the
+//! paper scene's frame with 1,000 drops, 2-5 % left (docs/PERFORMANCE.md, 2026-12-01).
 
 use super::absorb::WetRow;
 use super::adhesion::{Reaction, MIN_DISTANCE};
@@ -18,6 +21,15 @@ use std::arch::x86_64::*;
 
 /// The most particles within reach a row lists before it pulls them (the list is on the stack).
 const HIT_BATCH: usize = 32;
+
+/// What a pair's pull and its stiffness share, per lane: the distance, eq. 2's parabola and
+/// [`super::adhesion::pair_stiffness`] before its reach is applied.
+#[derive(Clone, Copy)]
+struct Terms {
+    d: __m256,
+    shell: __m256,
+    stiff: __m256,
+}
 
 /// Sum of the lanes in [`super::lanes::hsum`]'s order: halves first, then pairs.
 #[target_feature(enable = "avx2")]
@@ -47,7 +59,8 @@ fn offset_to(sorted: [&[f32]; 3], slot: u32, hx: __m256, hy: __m256, hz: __m256)
 /// [`super::adhesion::gather_row_lanes`] on AVX2: the same arguments, effects and bits. One
 /// call per row: called per run, the kernel did not inline it and paid a call per run. The
 /// stability limit's sums come from the first list of particles within reach when it holds
-/// all of them (a row with more counts them first, as the lane form does).
+/// all of them, keeping each pair's `Terms` for its pull (a row with more counts them first,
+/// as the lane form does).
 ///
 /// # Safety
 /// The CPU must support AVX2 (callers check `is_x86_feature_detected!("avx2")` once).
@@ -94,6 +107,23 @@ pub unsafe fn gather_row_lanes(
     // each candidate's test (about half pass) went each way at random; listed first, the
     // pulls' long chains (square root, two divisions, three lane sums) also overlap.
     let mut hits = [0u32; HIT_BATCH];
+    // Each listed particle's distance, profile and pair stiffness per lane, when the
+    // stability limit's count computed them (written before they are read: no zeroing).
+    let mut terms = [std::mem::MaybeUninit::<Terms>::uninit(); HIT_BATCH];
+    let shell_terms = |d2: __m256| -> Terms {
+        let d = _mm256_sqrt_ps(d2);
+        let u = _mm256_div_ps(_mm256_sub_ps(_mm256_sub_ps(_mm256_mul_ps(two, d), rmin), rmax), width);
+        let shell = _mm256_sub_ps(one, _mm256_mul_ps(u, u));
+        // `adhesion::pair_stiffness`: the larger of u and (r_max - r_min) g / 4d, the latter
+        // at most 1.
+        let across = _mm256_min_ps(_mm256_div_ps(_mm256_mul_ps(quarter, shell), d), one);
+        Terms {
+            d,
+            shell,
+            stiff: _mm256_max_ps(u, across),
+        }
+    };
+    let weighted = _mm256_cmp_ps::<_CMP_GT_OQ>(load(weight), zero);
     let (mut r, mut slot) = (0, runs.first().map_or(0, |run| run.0));
     while r < runs.len() {
         let mut n = 0;
@@ -111,17 +141,36 @@ pub unsafe fn gather_row_lanes(
                 slot = runs.get(r).map_or(0, |run| run.0);
             }
         }
+        let mut counted = false;
         if !limited {
             limited = true;
             let strength = |slot| wet.as_deref().map_or(s, |w| w.strength(slot));
-            let w = if r >= runs.len() {
-                limit.listed_weights(x, weight, inv_mass, &hits[..n], sorted, strength)
-            } else {
-                limit.row_weights(x, weight, inv_mass, runs, sorted, strength)
-            };
-            share = load(&w);
+            if r < runs.len() {
+                // More within reach than one list holds: the lane form's count over the runs.
+                share = load(&limit.row_weights(x, weight, inv_mass, runs, sorted, strength));
+            } else if n as u32 > limit.free {
+                // `PullLimit::listed_weights`, with each pair's terms kept for its pull.
+                let mut sum = zero;
+                for (k, &slot) in hits[..n].iter().enumerate() {
+                    let (_, d2) = offset_to(sorted, slot, hx, hy, hz);
+                    let t = shell_terms(d2);
+                    let keep = _mm256_and_ps(
+                        _mm256_cmp_ps::<_CMP_LE_OQ>(d2, r2),
+                        _mm256_cmp_ps::<_CMP_GE_OQ>(d2, min2),
+                    );
+                    let stiff = _mm256_mul_ps(_mm256_set1_ps(strength(slot)), _mm256_and_ps(t.stiff, keep));
+                    let inside = _mm256_and_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(d2, r2), weighted);
+                    sum = _mm256_add_ps(sum, _mm256_and_ps(stiff, inside));
+                    terms[k].write(t);
+                }
+                let mut stiffness = [0.0f32; W];
+                // SAFETY: `stiffness` holds W = 8 f32.
+                unsafe { _mm256_storeu_ps(stiffness.as_mut_ptr(), sum) };
+                share = load(&limit.limited(weight, inv_mass, &stiffness));
+                counted = true;
+            }
         }
-        for &slot in &hits[..n] {
+        for (k, &slot) in hits[..n].iter().enumerate() {
             let ((dx, dy, dz), d2) = offset_to(sorted, slot, hx, hy, hz);
             let within = _mm256_cmp_ps::<_CMP_LE_OQ>(d2, r2);
             // The mask's 0 or 1 where within r_max, else 0 (the lane form's `inside`).
@@ -141,16 +190,15 @@ pub unsafe fn gather_row_lanes(
                 None => s,
             };
             // `force_scale`: s g(d) / d inside the reach and above MIN_DISTANCE, else 0.
-            let d = _mm256_sqrt_ps(d2);
-            let u = _mm256_div_ps(_mm256_sub_ps(_mm256_sub_ps(_mm256_mul_ps(two, d), rmin), rmax), width);
-            let shell = _mm256_sub_ps(one, _mm256_mul_ps(u, u));
+            let Terms { d, shell, stiff } = if counted {
+                // SAFETY: the count wrote the terms of each of the `n` listed particles.
+                unsafe { terms[k].assume_init() }
+            } else {
+                shell_terms(d2)
+            };
             let v = _mm256_div_ps(_mm256_mul_ps(_mm256_set1_ps(s_j), shell), d);
             let keep = _mm256_and_ps(within, _mm256_cmp_ps::<_CMP_GE_OQ>(d2, min2));
             let scale = _mm256_mul_ps(_mm256_and_ps(v, keep), share);
-            // `adhesion::pair_stiffness`: the larger of u and (r_max - r_min) g / 4d, the
-            // latter at most 1.
-            let across = _mm256_min_ps(_mm256_div_ps(_mm256_mul_ps(quarter, shell), d), one);
-            let stiff = _mm256_max_ps(u, across);
             let (fx, fy, fz) = (
                 _mm256_mul_ps(scale, dx),
                 _mm256_mul_ps(scale, dy),

@@ -23,10 +23,9 @@
 //! the shell's outer edge, where the pull is held by nothing (its slope there lets go), as
 //! stiffly as one at the inner edge: on the TressFX ponytail under 1,000 drops of 10 mg it
 //! held the tips' clumping at 7.6 mm after 2 s at 4 substeps against 4.4 at 64; with each
-//! pair's own stiffness it is 4.9 against 4.1. The pair's two forces take
-//! the same factor, so momentum is conserved as before. As `h → 0` the factor goes to 1: more
-//! substeps give more of eq. 2, and the f64 reference (`reference.rs`, the limit `h → 0`)
-//! has none.
+//! pair's own stiffness it is 4.9 against 4.1. The pair's two forces take the same factor, so
+//! momentum is conserved as before. As `h → 0` the factor goes to 1: more substeps give more
+//! of eq. 2, and the f64 reference (`reference.rs`, the limit `h → 0`) has none.
 //!
 //! A particle is held to the same limit from its side ([`particle_limit`]): drops sit where
 //! the hair clumps around them, up to 430 of the paper scene's points within one drop's reach,
@@ -34,9 +33,9 @@
 //! symplectic Euler's bound at the paper's 4 substeps. Such drops rang and were flung out: of
 //! 1,000 drops in the paper scene's hair, 360 were left after 60 frames against 736 at 16
 //! substeps, and 10 mg drops left at 64 m/s. It sums the same pair stiffnesses as the hair
-//! side, from the particle's side of each pair. While it acts the particle's response to its forces, not the forces, takes the
-//! factor, so momentum is not conserved then (the hair takes the full pull, the drop a part);
-//! where it rests, nothing changes.
+//! side, from the particle's side of each pair. While it acts the particle's response to its
+//! forces, not the forces, takes the factor, so momentum is not conserved then (the hair
+//! takes the full pull, the drop a part); where it rests, nothing changes.
 
 use super::adhesion::pair_stiffness;
 use super::lanes::{Lane, L3, W};
@@ -199,6 +198,13 @@ impl PullLimit {
             return *weight;
         }
         let stiffness = self.stiffness_in_reach(x, weight, slots, sorted, strength);
+        self.limited(weight, inv_mass, &stiffness)
+    }
+
+    /// A row's lane weights with the limit applied, from each lane's summed stiffness (what
+    /// `stiffness_in_reach` sums; the AVX2 gather sums it beside its pulls).
+    #[inline(always)]
+    pub fn limited(&self, weight: &Lane, inv_mass: &Lane, stiffness: &Lane) -> Lane {
         std::array::from_fn(|l| weight[l] * pull_limit(self.slope_h2, stiffness[l], weight[l], inv_mass[l]))
     }
 

@@ -96,7 +96,7 @@ fn mark_near(i: u32) {
 }
 
 // physics/pull_limit.rs `pull_limit`: the factor on a hair point's pulls, 1 while
-// q = slope_h2 strengths weight inv_mass stays within the limit, else LIMIT / q.
+// q = slope_h2 stiffness weight inv_mass stays within the limit, else LIMIT / q.
 fn pull_limit(stiffness: f32, weight: f32, inv_mass: f32) -> f32 {
     let q = P.pull_slope_h2 * stiffness * weight * inv_mass;
     if (q > PULL_STIFFNESS_LIMIT) {
@@ -105,9 +105,9 @@ fn pull_limit(stiffness: f32, weight: f32, inv_mass: f32) -> f32 {
     return 1.0;
 }
 
-// physics/pull_limit.rs `particle_limit`: the factor on a particle's response to its forces, from how
-// stiffly the hair holds it (`stiffness`) and its strength over its mass (eq. 2's s over a
-// full particle's mass, whatever water it holds).
+// physics/pull_limit.rs `particle_limit`: the factor on a particle's response to its
+// forces, from how stiffly the hair holds it (`stiffness`) and its strength over its mass
+// (eq. 2's s over a full particle's mass, whatever water it holds).
 fn particle_limit(stiffness: f32) -> f32 {
     return pull_limit(P.adhesion * P.particle_inv_mass, stiffness, 1.0);
 }
