@@ -148,18 +148,17 @@ pub unsafe fn gather_row_lanes(
             if r < runs.len() {
                 // More within reach than one list holds: the lane form's count over the runs.
                 share = load(&limit.row_weights(x, weight, inv_mass, runs, sorted, strength));
-            } else if n as u32 > limit.free {
-                // `PullLimit::listed_weights`, with each pair's terms kept for its pull.
+            } else if limit.counts(n as u32) {
+                // `PullLimit::row_weights` over the list (the particles left out add nothing
+                // to any lane's sum: the same bits), with each pair's terms kept for its pull.
                 let mut sum = zero;
                 for (k, &slot) in hits[..n].iter().enumerate() {
                     let (_, d2) = offset_to(sorted, slot, hx, hy, hz);
                     let t = shell_terms(d2);
-                    let keep = _mm256_and_ps(
-                        _mm256_cmp_ps::<_CMP_LE_OQ>(d2, r2),
-                        _mm256_cmp_ps::<_CMP_GE_OQ>(d2, min2),
-                    );
+                    let within = _mm256_cmp_ps::<_CMP_LE_OQ>(d2, r2);
+                    let keep = _mm256_and_ps(within, _mm256_cmp_ps::<_CMP_GE_OQ>(d2, min2));
                     let stiff = _mm256_mul_ps(_mm256_set1_ps(strength(slot)), _mm256_and_ps(t.stiff, keep));
-                    let inside = _mm256_and_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(d2, r2), weighted);
+                    let inside = _mm256_and_ps(within, weighted);
                     sum = _mm256_add_ps(sum, _mm256_and_ps(stiff, inside));
                     terms[k].write(t);
                 }

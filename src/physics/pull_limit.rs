@@ -164,24 +164,6 @@ impl PullLimit {
         self.weights(x, weight, inv_mass, candidates, slots, sorted, strength)
     }
 
-    /// [`PullLimit::row_weights`] from `listed`: the grid slots, in grid order, of the
-    /// particles within `r_max` of some lane of the row (the AVX2 gather's list); the same
-    /// bits, since the particles left out add nothing to any lane's sum.
-    #[inline]
-    #[allow(clippy::too_many_arguments)]
-    pub fn listed_weights(
-        &self,
-        x: &L3,
-        weight: &Lane,
-        inv_mass: &Lane,
-        listed: &[u32],
-        sorted: [&[f32]; 3],
-        strength: impl Fn(u32) -> f32,
-    ) -> Lane {
-        let slots = listed.iter().copied();
-        self.weights(x, weight, inv_mass, listed.len() as u32, slots, sorted, strength)
-    }
-
     #[inline]
     #[allow(clippy::too_many_arguments)]
     fn weights(
@@ -194,15 +176,23 @@ impl PullLimit {
         sorted: [&[f32]; 3],
         strength: impl Fn(u32) -> f32,
     ) -> Lane {
-        if candidates <= self.free {
+        if !self.counts(candidates) {
             return *weight;
         }
         let stiffness = self.stiffness_in_reach(x, weight, slots, sorted, strength);
         self.limited(weight, inv_mass, &stiffness)
     }
 
+    /// Whether a row with `candidates` particles that may be within its reach must count
+    /// them: past [`PullLimit::free`], some lane could reach the limit.
+    #[inline(always)]
+    pub fn counts(&self, candidates: u32) -> bool {
+        candidates > self.free
+    }
+
     /// A row's lane weights with the limit applied, from each lane's summed stiffness (what
-    /// `stiffness_in_reach` sums; the AVX2 gather sums it beside its pulls).
+    /// `stiffness_in_reach` sums; the AVX2 gather sums it over its list of particles within
+    /// reach, beside its pulls).
     #[inline(always)]
     pub fn limited(&self, weight: &Lane, inv_mass: &Lane, stiffness: &Lane) -> Lane {
         std::array::from_fn(|l| weight[l] * pull_limit(self.slope_h2, stiffness[l], weight[l], inv_mass[l]))
