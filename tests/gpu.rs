@@ -1646,7 +1646,14 @@ fn gpu_devices_close_leaving_nothing_behind() {
     let after = process_footprint();
     eprintln!("30 device cycles: (fds, threads, resident bytes) {before:?} -> {after:?}");
     assert_eq!(after.0, before.0, "file descriptors left open by 30 closed devices");
-    assert_eq!(after.1, before.1, "threads left running by 30 closed devices");
+    // A leak shows as more threads; fewer is the driver's own pool letting a worker go
+    // (lavapipe did once in CI, 8 -> 7, on 2026-12-01).
+    assert!(
+        after.1 <= before.1,
+        "threads left running by 30 closed devices: {} -> {}",
+        before.1,
+        after.1
+    );
     assert!(
         after.2 < before.2 + (16 << 20),
         "30 closed devices left {} MiB more resident",
