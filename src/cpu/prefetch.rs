@@ -21,7 +21,12 @@ pub fn line<T>(p: *const T) {
 /// Asks for every line `items` spans.
 #[inline(always)]
 pub fn lines<T>(items: &[T]) {
-    let (start, bytes) = (items.as_ptr() as *const u8, std::mem::size_of_val(items));
+    span(items.as_ptr() as *const u8, std::mem::size_of_val(items));
+}
+
+/// Asks for every line of the `bytes` bytes from `start` (any address: nothing is read).
+#[inline(always)]
+fn span(start: *const u8, bytes: usize) {
     if bytes == 0 {
         return;
     }
@@ -31,4 +36,19 @@ pub fn lines<T>(items: &[T]) {
         line(start.wrapping_add(off));
     }
     line(start.wrapping_add(bytes - 1));
+}
+
+/// Asks for what block `b`'s substep reads first, whose `rows` state rows start at `state`:
+/// the state, the rows' parameters and its pinned rows' rest positions.
+#[inline(always)]
+pub(super) fn next_block(ctx: &super::kernel::Ctx, b: usize, state: *const super::layout::StateRow, rows: usize) {
+    let row = b * rows;
+    span(
+        state as *const u8,
+        rows * std::mem::size_of::<super::layout::StateRow>(),
+    );
+    lines(&ctx.params[row..row + rows]);
+    for r in (row..row + rows).filter(|&r| ctx.lay.pinned_row[r]) {
+        lines(std::slice::from_ref(&ctx.lay.rest_local[r]));
+    }
 }

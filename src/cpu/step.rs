@@ -638,6 +638,7 @@ impl CpuBackend {
                 }),
             }),
         };
+        let lock_step = subs.len() == 1;
         let run = |k: usize,
                    state: &mut [StateRow],
                    wet: &mut [Lane],
@@ -649,7 +650,13 @@ impl CpuBackend {
             worker.demands.clear();
             worker.demand_spans.clear();
             let first = k * per_chunk;
+            let (blocks, at) = (state.len() / rows, state.as_ptr());
             for (j, rows_b) in state.chunks_mut(rows).enumerate() {
+                // In lock step every block's rows have left the cache since its last substep:
+                // the next block's are asked for now, while this one runs.
+                if lock_step && j + 1 < blocks {
+                    super::prefetch::next_block(&ctx, first + j + 1, at.wrapping_add((j + 1) * rows), rows);
+                }
                 let wet_b = if wet.is_empty() {
                     &mut [][..]
                 } else {
