@@ -31,13 +31,20 @@ struct Terms {
     stiff: __m256,
 }
 
-/// Sum of the lanes in [`super::lanes::hsum`]'s order: halves first, then pairs.
+/// The sums of the lanes of `a`, `b`, `c` and `d` in [`super::lanes::hsum`]'s order (halves
+/// first, then pairs: (0 + 2) + (1 + 3)), as the lanes of one vector: the same additions in
+/// the same order, so the same bits, with one transpose of four half-sums instead of four
+/// reductions.
 #[target_feature(enable = "avx2")]
 #[inline]
-fn hsum(a: __m256) -> f32 {
-    let s4 = _mm_add_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps::<1>(a));
-    let t = _mm_add_ps(s4, _mm_movehl_ps(s4, s4));
-    _mm_cvtss_f32(_mm_add_ss(t, _mm_shuffle_ps::<1>(t, t)))
+fn hsum4(a: __m256, b: __m256, c: __m256, d: __m256) -> __m128 {
+    let half = |v: __m256| _mm_add_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
+    let (a, b, c, d) = (half(a), half(b), half(c), half(d));
+    let (ab01, cd01) = (_mm_unpacklo_ps(a, b), _mm_unpacklo_ps(c, d));
+    let (ab23, cd23) = (_mm_unpackhi_ps(a, b), _mm_unpackhi_ps(c, d));
+    let (e0, e1) = (_mm_movelh_ps(ab01, cd01), _mm_movehl_ps(cd01, ab01));
+    let (e2, e3) = (_mm_movelh_ps(ab23, cd23), _mm_movehl_ps(cd23, ab23));
+    _mm_add_ps(_mm_add_ps(e0, e2), _mm_add_ps(e1, e3))
 }
 
 /// From a row's lanes (`hx`, `hy`, `hz`) to particle `slot` of `sorted`: the offset and its
@@ -206,10 +213,18 @@ pub unsafe fn gather_row_lanes(
             ax = _mm256_add_ps(ax, fx);
             ay = _mm256_add_ps(ay, fy);
             az = _mm256_add_ps(az, fz);
+            // The forces' lane sums negated, and the stiffness's.
+            let sums = _mm_xor_ps(
+                hsum4(fx, fy, fz, _mm256_mul_ps(_mm256_and_ps(stiff, keep), share)),
+                _mm_setr_ps(-0.0, -0.0, -0.0, 0.0),
+            );
+            let mut r = [0.0f32; 4];
+            // SAFETY: `r` holds 4 f32.
+            unsafe { _mm_storeu_ps(r.as_mut_ptr(), sums) };
             reactions.push(Reaction {
                 slot,
-                f: [-hsum(fx), -hsum(fy), -hsum(fz)],
-                stiffness: hsum(_mm256_mul_ps(_mm256_and_ps(stiff, keep), share)),
+                f: [r[0], r[1], r[2]],
+                stiffness: r[3],
             });
         }
     }
