@@ -1613,8 +1613,9 @@ fn both_reaction_forms_give_the_same_bits() {
 /// own device, so a device that outlived its simulation would pile up driver handles, threads
 /// and memory; and a driver loaded again for each would run out of static TLS (NVIDIA's did,
 /// at the 31st, before devices shared the process's one instance: `gpu::device::instance`).
-/// Thirty cycles of create, step, read, drop must leave the process's descriptors and threads where they were, and its resident memory
-/// within 16 MiB. The counts see every thread of the process, so the check runs in a child
+/// Thirty cycles of create, step, read, drop must leave the process's descriptors where they
+/// were, its threads within the driver's own pool's drift of two (a leak of one a device is
+/// 30), and its resident memory within 16 MiB. The counts see every thread of the process, so the check runs in a child
 /// process of this test binary with only this test selected.
 #[test]
 #[cfg(target_os = "linux")]
@@ -1646,10 +1647,11 @@ fn gpu_devices_close_leaving_nothing_behind() {
     let after = process_footprint();
     eprintln!("30 device cycles: (fds, threads, resident bytes) {before:?} -> {after:?}");
     assert_eq!(after.0, before.0, "file descriptors left open by 30 closed devices");
-    // A leak shows as more threads; fewer is the driver's own pool letting a worker go
-    // (lavapipe did once in CI, 8 -> 7, on 2026-12-01).
+    // A device's threads left running would show as 30 more (or a multiple). Lavapipe's own
+    // pool moves by one either way between runs: 8 -> 7 and 7 -> 8 in two clean CI runs
+    // (2026-12-01 and 2026-12-02), each after passes of the same code. So the bound is two.
     assert!(
-        after.1 <= before.1,
+        after.1 <= before.1 + 2,
         "threads left running by 30 closed devices: {} -> {}",
         before.1,
         after.1
