@@ -159,26 +159,10 @@ impl PullLimit {
         sorted: [&[f32]; 3],
         strength: impl Fn(u32) -> f32,
     ) -> Lane {
-        let candidates = runs.iter().map(|&(a, e)| e - a).sum();
-        let slots = runs.iter().flat_map(|&(a, e)| a..e);
-        self.weights(x, weight, inv_mass, candidates, slots, sorted, strength)
-    }
-
-    #[inline]
-    #[allow(clippy::too_many_arguments)]
-    fn weights(
-        &self,
-        x: &L3,
-        weight: &Lane,
-        inv_mass: &Lane,
-        candidates: u32,
-        slots: impl Iterator<Item = u32>,
-        sorted: [&[f32]; 3],
-        strength: impl Fn(u32) -> f32,
-    ) -> Lane {
-        if !self.counts(candidates) {
+        if !self.counts(runs.iter().map(|&(a, e)| e - a).sum()) {
             return *weight;
         }
+        let slots = runs.iter().flat_map(|&(a, e)| a..e);
         let stiffness = self.stiffness_in_reach(x, weight, slots, sorted, strength);
         self.limited(weight, inv_mass, &stiffness)
     }
