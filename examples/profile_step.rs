@@ -10,7 +10,8 @@
 //! `GPU=1`: on the GPU backend, so a GPU change is held to the same hash; `LEDGER=1`: where the
 //! water is at the end, as shares of what was added, and the drops in flight and gone;
 //! `PER_LENGTH=1`: eq. 2's pull and the air drag quoted per 2 cm of hair, as
-//! `wethair_sim_desc_init` gives them, instead of per point).
+//! `wethair_sim_desc_init` gives them, instead of per point; `PILES=1`: how many places the
+//! drops sit at, and the pairs were each place one drop).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -198,6 +199,54 @@ fn main() {
                 .count();
             println!("margin {margin} m: {near} of {strands} strands within r_max + margin of a particle");
         }
+    }
+    // PILES=1: where the drops sit at the end: how many places they occupy (bit for bit, and
+    // in cells of 0.1, 0.5 and 1 mm, a cell's drops counted once at their mean), how many
+    // sit at the place of the drop before them in the grid's order, and the hair points
+    // within r_max summed over drops, over places, and over each cell size's places: what
+    // the pairs would be were the drops at one place one drop.
+    if std::env::var_os("PILES").is_some() {
+        let w = sim.water_positions().expect("positions");
+        let (x, r) = (sim.positions(), sim.params().water.r_max);
+        let mut g = wethair::physics::grid::Grid::new(x.len(), r);
+        g.build(&x);
+        let pairs = |q: &[glam::Vec3]| -> usize {
+            let mut n = 0;
+            for &p in q {
+                g.for_each_candidate(p, r, |i| n += ((x[i as usize] - p).length() <= r) as usize);
+            }
+            n
+        };
+        let bits = |p: &glam::Vec3| p.to_array().map(f32::to_bits);
+        let next = w.windows(2).filter(|p| bits(&p[0]) == bits(&p[1])).count();
+        let places: std::collections::BTreeSet<[u32; 3]> = w.iter().map(bits).collect();
+        let places: Vec<glam::Vec3> = places
+            .iter()
+            .map(|b| glam::Vec3::from_array(b.map(f32::from_bits)))
+            .collect();
+        print!(
+            "piles: {} drops at {} places ({} beside their pile's last in grid order); pairs: {} by drop, {} by place",
+            w.len(),
+            places.len(),
+            next,
+            pairs(&w),
+            pairs(&places)
+        );
+        for cell in [1.0e-4f32, 5.0e-4, 1.0e-3] {
+            let mut sums = std::collections::BTreeMap::<[i32; 3], (glam::Vec3, f32)>::new();
+            for &p in &w {
+                let e = sums.entry((p / cell).floor().as_ivec3().to_array()).or_default();
+                *e = (e.0 + p, e.1 + 1.0);
+            }
+            let means: Vec<glam::Vec3> = sums.values().map(|&(s, n)| s / n).collect();
+            print!(
+                "; {:.1} mm cells: {} places, {} pairs",
+                cell * 1e3,
+                means.len(),
+                pairs(&means)
+            );
+        }
+        println!();
     }
     // CLUMP=1: the clumping measures at the end (tips, and along the strands), m.
     if std::env::var_os("CLUMP").is_some() {
