@@ -1615,8 +1615,8 @@ fn both_reaction_forms_give_the_same_bits() {
 /// at the 31st, before devices shared the process's one instance: `gpu::device::instance`).
 /// Thirty cycles of create, step, read, drop must leave the process's descriptors where they
 /// were, its threads within the driver's own pool's drift of two (a leak of one a device is
-/// 30), and its resident memory within 16 MiB. The counts see every thread of the process, so the check runs in a child
-/// process of this test binary with only this test selected.
+/// 30), and its resident memory within 16 MiB. The counts see every thread of the process, so
+/// the check runs in a child process of this test binary with only this test selected.
 #[test]
 #[cfg(target_os = "linux")]
 fn gpu_devices_close_leaving_nothing_behind() {

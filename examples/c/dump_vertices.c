@@ -26,12 +26,9 @@ int main(int argc, char **argv) {
     }
     wh_check(wethair_sim_add_water(sim, pos, NULL, 40), "wethair_sim_add_water");
     for (int f = 0; f < frames; f++) wh_check(wethair_sim_step(sim, 1.0f / 60.0f), "wethair_sim_step");
-    WetHairVertexLayout lay = {0};
-    lay.struct_size = sizeof lay;
-    wh_check(wethair_sim_get_vertex_layout(sim, &lay), "wethair_sim_get_vertex_layout");
-    size_t cap = (size_t)lay.vertex_count * lay.stride_floats, written = 0;
-    float *v = malloc(cap * sizeof *v);
-    if (!v) return 1;
+    WetHairVertexLayout lay;
+    size_t cap, written = 0;
+    float *v = wh_vertex_buffer(sim, &lay, &cap);
     wh_check(wethair_sim_get_vertex_buffer(sim, v, cap, &written), "wethair_sim_get_vertex_buffer");
     FILE *f = fopen(argv[3], "wb");
     if (!f || fwrite(v, sizeof *v, written, f) != written || fclose(f) != 0) {

@@ -14,12 +14,9 @@
 
 /* Reads a simulation's vertices and renders them into the panel at column x0. */
 static void draw_sim(WetHairSim *sim, uint8_t *img, int img_w, int x0, int pw, int ph, int ss, int head) {
-    WetHairVertexLayout lay = {0};
-    lay.struct_size = sizeof lay;
-    wh_check(wethair_sim_get_vertex_layout(sim, &lay), "wethair_sim_get_vertex_layout");
-    size_t cap = (size_t)lay.vertex_count * lay.stride_floats, written = 0;
-    float *verts = malloc(cap * sizeof *verts);
-    if (!verts) exit(1);
+    WetHairVertexLayout lay;
+    size_t cap, written = 0;
+    float *verts = wh_vertex_buffer(sim, &lay, &cap);
     wh_check(wethair_sim_get_vertex_buffer(sim, verts, cap, &written), "wethair_sim_get_vertex_buffer");
     render_panel(sim, verts, &lay, img, img_w, x0, pw, ph, ss, head);
     free(verts);
@@ -60,12 +57,9 @@ static int run_strip(const char *out, const WetHairGroom *groom, uint32_t backen
     wh_check(wethair_sim_create(&desc, &wet), "wethair_sim_create");
     /* A frame is timed as its step and its vertex read: on the GPU backend a step only
      * submits, and the read is what waits for the device. */
-    WetHairVertexLayout lay = {0};
-    lay.struct_size = sizeof lay;
-    wh_check(wethair_sim_get_vertex_layout(wet, &lay), "wethair_sim_get_vertex_layout");
-    size_t cap = (size_t)lay.vertex_count * lay.stride_floats, written = 0;
-    float *verts = malloc(cap * sizeof *verts);
-    if (!verts) return 1;
+    WetHairVertexLayout lay;
+    size_t cap, written = 0;
+    float *verts = wh_vertex_buffer(wet, &lay, &cap);
 
     enum { PANELS = 5 };
     static const char *names[PANELS] = {"dry", "soaked", "dripping", "half dry", "dry again"};
@@ -187,12 +181,9 @@ int main(int argc, char **argv) {
     double ms[2] = {0, 0};
     /* Timed: the steps plus one final vertex read, which waits for a GPU to finish them. */
     for (int k = 0; k < 2; k++) {
-        WetHairVertexLayout lay = {0};
-        lay.struct_size = sizeof lay;
-        wh_check(wethair_sim_get_vertex_layout(sims[k], &lay), "wethair_sim_get_vertex_layout");
-        size_t cap = (size_t)lay.vertex_count * lay.stride_floats, written = 0;
-        float *sync = malloc(cap * sizeof *sync);
-        if (!sync) return 1;
+        WetHairVertexLayout lay;
+        size_t cap, written = 0;
+        float *sync = wh_vertex_buffer(sims[k], &lay, &cap);
         uint32_t added = 0;
         for (uint32_t f = 0; f < frames; f++) {
             if (k == 1 && added < particles) {

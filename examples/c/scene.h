@@ -115,4 +115,19 @@ static inline WetHairStats wh_stats(const WetHairSim *sim) {
     return st;
 }
 
+/* A buffer for a simulation's vertices: fills `lay` (struct_size set first, as the API asks)
+ * and `cap` (floats), and exits when out of memory. The caller frees it. */
+static inline float *wh_vertex_buffer(const WetHairSim *sim, WetHairVertexLayout *lay, size_t *cap) {
+    memset(lay, 0, sizeof *lay);
+    lay->struct_size = sizeof *lay;
+    wh_check(wethair_sim_get_vertex_layout(sim, lay), "wethair_sim_get_vertex_layout");
+    *cap = (size_t)lay->vertex_count * lay->stride_floats;
+    float *v = malloc(*cap * sizeof *v);
+    if (!v) {
+        fprintf(stderr, "out of memory for %zu vertex floats\n", *cap);
+        exit(1);
+    }
+    return v;
+}
+
 #endif

@@ -48,12 +48,10 @@ static int fixed_steps(uint32_t backend) {
     WetHairSim *sim = NULL;
     wh_check(wethair_sim_create(&desc, &sim), "wethair_sim_create (fixed steps)");
     wethair_groom_destroy(groom);
-    WetHairVertexLayout layout = {0};
-    layout.struct_size = sizeof layout;
-    wh_check(wethair_sim_get_vertex_layout(sim, &layout), "wethair_sim_get_vertex_layout");
-    size_t cap = (size_t)layout.vertex_count * layout.stride_floats, written = 0;
-    float *a = malloc(cap * sizeof *a), *b = malloc(cap * sizeof *b);
-    if (!a || !b) return 1;
+    WetHairVertexLayout layout;
+    size_t cap, written = 0;
+    float *a = wh_vertex_buffer(sim, &layout, &cap), *b = malloc(cap * sizeof *b);
+    if (!b) return 1;
     uint32_t steps = 0;
     int ok = 1;
     for (int f = 0; f < 144; f++) {
@@ -90,13 +88,10 @@ static int skinned_roots(uint32_t backend) {
     WetHairSim *sim = NULL;
     wh_check(wethair_sim_create(&desc, &sim), "wethair_sim_create (skinned roots)");
     wethair_groom_destroy(groom);
-    WetHairVertexLayout layout = {0};
-    layout.struct_size = sizeof layout;
-    wh_check(wethair_sim_get_vertex_layout(sim, &layout), "wethair_sim_get_vertex_layout");
-    size_t cap = (size_t)layout.vertex_count * layout.stride_floats, written = 0;
-    float *v = malloc(cap * sizeof *v);
+    WetHairVertexLayout layout;
+    size_t cap, written = 0;
+    float *v = wh_vertex_buffer(sim, &layout, &cap);
     float pos[STRANDS * 3], rot[STRANDS * 4];
-    if (!v) return 1;
     /* The rest pose's roots: the first vertex of each strand. */
     wh_check(wethair_sim_get_vertex_buffer(sim, v, cap, &written), "wethair_sim_get_vertex_buffer");
     const float s = 0.70710678f;
@@ -148,13 +143,11 @@ int main(int argc, char **argv) {
     wh_print_backend(wet);
     if (lose) return lose_device(dry, wet);
 
-    WetHairVertexLayout layout = {0};
-    layout.struct_size = sizeof layout;
-    wh_check(wethair_sim_get_vertex_layout(wet, &layout), "wethair_sim_get_vertex_layout");
-    size_t cap = (size_t)layout.vertex_count * layout.stride_floats;
-    float *verts = malloc(cap * sizeof *verts);
+    WetHairVertexLayout layout;
+    size_t cap;
+    float *verts = wh_vertex_buffer(wet, &layout, &cap);
     float *pos = malloc(3 * per_frame * sizeof *pos), *vel = malloc(3 * per_frame * sizeof *vel);
-    if (!verts || !pos || !vel) return 1;
+    if (!pos || !vel) return 1;
 
     /* Dry first, then wet: each simulation has its own worker pool, and running them one
      * after the other keeps one pool's idle spinning out of the other's timing. A frame is
