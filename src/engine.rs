@@ -242,6 +242,11 @@ pub trait Engine: std::fmt::Debug + Send {
     fn gpu_grid(&mut self) -> Option<Result<GpuGrid>> {
         None
     }
+    /// How many points searched for liquid bridges in the last step (`wet::bridge_searches`);
+    /// `None` where the scene has no bridges.
+    fn bridge_searches(&mut self) -> Option<Result<u32>> {
+        None
+    }
     /// The vertex buffer as the host's Vulkan sees it (host-shared GPU simulations only).
     #[cfg(feature = "vulkan")]
     fn shared_frame(&mut self) -> Result<crate::gpu::vulkan::SharedFrame> {

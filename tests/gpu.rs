@@ -1204,6 +1204,65 @@ fn liquid_bridges_clump_as_on_the_cpu() {
     }
 }
 
+/// A soaking wets every point at once, and each searches for its bridges first on its turn
+/// (`wet::bridge_searches`), on the GPU as on the CPU: the first step searches only the points
+/// whose host index falls on the step's turn, and each later one the turn's points and those
+/// that searched and found no neighbour. The backends list as many points, step by step.
+#[test]
+fn a_soaking_spreads_its_first_bridge_searches_as_on_the_cpu() {
+    let _serial = serial();
+    let (strands, points) = (2_000u32, 6u32);
+    let groom = paper_scene(strands, points).unwrap();
+    let mut params = SimParams::paper_scene_with_head();
+    params.held_water = wethair::HeldWater {
+        absorb_rate: 0.0,
+        flow_mobility: 0.0,
+        dry_time: 0.0,
+        ..wethair::HeldWater::ON
+    };
+    let Some(mut g) = gpu(&groom, params.clone()) else {
+        return;
+    };
+    let mut c = cpu(&groom, params.clone());
+    for s in [&mut g, &mut c] {
+        s.soak(1.0).unwrap();
+    }
+    // Free points (roots take no part) whose turn has come by step k: host index modulo the
+    // turns at most k.
+    let turns = wethair::physics::wet::BRIDGE_SEARCH_TURNS;
+    let had_turn = |k: u32| {
+        (0..strands)
+            .flat_map(|s| (1..points).map(move |i| s * points + i))
+            .filter(|h| h % turns <= k)
+            .count() as u32
+    };
+    let free = strands * (points - 1);
+    for step in 0..12 {
+        for s in [&mut g, &mut c] {
+            s.step(1.0 / 60.0).unwrap();
+        }
+        let n_gpu = g.bridge_searches().unwrap().unwrap();
+        let n_cpu = c.bridge_searches().unwrap().unwrap();
+        eprintln!("step {step}: {n_cpu} searches on the CPU, {n_gpu} on the GPU, of {free} wet points");
+        if step == 0 {
+            assert_eq!(n_cpu, had_turn(0), "the first step searches its turn only");
+        }
+        // None searches before its first turn.
+        assert!(n_cpu <= had_turn(step), "step {step}: {n_cpu} searched");
+        // From the same soaked rest state the first two steps' searches are the same points;
+        // later the backends' positions part by rounding, and a point at the bridge length may
+        // find a neighbour on one and not the other.
+        if step < 2 {
+            assert_eq!(n_gpu, n_cpu, "step {step}");
+        } else {
+            assert!(
+                n_gpu.abs_diff(n_cpu) <= n_cpu / 50 + 2,
+                "step {step}: GPU {n_gpu}, CPU {n_cpu}"
+            );
+        }
+    }
+}
+
 /// Liquid bridges let go as the hair dries, on the GPU as on the CPU: a soaked groom with a
 /// short drying time clumps, then its points fall below the bridging share of their capacity
 /// one by one, and each must lose its nearest and its bridges then (`bridge_count` clears a

@@ -152,6 +152,11 @@ impl Bridges {
         (&self.free_lanes, &mut self.wet_rows)
     }
 
+    /// How many points searched this step.
+    pub fn searched(&self) -> u32 {
+        self.turn.len() as u32
+    }
+
     /// Whether any pair was found this step (else the cohesion pass is skipped).
     pub fn active(&self) -> bool {
         self.n_pairs > 0
@@ -227,6 +232,7 @@ impl Bridges {
                 if rows[k / W] & (1 << l) == 0 {
                     near[k].local = u32::MAX;
                     near[k].n = 0;
+                    near[k].searched = 0;
                 }
             }
         };
@@ -333,7 +339,8 @@ impl Bridges {
                     m &= m - 1;
                     let me = &mut near[k * W + l];
                     me.local = start[c] + i as u32;
-                    searches[i] = wet::bridge_search_turn(host[r * W + l], turn) || me.n == 0;
+                    let searched = me.searched != 0;
+                    searches[i] = wet::bridge_searches(host[r * W + l], turn, me.n as u32, searched);
                     point[i] = (r * W + l) as u32;
                     pos[i] = state[r].x.get(l);
                     strand[i] = ((r / lay.rows) * W + l) as u32;
@@ -419,7 +426,8 @@ impl Bridges {
         for (&i, (near, n)) in self.turn.iter().zip(&self.found) {
             let p = &mut self.near[self.point[i as usize] as usize];
             p.q = *near;
-            p.n = *n as u32;
+            p.n = *n as u16;
+            p.searched = 1;
         }
         // Keep a pair only when each is among the other's nearest and both are wet (a dry
         // point has no nearest): the bridges are symmetric, so each pair's two forces are
@@ -665,13 +673,15 @@ impl Sources<'_> {
 }
 
 /// A point's nearest wet points of other strands (point indices, sorted ascending, `n` of
-/// them) and its place among this step's wet points (`u32::MAX` when it is not wet): 32
-/// bytes, so the mutual test reads each point's in one cache line.
+/// them), whether it has searched since it became wet (1, else 0), and its place among this
+/// step's wet points (`u32::MAX` when it is not wet): 32 bytes, so the mutual test reads each
+/// point's in one cache line.
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(32))]
 struct Near {
     q: [u32; MAX_BRIDGES],
-    n: u32,
+    n: u16,
+    searched: u16,
     local: u32,
 }
 
@@ -679,6 +689,7 @@ impl Near {
     const NONE: Near = Near {
         q: [0; MAX_BRIDGES],
         n: 0,
+        searched: 0,
         local: u32::MAX,
     };
 }
@@ -756,19 +767,22 @@ mod tests {
         let start = lay.rest_state(&glam::Affine3A::IDENTITY);
         let hw = &params.held_water;
         let d_b = hw.bridge_length_for(&params.water);
+        // As many steps as there are turns: every point has searched.
         let found = || {
             let mut b = Bridges::new(&lay, hw.bridge_tension, d_b);
-            b.find_pairs(
-                &lay,
-                &start,
-                &held.water,
-                &held.capacity,
-                &lay.params,
-                1.0 / 240.0,
-                true,
-                false,
-                None,
-            );
+            for _ in 0..SEARCH_TURNS {
+                b.find_pairs(
+                    &lay,
+                    &start,
+                    &held.water,
+                    &held.capacity,
+                    &lay.params,
+                    1.0 / 240.0,
+                    true,
+                    false,
+                    None,
+                );
+            }
             b
         };
         let (mut blocks_wrote, mut truth) = (found(), found());
@@ -817,5 +831,71 @@ mod tests {
             "most blocks are pulled ({pulled} of {})",
             lay.blocks
         );
+    }
+
+    /// A soaking wets every point at once, and each searches first on its turn: step k
+    /// searches the points whose host index is k modulo the turns, and those that searched
+    /// before and found no neighbour; after a round of turns every point has searched, and
+    /// from then on a point with no neighbour searches every step.
+    #[test]
+    fn a_soaking_spreads_its_first_searches_over_the_turns() {
+        let groom = crate::groom::paper_scene(10_000, 6).unwrap();
+        let params = SimParams {
+            held_water: HeldWater::ON,
+            ..SimParams::paper()
+        };
+        let lay = Layout::new(&groom, &params);
+        let mut held = super::super::held::Held::new(&lay, params.held_water);
+        held.soak(1.0);
+        let start = lay.rest_state(&glam::Affine3A::IDENTITY);
+        let hw = &params.held_water;
+        let mut b = Bridges::new(&lay, hw.bridge_tension, hw.bridge_length_for(&params.water));
+        let mut lonely_searched = 0;
+        for step in 0..2 * SEARCH_TURNS {
+            // Who should search, from the records as the step finds them.
+            let before: Vec<Near> = b.near.clone();
+            b.find_pairs(
+                &lay,
+                &start,
+                &held.water,
+                &held.capacity,
+                &lay.params,
+                1.0 / 240.0,
+                true,
+                false,
+                None,
+            );
+            let wet = b.point.len();
+            assert!(wet > 5_000, "the soaked groom's free points take part ({wet})");
+            let expected: Vec<u32> = (0..wet as u32)
+                .filter(|&i| {
+                    let p = b.point[i as usize] as usize;
+                    let on_turn = b.host[p] % SEARCH_TURNS == step % SEARCH_TURNS;
+                    let lonely = before[p].searched != 0 && before[p].n == 0;
+                    lonely_searched += (lonely && !on_turn) as usize;
+                    on_turn || lonely
+                })
+                .collect();
+            assert_eq!(b.turn, expected, "step {step}");
+            // In the first round only points whose turn has come search: none at once.
+            let had_turn = b
+                .point
+                .iter()
+                .filter(|&&p| b.host[p as usize] % SEARCH_TURNS <= step)
+                .count();
+            assert!(b.turn.len() <= had_turn, "step {step}: {} searched", b.turn.len());
+            if step == 0 {
+                assert!(8 * b.turn.len() < 2 * wet, "{} of {wet} searched first", b.turn.len());
+            }
+            let searched = b.point.iter().filter(|&&p| b.near[p as usize].searched != 0).count();
+            if step + 1 >= SEARCH_TURNS {
+                assert_eq!(searched, wet, "step {step}: every point has searched");
+            }
+        }
+        assert!(
+            lonely_searched > 0,
+            "points that found no neighbour searched again off their turn"
+        );
+        assert!(b.active(), "the soaked groom bridges");
     }
 }

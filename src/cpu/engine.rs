@@ -31,6 +31,10 @@ impl Engine for CpuBackend {
         CpuBackend::clear_water(self)
     }
 
+    fn bridge_searches(&mut self) -> Option<Result<u32>> {
+        self.bridges.as_ref().map(|b| Ok(b.searched()))
+    }
+
     fn particle_room(&self) -> usize {
         let held = self.water.as_ref().map_or(0, |w| w.len());
         (self.params().water.capacity as usize).saturating_sub(held)

@@ -51,7 +51,7 @@ pub struct CpuBackend {
     /// Water held by the hair (None unless the scene has it).
     pub held: Option<super::held::Held>,
     /// Liquid bridges between wet strands (None unless the scene has them).
-    bridges: Option<super::bridges::Bridges>,
+    pub(super) bridges: Option<super::bridges::Bridges>,
     /// The wind this step, m/s.
     wind: Vec3,
     params: SimParams,

@@ -282,7 +282,7 @@ pub fn can_bridge(held: u32, capacity: u32) -> bool {
 pub const MAX_BRIDGES: usize = 6;
 
 /// Each step searches the points whose host index is the step's number modulo this (and every
-/// point that had no neighbour): a point's nearest are at most this many steps (133 ms at
+/// point that searched and found no neighbour, [`bridge_searches`]): a point's nearest are at most this many steps (133 ms at
 /// 60 Hz) old. Bridges form and break over tenths of a second; the search is the model's
 /// dearest part (8 turns cost 15 % less than 4 on the bench's paper scene). 16 would cost
 /// 10 % less again, but the soaked paper scene then no longer stays clumped to 0.7 of dry
@@ -294,6 +294,16 @@ pub const BRIDGE_SEARCH_TURNS: u32 = 8;
 #[inline]
 pub fn bridge_search_turn(host: u32, turn: u32) -> bool {
     host % BRIDGE_SEARCH_TURNS == turn
+}
+
+/// Whether a point that takes part in bridges searches this step: on its turn
+/// ([`bridge_search_turn`]), or when it has searched since it became wet and found no
+/// neighbour (what catches strands that drift within reach). A point that has just become
+/// wet waits for its turn, at most `BRIDGE_SEARCH_TURNS - 1` steps: a soaking wets every
+/// point at once, and each searching at once made that step's search cost eight steps'.
+#[inline]
+pub fn bridge_searches(host: u32, turn: u32, neighbours: u32, searched: bool) -> bool {
+    bridge_search_turn(host, turn) || (neighbours == 0 && searched)
 }
 
 /// The factor `m` such that a bridge of stiffness `c` pulls point i with `m (x_j - x_i)` at

@@ -998,4 +998,11 @@ impl Simulation {
     pub fn gpu_grid(&mut self) -> Option<Result<crate::engine::GpuGrid>> {
         self.engine.gpu_grid()
     }
+
+    /// How many points searched for liquid bridges in the last step, on either backend
+    /// (tests hold the backends to one search rule, `wet::bridge_searches`); `None` where the
+    /// scene has no bridges.
+    pub fn bridge_searches(&mut self) -> Option<Result<u32>> {
+        self.engine.bridge_searches()
+    }
 }

@@ -41,6 +41,9 @@ pub(super) struct BridgesGpu {
     bridge: wgpu::Buffer,
     /// Scan blocks of the bucket table.
     blocks: u32,
+    /// Buckets of the table, and the points it is made for.
+    buckets: u32,
+    points: u32,
     /// Group 0 over state A and B.
     bg: [wgpu::BindGroup; 2],
     /// Group 3 of the hair module's cohesion kernel (the bridge records), and its layout.
@@ -123,12 +126,25 @@ impl BridgesGpu {
             dispatch_bg,
             bridge,
             blocks,
+            buckets,
+            points,
             bg,
             cohesion_layout,
             cohesion_bg,
             pipes,
             step: 0,
         }
+    }
+
+    /// The buffer of bucket starts, entries and the list of searching points.
+    pub(super) fn bucket(&self) -> &wgpu::Buffer {
+        &self.bucket
+    }
+
+    /// The word of `bucket` that holds how many points searched in the last step
+    /// (`bridges.wgsl` `B_SEARCHES`: after the starts, the block sums and the entries).
+    pub(super) fn searches_word(&self) -> u64 {
+        (self.buckets + 1 + self.blocks + self.points) as u64
     }
 
     /// This step's search turn (`wet::bridge_search_turn`), as the step parameters carry it.

@@ -183,6 +183,16 @@ impl Engine for GpuBackend {
         Some(self.read_grid())
     }
 
+    fn bridge_searches(&mut self) -> Option<Result<u32>> {
+        self.bridges.as_ref().map(|b| {
+            let at = b.searches_word();
+            let bytes = self.read_buffers(&[(b.bucket(), 4 * (at + 1))], None)?;
+            Ok(u32::from_le_bytes(
+                bytes[4 * at as usize..4 * at as usize + 4].try_into().unwrap(),
+            ))
+        })
+    }
+
     #[cfg(feature = "vulkan")]
     fn shared_frame(&mut self) -> Result<crate::gpu::vulkan::SharedFrame> {
         GpuBackend::shared_frame(self)

@@ -58,7 +58,8 @@ fn bucket_of(c: vec3<i32>) -> u32 {
     return hash_cell(c) & (BRIDGE_BUCKETS - 1u);
 }
 
-// Point i's flag word: 1 while it takes part (set by bridge_count for the step).
+// Point i's flag word: 0 while it takes no part; set to 1 by bridge_count when it starts to,
+// and to 2 by its first search since (physics/wet.rs `bridge_searches`).
 fn flag_at(i: u32) -> u32 {
     return P.bridge_masks + BRIDGE_POINTS + i;
 }
@@ -69,10 +70,11 @@ fn taking_part(i: u32) -> bool {
     return bridge[flag_at(i)] != 0u;
 }
 
-// Whether point i, taking part, searches this step: its turn (wet::bridge_search_turn), or it
-// has no neighbour (found none, or has just become wet).
-fn searches(i: u32) -> bool {
-    return i % BRIDGE_SEARCH_TURNS == P.bridge_turn || bridge[i * BR_WORDS + BR_COUNT] == 0u;
+// physics/wet.rs `bridge_searches`: whether point i, taking part, searches this step: its
+// turn, or it has searched since it became wet (`flag` 2) and has no neighbour; one that has
+// just become wet waits for its turn.
+fn searches(i: u32, flag: u32) -> bool {
+    return i % BRIDGE_SEARCH_TURNS == P.bridge_turn || (bridge[i * BR_WORDS + BR_COUNT] == 0u && flag == 2u);
 }
 
 // Pass hair_grid, part 1: wet points per bucket, each point's flag, and the list of the points
@@ -87,7 +89,8 @@ fn bridge_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
         return;
     }
     let part = bridge_point(i);
-    let was = bridge[flag_at(i)] != 0u;
+    let flag = bridge[flag_at(i)];
+    let was = flag != 0u;
     if (part != was) {
         bridge[flag_at(i)] = select(0u, 1u, part);
     }
@@ -99,7 +102,7 @@ fn bridge_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
         return;
     }
     atomicAdd(&bucket_count[bucket_of(bridge_cell(state[i].x.xyz))], 1u);
-    if (searches(i)) {
+    if (searches(i, flag)) {
         bucket[B_SEARCH_LIST + atomicAdd(&bucket_count[SEARCH_LISTED], 1u)] = i;
     }
 }
@@ -226,7 +229,7 @@ fn bridge_search_setup() {
 }
 
 // Pass hair_grid, part 4b: each listed point (this turn's, and every wet point with no
-// neighbour yet) finds its MAX_BRIDGES nearest wet points of other strands within the bridge
+// neighbour that has searched since it became wet) finds its MAX_BRIDGES nearest wet points of other strands within the bridge
 // length, as HashGrid::for_each_near_by visits them: the own cell first, then the cells whose
 // nearest face is not beyond the farthest kept. Written in index order. A thread per listed
 // point, so every lane of a subgroup searches (dispatched over all points, seven lanes in
@@ -289,6 +292,7 @@ fn bridge_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups)
         bridge[at + BR_NEAREST + k] = best_q[k];
     }
     bridge[at + BR_COUNT] = best_n;
+    bridge[flag_at(i)] = 2u;
 }
 
 // Pass hair_grid, part 5: the pairs each among the other's nearest (both wet: a point that is
