@@ -1204,6 +1204,17 @@ fn liquid_bridges_clump_as_on_the_cpu() {
     }
 }
 
+/// Held water that only bridges and dries (drying time `dry_time` s, 0 for none): nothing
+/// soaks in or flows, so the bridges' own work shows.
+fn bridging_water(dry_time: f32) -> wethair::HeldWater {
+    wethair::HeldWater {
+        absorb_rate: 0.0,
+        flow_mobility: 0.0,
+        dry_time,
+        ..wethair::HeldWater::ON
+    }
+}
+
 /// A soaking wets every point at once, and each searches for its bridges first on its turn
 /// (`wet::bridge_searches`), on the GPU as on the CPU: the first step searches only the points
 /// whose host index falls on the step's turn, and each later one the turn's points and those
@@ -1214,12 +1225,7 @@ fn a_soaking_spreads_its_first_bridge_searches_as_on_the_cpu() {
     let (strands, points) = (2_000u32, 6u32);
     let groom = paper_scene(strands, points).unwrap();
     let mut params = SimParams::paper_scene_with_head();
-    params.held_water = wethair::HeldWater {
-        absorb_rate: 0.0,
-        flow_mobility: 0.0,
-        dry_time: 0.0,
-        ..wethair::HeldWater::ON
-    };
+    params.held_water = bridging_water(0.0);
     let Some(mut g) = gpu(&groom, params.clone()) else {
         return;
     };
@@ -1274,12 +1280,7 @@ fn liquid_bridges_let_go_as_the_hair_dries_as_on_the_cpu() {
     let _serial = serial();
     let groom = paper_scene(1_000, 6).unwrap();
     let mut params = SimParams::paper_scene_with_head();
-    params.held_water = wethair::HeldWater {
-        absorb_rate: 0.0,
-        flow_mobility: 0.0,
-        dry_time: 0.25,
-        ..wethair::HeldWater::ON
-    };
+    params.held_water = bridging_water(0.25);
     let Some(mut g) = gpu(&groom, params.clone()) else {
         return;
     };

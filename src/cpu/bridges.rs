@@ -750,38 +750,69 @@ mod tests {
     use super::*;
     use crate::params::{HeldWater, SimParams};
 
+    /// The paper scene's 10,000 strands soaked at rest, dense enough that soaked points of
+    /// different strands lie within the bridge length.
+    struct Soaked {
+        lay: Layout,
+        held: super::super::held::Held,
+        start: Vec<StateRow>,
+        params: SimParams,
+    }
+
+    impl Soaked {
+        fn new() -> Soaked {
+            let groom = crate::groom::paper_scene(10_000, 6).unwrap();
+            let params = SimParams {
+                held_water: HeldWater::ON,
+                ..SimParams::paper()
+            };
+            let lay = Layout::new(&groom, &params);
+            let mut held = super::super::held::Held::new(&lay, params.held_water);
+            held.soak(1.0);
+            let start = lay.rest_state(&glam::Affine3A::IDENTITY);
+            Soaked {
+                lay,
+                held,
+                start,
+                params,
+            }
+        }
+
+        /// No pairs yet.
+        fn bridges(&self) -> Bridges {
+            let hw = &self.params.held_water;
+            Bridges::new(&self.lay, hw.bridge_tension, hw.bridge_length_for(&self.params.water))
+        }
+
+        /// One step's search and pairs over the soaked rest state.
+        fn step(&self, b: &mut Bridges) {
+            let (lay, held) = (&self.lay, &self.held);
+            b.find_pairs(
+                lay,
+                &self.start,
+                &held.water,
+                &held.capacity,
+                &lay.params,
+                1.0 / 240.0,
+                true,
+                false,
+                None,
+            );
+        }
+    }
+
     /// The positions the blocks write after a substep are the next substep's, and a block
     /// that does not run (a guide beyond a lowered simulated fraction) keeps the step's: every
     /// block's pulls then equal those packed afresh from the moved state, bit for bit.
     #[test]
     fn positions_written_by_the_blocks_are_the_next_substeps() {
-        // Dense enough that soaked points of different strands lie within the bridge length.
-        let groom = crate::groom::paper_scene(10_000, 6).unwrap();
-        let params = SimParams {
-            held_water: HeldWater::ON,
-            ..SimParams::paper()
-        };
-        let lay = Layout::new(&groom, &params);
-        let mut held = super::super::held::Held::new(&lay, params.held_water);
-        held.soak(1.0);
-        let start = lay.rest_state(&glam::Affine3A::IDENTITY);
-        let hw = &params.held_water;
-        let d_b = hw.bridge_length_for(&params.water);
+        let soaked = Soaked::new();
+        let (lay, start) = (&soaked.lay, &soaked.start);
         // As many steps as there are turns: every point has searched.
         let found = || {
-            let mut b = Bridges::new(&lay, hw.bridge_tension, d_b);
+            let mut b = soaked.bridges();
             for _ in 0..SEARCH_TURNS {
-                b.find_pairs(
-                    &lay,
-                    &start,
-                    &held.water,
-                    &held.capacity,
-                    &lay.params,
-                    1.0 / 240.0,
-                    true,
-                    false,
-                    None,
-                );
+                soaked.step(&mut b);
             }
             b
         };
@@ -797,7 +828,7 @@ mod tests {
                 row.x.z[l] -= 2.0e-4 * ((r * 3 + l) % 5) as f32;
             }
         }
-        blocks_wrote.pack(&start, 0.0, None);
+        blocks_wrote.pack(start, 0.0, None);
         {
             let (c, mut next) = blocks_wrote.cohesion(chunk);
             for (k, part) in next.iter_mut().enumerate().take(active / chunk) {
@@ -839,32 +870,13 @@ mod tests {
     /// from then on a point with no neighbour searches every step.
     #[test]
     fn a_soaking_spreads_its_first_searches_over_the_turns() {
-        let groom = crate::groom::paper_scene(10_000, 6).unwrap();
-        let params = SimParams {
-            held_water: HeldWater::ON,
-            ..SimParams::paper()
-        };
-        let lay = Layout::new(&groom, &params);
-        let mut held = super::super::held::Held::new(&lay, params.held_water);
-        held.soak(1.0);
-        let start = lay.rest_state(&glam::Affine3A::IDENTITY);
-        let hw = &params.held_water;
-        let mut b = Bridges::new(&lay, hw.bridge_tension, hw.bridge_length_for(&params.water));
+        let soaked = Soaked::new();
+        let mut b = soaked.bridges();
         let mut lonely_searched = 0;
         for step in 0..2 * SEARCH_TURNS {
             // Who should search, from the records as the step finds them.
             let before: Vec<Near> = b.near.clone();
-            b.find_pairs(
-                &lay,
-                &start,
-                &held.water,
-                &held.capacity,
-                &lay.params,
-                1.0 / 240.0,
-                true,
-                false,
-                None,
-            );
+            soaked.step(&mut b);
             let wet = b.point.len();
             assert!(wet > 5_000, "the soaked groom's free points take part ({wet})");
             let expected: Vec<u32> = (0..wet as u32)
