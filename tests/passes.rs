@@ -155,6 +155,11 @@ fn pass_timers_follow_the_scene() {
         "dry hair"
     );
     sim.soak(1.0).unwrap();
+    // A soaking's points search for bridges first on their turns (`wet::bridge_searches`):
+    // after a round of turns every step has bridges to pull.
+    for _ in 0..wethair::physics::wet::BRIDGE_SEARCH_TURNS {
+        sim.step(1.0 / 60.0).unwrap();
+    }
     let x = sim.positions();
     sim.add_water(&x[100..110], &[]).unwrap();
     assert!(sim.time_passes(true));
