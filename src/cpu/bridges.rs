@@ -393,6 +393,8 @@ impl Bridges {
         marked: bool,
         pool: Option<&Pool>,
     ) {
+        // No search this step until the turn's list is made (`searched` reads it).
+        self.turn.clear();
         if !any_held && self.point.is_empty() {
             self.step = self.step.wrapping_add(1);
             return;
@@ -408,7 +410,6 @@ impl Bridges {
             Some(pool) => pool.install(|| grid.build(pos, true)),
             None => grid.build(pos, false),
         }
-        self.turn.clear();
         let searching = self.searches.iter().enumerate().filter(|&(_, &s)| s);
         self.turn.extend(searching.map(|(i, _)| i as u32));
         self.found.clear();
