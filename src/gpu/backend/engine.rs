@@ -185,11 +185,8 @@ impl Engine for GpuBackend {
 
     fn bridge_searches(&mut self) -> Option<Result<u32>> {
         self.bridges.as_ref().map(|b| {
-            let at = b.searches_word();
-            let bytes = self.read_buffers(&[(b.bucket(), 4 * (at + 1))], None)?;
-            Ok(u32::from_le_bytes(
-                bytes[4 * at as usize..4 * at as usize + 4].try_into().unwrap(),
-            ))
+            let bytes = self.read_ranges(&[(b.bucket(), 4 * b.searches_word(), 4)], None)?;
+            Ok(u32::from_le_bytes(bytes[..4].try_into().unwrap()))
         })
     }
 

@@ -212,8 +212,19 @@ impl GpuBackend {
 
     /// Blocking copy of whole buffers (`(buffer, bytes)`) plus an optional 16-byte tail.
     pub(super) fn read_buffers(&self, parts: &[(&wgpu::Buffer, u64)], tail: Option<&wgpu::Buffer>) -> Result<Vec<u8>> {
+        let ranges: Vec<_> = parts.iter().map(|&(buf, n)| (buf, 0, n)).collect();
+        self.read_ranges(&ranges, tail)
+    }
+
+    /// [`GpuBackend::read_buffers`] of byte ranges `(buffer, offset, length)`, each offset and
+    /// length a multiple of 4 (a word of a large buffer is read without the words before it).
+    pub(super) fn read_ranges(
+        &self,
+        parts: &[(&wgpu::Buffer, u64, u64)],
+        tail: Option<&wgpu::Buffer>,
+    ) -> Result<Vec<u8>> {
         self.dev.check()?;
-        let total: u64 = parts.iter().map(|p| p.1).sum::<u64>() + 16;
+        let total: u64 = parts.iter().map(|p| p.2).sum::<u64>() + 16;
         let tmp = b::buffer(
             &self.dev.device,
             "read",
@@ -222,9 +233,9 @@ impl GpuBackend {
         );
         let mut enc = self.dev.device.create_command_encoder(&Default::default());
         let mut at = 0;
-        for (buf, n) in parts {
-            if *n > 0 {
-                enc.copy_buffer_to_buffer(buf, 0, &tmp, at, Some(*n));
+        for &(buf, from, n) in parts {
+            if n > 0 {
+                enc.copy_buffer_to_buffer(buf, from, &tmp, at, Some(n));
             }
             at += n;
         }

@@ -58,8 +58,10 @@ fn bucket_of(c: vec3<i32>) -> u32 {
     return hash_cell(c) & (BRIDGE_BUCKETS - 1u);
 }
 
-// Point i's flag word: 0 while it takes no part; set to 1 by bridge_count when it starts to,
-// and to 2 by its first search since (physics/wet.rs `bridge_searches`).
+// Point i's flag word: 0 while it takes no part; FLAG_PART from bridge_count when it starts
+// to, FLAG_SEARCHED from its first search since (physics/wet.rs `bridge_searches`).
+const FLAG_PART: u32 = 1u;
+const FLAG_SEARCHED: u32 = 2u;
 fn flag_at(i: u32) -> u32 {
     return P.bridge_masks + BRIDGE_POINTS + i;
 }
@@ -71,10 +73,10 @@ fn taking_part(i: u32) -> bool {
 }
 
 // physics/wet.rs `bridge_searches`: whether point i, taking part, searches this step: its
-// turn, or it has searched since it became wet (`flag` 2) and has no neighbour; one that has
-// just become wet waits for its turn.
+// turn, or it has searched since it became wet (`flag` FLAG_SEARCHED) and has no neighbour;
+// one that has just become wet waits for its turn.
 fn searches(i: u32, flag: u32) -> bool {
-    return i % BRIDGE_SEARCH_TURNS == P.bridge_turn || (bridge[i * BR_WORDS + BR_COUNT] == 0u && flag == 2u);
+    return i % BRIDGE_SEARCH_TURNS == P.bridge_turn || (bridge[i * BR_WORDS + BR_COUNT] == 0u && flag == FLAG_SEARCHED);
 }
 
 // Pass hair_grid, part 1: wet points per bucket, each point's flag, and the list of the points
@@ -92,7 +94,7 @@ fn bridge_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     let flag = bridge[flag_at(i)];
     let was = flag != 0u;
     if (part != was) {
-        bridge[flag_at(i)] = select(0u, 1u, part);
+        bridge[flag_at(i)] = select(0u, FLAG_PART, part);
     }
     if (!part) {
         if (was) {
@@ -292,7 +294,7 @@ fn bridge_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups)
         bridge[at + BR_NEAREST + k] = best_q[k];
     }
     bridge[at + BR_COUNT] = best_n;
-    bridge[flag_at(i)] = 2u;
+    bridge[flag_at(i)] = FLAG_SEARCHED;
 }
 
 // Pass hair_grid, part 5: the pairs each among the other's nearest (both wet: a point that is
