@@ -1,5 +1,5 @@
-//! ms/frame benchmark: the paper scene (10,000 × 6) dry and with 20..1,000 water particles,
-//! single- and multi-threaded, and the big scene (100,000 × 16), on the CPU backend.
+//! ms/frame benchmark: the paper scene (10,000 × 6) dry and with 20..1,000 water particles
+//! (1,000 also with drops that meet coalescing), single- and multi-threaded, and the big scene (100,000 × 16), on the CPU backend.
 //! Median over the timed frames after a warm-up; prints a markdown table with the passes and
 //! the memory each scene uses (what a scene leaves out shows here too).
 //!
@@ -25,6 +25,8 @@ struct Row {
     particles: usize,
     threads: u32,
     collider: bool,
+    /// `WaterParams::pile_cell`, m (0: drops pass through each other).
+    pile_cell: f32,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -48,7 +50,8 @@ fn run_with(
     } else {
         SimParams::paper()
     };
-    let params = SimParams { integrator, ..params };
+    let mut params = SimParams { integrator, ..params };
+    params.water.pile_cell = row.pile_cell;
     let mut sim = Simulation::new(
         groom,
         SimParams {
@@ -284,6 +287,7 @@ fn frame_rows(cores: u32, frames: usize, warmup: usize, quick: bool) {
             particles: 0,
             threads,
             collider: false,
+            pile_cell: 0.0,
         });
     }
     rows.push(Row {
@@ -291,6 +295,7 @@ fn frame_rows(cores: u32, frames: usize, warmup: usize, quick: bool) {
         particles: 0,
         threads: cores,
         collider: true,
+        pile_cell: 0.0,
     });
     for threads in [1, cores] {
         for particles in [20, 40, 60, 80, 100, 1000] {
@@ -299,8 +304,17 @@ fn frame_rows(cores: u32, frames: usize, warmup: usize, quick: bool) {
                 particles,
                 threads,
                 collider: true,
+                pile_cell: 0.0,
             });
         }
+        // Drops that meet coalescing (`WaterParams::pile_cell`, the CPU backend only).
+        rows.push(Row {
+            scene: "paper 10000x6, drops coalescing in 0.1 mm cells".into(),
+            particles: 1000,
+            threads,
+            collider: true,
+            pile_cell: 1.0e-4,
+        });
     }
     println!(
         "wethair {} CPU backend, {cores} cores; frame = 1/60 s in 4 substeps; median of {frames} frames after {warmup}",
@@ -331,6 +345,7 @@ fn frame_rows(cores: u32, frames: usize, warmup: usize, quick: bool) {
             particles: 0,
             threads,
             collider: false,
+            pile_cell: 0.0,
         };
         let (med, mean, passes, mib, _) = run(&big, &row, big_frames, 5);
         println!(
@@ -666,6 +681,7 @@ fn integrator_costs(cores: u32, quick: bool) {
             particles: 0,
             threads: cores,
             collider: false,
+            pile_cell: 0.0,
         };
         let time = |i: Integrator| {
             let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_with(groom, &row, i, frames, 3)));

@@ -11,7 +11,8 @@
 //! water is at the end, as shares of what was added, and the drops in flight and gone;
 //! `PER_LENGTH=1`: eq. 2's pull and the air drag quoted per 2 cm of hair, as
 //! `wethair_sim_desc_init` gives them, instead of per point; `PILES=1`: how many places the
-//! drops sit at, and the pairs were each place one drop).
+//! drops sit at, and the pairs were each place one drop; `PILE_CELL=m`: drops in one cell of
+//! that side pull as one source, `WaterParams::pile_cell`).
 //! Usage: cargo run --release --example profile_step -- [particles] [threads] [frames]
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -46,6 +47,9 @@ fn main() {
         params.water.adhesion = a.to_str().and_then(|s| s.parse().ok()).expect("ADHESION=number");
     }
     // CAP=n: room for n particles (the default holds 65,536).
+    if let Some(c) = std::env::var_os("PILE_CELL") {
+        params.water.pile_cell = c.to_str().and_then(|s| s.parse().ok()).expect("PILE_CELL=metres");
+    }
     if let Some(c) = std::env::var_os("CAP") {
         params.water.capacity = c.to_str().and_then(|s| s.parse().ok()).expect("CAP=number");
     }

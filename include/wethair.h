@@ -698,6 +698,16 @@ typedef struct WetHairSimDesc {
   float water_adhesion_length;
   // Unused; keep 0.
   uint32_t reserved10;
+  // Drops that meet coalesce, m, 0..=(r_max − r_min) / 8 (since 0.9.0; `SimParams`'s
+  // `water.pile_cell`): at each step's start the drops in one cell of this side take their
+  // mean position and velocity and from then on pull as one source of eq. 2, which spares
+  // the pulls of drops piled in one well of the hair. 0 (the default, and what a 360-byte
+  // layout (0.8.0) gets): drops pass through each other, as in the paper. The paper's
+  // model only (ignored with held water); the CPU backend only for now (the GPU backend
+  // refuses it, AUTO picks the CPU).
+  float water_pile_cell;
+  // Unused; keep 0.
+  uint32_t reserved11;
 } WetHairSimDesc;
 
 // What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.

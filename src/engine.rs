@@ -45,8 +45,8 @@ pub struct Counters {
     pub threads: u32,
     /// Hair-particle pairs the last step's adhesion pulled, summed over its substeps: the
     /// water's work, which its cost follows (the benches divide one by the other). The CPU
-    /// counts a row of up to eight points, one per strand, and a particle within `r_max` of
-    /// any of them as one pair (a row too wide for one query, point by point); 0 after a
+    /// counts a row of up to eight points, one per strand, and a particle (or a source of
+    /// coalesced drops, `WaterParams::pile_cell`) within `r_max` of any of them as one pair (a row too wide for one query, point by point); 0 after a
     /// reset, and on the GPU, which does not count them.
     pub adhesion_pairs: u64,
 }
@@ -316,12 +316,18 @@ fn create_bare(
         match p.backend {
             Backend::CPU => cpu(String::new()),
             Backend::GPU => {
+                if let Some(why) = crate::gpu::refuses(p) {
+                    return Err(crate::error::Error::Unsupported(why));
+                }
                 let dev = crate::gpu::GpuDevice::open(true)?;
                 create_gpu(dev, groom, p, integrator, head, vertex_points)
             }
             Backend::AUTO => {
                 if integrator == Integrator::XPBD {
                     return cpu(format!("{integrator:?} runs on the CPU backend only"));
+                }
+                if let Some(why) = crate::gpu::refuses(p) {
+                    return cpu(why);
                 }
                 match crate::gpu::GpuDevice::open(false) {
                     Err(e) => cpu(e.to_string()),

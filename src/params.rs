@@ -219,6 +219,15 @@ pub struct WaterParams {
     /// Particles farther than this (m) from the groom's centre (moved with the head) are
     /// removed at the end of a step. 0 picks half the groom's diagonal plus its longest strand.
     pub domain_radius: f32,
+    /// Drops that meet coalesce, m: at each step's start the drops whose positions fall in
+    /// one cell of this side take their mean position and velocity (the centre of mass and
+    /// the momentum are kept) and from then on pull as one source of eq. 2 with their summed
+    /// strength, each taking an equal share of its reaction (`cpu/piles.rs`). The host still
+    /// sees every drop. 0 (the default): drops pass through each other, as in the paper. At
+    /// most `(r_max − r_min) / 8`. The paper's model only (with held water each particle
+    /// carries its own water, and this is ignored); the CPU backend only for now (the GPU
+    /// backend refuses it; AUTO picks the CPU).
+    pub pile_cell: f32,
 }
 
 /// Which per-vertex attributes the host wants, as bits; each present one is written, in this
@@ -418,6 +427,7 @@ impl SimParams {
                 capacity: 65_536,
                 wetting_rate: 20.0,
                 domain_radius: 0.0,
+                pile_cell: 0.0,
             },
             colliders: Vec::new(),
             sdfs: Vec::new(),
@@ -512,6 +522,14 @@ impl SimParams {
         check_non_negative("water drag", w.drag)?;
         check_non_negative("water wetting rate", w.wetting_rate)?;
         check_non_negative("water domain radius", w.domain_radius)?;
+        check_non_negative("water pile cell", w.pile_cell)?;
+        if w.pile_cell > (w.r_max - w.r_min) / 8.0 {
+            return Err(invalid!(
+                "water pile_cell ({}) must be at most (r_max - r_min) / 8 = {} m",
+                w.pile_cell,
+                (w.r_max - w.r_min) / 8.0
+            ));
+        }
         if w.capacity > MAX_WATER_CAPACITY {
             return Err(Error::Capacity(format!(
                 "water capacity {} exceeds {MAX_WATER_CAPACITY}",

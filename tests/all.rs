@@ -25,6 +25,7 @@ mod material;
 mod output;
 mod passes;
 mod physics;
+mod piles;
 mod reference;
 mod roots;
 mod sdf;

@@ -197,6 +197,10 @@ fn bad_wet_values_are_refused_by_name_and_write_nothing() {
         (|d| d.water_adhesion_length = -0.02, "adhesion_length"),
         (|d| d.water_adhesion_length = f32::NAN, "adhesion_length"),
         (|d| d.water_adhesion_length = 1.5, "adhesion_length"),
+        (|d| d.water_pile_cell = -1.0e-4, "pile cell"),
+        (|d| d.water_pile_cell = f32::NAN, "pile cell"),
+        (|d| d.water_pile_cell = f32::INFINITY, "pile cell"),
+        (|d| d.water_pile_cell = 0.001, "pile_cell"),
         (|d| d.wind.velocity = [f32::NAN, 0.0, 0.0], "wind velocity"),
         (|d| d.wind.gust = -0.5, "gust"),
     ] {
@@ -284,8 +288,9 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
         assert!(at(std::ptr::addr_of!((*d).held_water_flow_length) as *const u8) >= 336);
         assert!(at(std::ptr::addr_of!((*d).air_drag_length) as *const u8) >= 344);
         assert!(at(std::ptr::addr_of!((*d).water_adhesion_length) as *const u8) >= 344);
+        assert!(at(std::ptr::addr_of!((*d).water_pile_cell) as *const u8) >= 360);
     }
-    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 360, "no padding at the end");
+    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 368, "no padding at the end");
     assert_eq!(std::mem::size_of::<WetHairStats>(), 120);
 }
 
@@ -532,4 +537,51 @@ fn the_error_budget_reaches_c_hosts() {
         wethair_sim_destroy(s);
         wethair_groom_destroy(g);
     }
+}
+
+/// Drops that meet coalesce, through C (since 0.9.0): two drops 0.05 mm apart in the hair
+/// share one place after a step with `water_pile_cell` = 0.1 mm; a 0.8.0 host (360 bytes)
+/// gets 0 whatever lies past its struct, and its drops keep apart; the GPU backend refuses a
+/// cell.
+#[test]
+fn drops_that_meet_coalesce_through_c_and_older_hosts_keep_them_apart() {
+    let g = paper(64);
+    let places = |cell: f32, size: u32| -> Vec<[f32; 3]> {
+        let mut d = wet_desc(g);
+        d.held_water.enabled = 0; // the paper's model
+        d.water_pile_cell = cell;
+        d.struct_size = size;
+        let s = create(&d);
+        let (a, b) = ([0.0f32, 0.0, 0.125], [0.00005f32, 0.0, 0.125]);
+        let pos = [a, b].concat();
+        assert_eq!(
+            unsafe { wethair_sim_add_water(s, pos.as_ptr(), std::ptr::null(), 2) },
+            WETHAIR_OK
+        );
+        assert_eq!(unsafe { wethair_sim_step(s, 1.0 / 60.0) }, WETHAIR_OK);
+        let (mut out, mut n) = ([0.0f32; 6], 0u32);
+        assert_eq!(
+            unsafe { wethair_sim_get_water(s, out.as_mut_ptr(), 2, &mut n) },
+            WETHAIR_OK
+        );
+        unsafe { wethair_sim_destroy(s) };
+        assert_eq!(n, 2, "both drops are still there");
+        vec![[out[0], out[1], out[2]], [out[3], out[4], out[5]]]
+    };
+    let size = std::mem::size_of::<WetHairSimDesc>() as u32;
+    let met = places(1.0e-4, size);
+    assert_eq!(met[0], met[1], "coalesced: one place");
+    assert_ne!(places(0.0, size)[0], places(0.0, size)[1], "off: they keep apart");
+    let old = places(1.0e-4, 360);
+    assert_ne!(old[0], old[1], "a 0.8.0 host gets 0");
+    let mut d = wet_desc(g);
+    d.backend = wethair::Backend::GPU as u32;
+    d.held_water.enabled = 0;
+    d.water_pile_cell = 1.0e-4;
+    let mut s = null_mut();
+    if unsafe { wethair_sim_create(&d, &mut s) } != WETHAIR_ERROR_UNSUPPORTED || !s.is_null() {
+        panic!("the GPU backend refuses a pile cell: {}", last_error());
+    }
+    assert!(last_error().contains("pile_cell"), "{}", last_error());
+    unsafe { wethair_groom_destroy(g) };
 }

@@ -391,6 +391,7 @@ fn hostile_floats_never_panic_nor_leak_non_finite_values() {
         field!(water.r_max),
         field!(water.adhesion),
         field!(water_adhesion_length),
+        field!(water_pile_cell),
         field!(water.particle_mass),
         field!(water.drag),
         field!(water.wetting_rate),

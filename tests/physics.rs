@@ -360,7 +360,7 @@ fn adhesion_row_and_point_forms_agree() {
         &mut near,
         r0,
         r1,
-        s,
+        adhesion::Strength::uniform(s),
         None,
     );
     for r in &reactions {

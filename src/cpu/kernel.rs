@@ -94,7 +94,8 @@ pub(super) struct WaterCtx<'a> {
     pub(super) sorted: &'a [Vec<f32>; 3],
     pub(super) r_min: f32,
     pub(super) r_max: f32,
-    pub(super) s: f32,
+    /// Eq. 2's strength by grid slot (each slot's drops where piles pull as one).
+    pub(super) s: crate::physics::adhesion::Strength<'a>,
     /// Each hair point's share of eq. 2's pull: 1, or the hair it stands for over
     /// `water.adhesion_length`.
     pub(super) share: crate::physics::per_length::PerLength,

@@ -266,6 +266,9 @@ impl CpuBackend {
                     .sum::<usize>()
                     + bytes(&w.force),
             ));
+            if w.piles_bytes() > 0 {
+                out.push(("water_piles", w.piles_bytes()));
+            }
         }
         out
     }
@@ -467,7 +470,11 @@ impl CpuBackend {
             for s in 0..n_sub {
                 if wet {
                     let t = self.clock.start();
-                    self.water.as_mut().expect("wet").grid_build(self.pool.as_ref()); // pass water_grid
+                    let water = self.water.as_mut().expect("wet");
+                    if s == 0 {
+                        water.group_piles();
+                    }
+                    water.grid_build(self.pool.as_ref()); // pass water_grid
                     self.clock.stop(Stage::WaterGrid, t);
                 }
                 if bridging && s == 0 {
@@ -613,13 +620,13 @@ impl CpuBackend {
                 sorted: &w.sorted,
                 r_min: p.water.r_min,
                 r_max: p.water.r_max,
-                s: p.water.adhesion,
+                s: w.strength(p.water.adhesion),
                 share: p.adhesion_share(),
                 limit: crate::physics::pull_limit::PullLimit::new(
                     h,
                     p.water.r_min,
                     p.water.r_max,
-                    (!p.held_water.absorbs()).then_some(p.water.adhesion),
+                    (!p.held_water.absorbs()).then(|| w.strength(p.water.adhesion).strongest()),
                     self.pull_weight_max,
                 ),
                 // With held water, wetness is the saturation (written after the step).

@@ -3,11 +3,12 @@
 //! domain. Nothing here is allocated until the host first adds water.
 
 use super::kernel::Worker;
+use super::piles::Piles;
 use super::slot_spans::{for_each_in_range, SlotSpan};
 use crate::error::{Error, Result};
 use crate::params::WaterParams;
 use crate::physics::absorb::Demand;
-use crate::physics::adhesion::Reaction;
+use crate::physics::adhesion::{Reaction, Strength};
 use crate::physics::collide::Colliders;
 use crate::physics::grid::Grid;
 use crate::physics::integrate::particle_velocity;
@@ -71,6 +72,11 @@ pub struct Water {
     demand: Vec<u64>,
     given: Vec<u64>,
     best: Vec<(u32, u32)>,
+    /// Drops that met in one cell, coalesced and pulling as one source
+    /// (`WaterParams::pile_cell` > 0, the paper's model only: `cpu/piles.rs`).
+    piles: Option<Piles>,
+    /// Scratch of `integrate` with piles: each drop's share of its source's force.
+    shared: Vec<Vec4>,
 }
 
 impl Water {
@@ -80,6 +86,8 @@ impl Water {
     pub fn new(p: &WaterParams, domain: WaterDomain, massive: bool) -> Water {
         let cap = p.capacity as usize;
         let per = |n: usize| if massive { n } else { 0 };
+        // Drops coalesce in the paper's model only: with held water each carries its own.
+        let piled = p.pile_cell > 0.0 && !massive;
         Water {
             pos: Vec::with_capacity(cap),
             vel: Vec::with_capacity(cap),
@@ -105,6 +113,40 @@ impl Water {
             demand: Vec::with_capacity(per(cap)),
             given: Vec::with_capacity(per(cap)),
             best: Vec::with_capacity(per(cap)),
+            piles: piled.then(|| Piles::new(p.pile_cell, cap)),
+            shared: Vec::with_capacity(if piled { cap } else { 0 }),
+        }
+    }
+
+    /// Eq. 2's strength `s` of each grid slot this substep: `s`, or `s` times the drops of
+    /// each source while piles are active.
+    pub fn strength(&self, s: f32) -> Strength<'_> {
+        Strength {
+            s,
+            drops: self.piles.as_ref().map_or(&[], |p| p.drops()),
+        }
+    }
+
+    /// Bytes held by the coalescence's grouping (0 without it).
+    pub fn piles_bytes(&self) -> usize {
+        self.piles
+            .as_ref()
+            .map_or(0, |p| p.bytes() + self.shared.capacity() * std::mem::size_of::<Vec4>())
+    }
+
+    /// The grid's slots this substep: the particles, or with active piles their sources.
+    pub fn sources(&self) -> usize {
+        match &self.piles {
+            Some(p) if p.active() => p.sources(),
+            _ => self.pos.len(),
+        }
+    }
+
+    /// Coalesces the drops that met and groups them into sources for this step (a no-op
+    /// without `pile_cell`): called once a step, before its first grid build.
+    pub fn group_piles(&mut self) {
+        if let Some(p) = &mut self.piles {
+            p.group(&mut self.pos, &mut self.vel);
         }
     }
 
@@ -124,6 +166,7 @@ impl Water {
                 pos.len()
             )));
         }
+        self.forget_piles();
         self.pos.extend_from_slice(pos);
         if vel.is_empty() {
             self.vel.resize(self.pos.len(), Vec3::ZERO);
@@ -143,10 +186,18 @@ impl Water {
         if self.pos.len() >= capacity {
             return false;
         }
+        self.forget_piles();
         self.pos.push(x);
         self.vel.push(v);
         self.mass.push(quanta);
         true
+    }
+
+    /// Drops were added or removed: the step's grouping no longer holds.
+    fn forget_piles(&mut self) {
+        if let Some(p) = &mut self.piles {
+            p.forget();
+        }
     }
 
     /// Water in particles, quanta.
@@ -171,6 +222,10 @@ impl Water {
     /// The moves run in chunks on `pool` when there are more than [`PARTICLES_PER_TASK`]
     /// particles (a million: 24 of the pass's 62 ms a frame, moved on one thread).
     pub fn grid_build(&mut self, pool: Option<&super::pool::Pool>) {
+        if let Some(piles) = self.piles.as_mut().filter(|p| p.active()) {
+            piles.build(&mut self.pos, &mut self.vel, &mut self.grid, &mut self.sorted);
+            return;
+        }
         self.grid.build(&self.pos);
         let massive = self.massive();
         let n = self.pos.len();
@@ -348,7 +403,8 @@ impl Water {
         let drag_rate = p.drag * inv_m0;
         let (slope_h2, per_mass) = (slope_h2(h, p.r_min, p.r_max), p.adhesion * inv_m0);
         self.force.clear();
-        self.force.resize(self.vel.len(), Vec4::ZERO);
+        // One sum per grid slot: a particle, or with piles a source.
+        self.force.resize(self.sources(), Vec4::ZERO);
         // Each particle sums its reactions in the order given. With many, each task takes a
         // range of particles and reads the blocks' runs of reactions that touch it, keeping its
         // own: the sums are the same, and the scattered adds are shared (a million drops: most
@@ -371,8 +427,16 @@ impl Water {
                 },
             );
         });
+        // With piles, each drop takes its share of its source's.
+        let force = match self.piles.as_ref().filter(|p| p.active()) {
+            Some(piles) => {
+                piles.share(&self.force, &mut self.shared);
+                &self.shared
+            }
+            None => &self.force,
+        };
         // Each particle then moves on its own: in chunks on the pool.
-        let (force, mass) = (&self.force, &self.sorted_mass);
+        let mass = &self.sorted_mass;
         let chunk = PARTICLES_PER_TASK;
         let pool = pool.filter(|_| self.pos.len() > chunk);
         super::pool::for_chunks2(pool, &mut self.pos, &mut self.vel, chunk, |first, pos, vel| {
@@ -413,6 +477,7 @@ impl Water {
         let c = head.transform_point3(self.center_local);
         let r2 = self.radius * self.radius;
         let before = self.pos.len();
+        self.forget_piles();
         let massive = self.massive();
         let mut j = 0;
         while j < self.pos.len() {
@@ -435,6 +500,7 @@ impl Water {
 
     /// Removes every particle (its water is booked as left).
     pub fn clear(&mut self) {
+        self.forget_piles();
         self.pos.clear();
         self.vel.clear();
         self.left += self.water_quanta();

@@ -284,6 +284,16 @@ pub struct WetHairSimDesc {
     pub water_adhesion_length: f32,
     /// Unused; keep 0.
     pub reserved10: u32,
+    /// Drops that meet coalesce, m, 0..=(r_max − r_min) / 8 (since 0.9.0; `SimParams`'s
+    /// `water.pile_cell`): at each step's start the drops in one cell of this side take their
+    /// mean position and velocity and from then on pull as one source of eq. 2, which spares
+    /// the pulls of drops piled in one well of the hair. 0 (the default, and what a 360-byte
+    /// layout (0.8.0) gets): drops pass through each other, as in the paper. The paper's
+    /// model only (ignored with held water); the CPU backend only for now (the GPU backend
+    /// refuses it, AUTO picks the CPU).
+    pub water_pile_cell: f32,
+    /// Unused; keep 0.
+    pub reserved11: u32,
 }
 
 /// Which strands are guides (`WetHairGuides::choice`).
@@ -752,6 +762,8 @@ impl WetHairSimDesc {
             reserved9: 0,
             water_adhesion_length: w.adhesion_length,
             reserved10: 0,
+            water_pile_cell: w.pile_cell,
+            reserved11: 0,
         }
     }
 
@@ -877,6 +889,7 @@ impl WetHairSimDesc {
                 capacity: w.capacity,
                 wetting_rate: w.wetting_rate,
                 domain_radius: w.domain_radius,
+                pile_cell: self.water_pile_cell,
             },
             colliders,
             sdfs,

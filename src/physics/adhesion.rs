@@ -133,6 +133,39 @@ pub struct Reaction {
     pub stiffness: f32,
 }
 
+/// Eq. 2's strength of each particle the gather reads, by grid slot: `s` itself, or `s` times
+/// the drops a slot stands for where drops piled within one cell pull as one source
+/// (`cpu/piles.rs`). With held water the strength comes from each particle's water instead
+/// (`absorb::WetRow::strength`).
+#[derive(Clone, Copy, Debug)]
+pub struct Strength<'a> {
+    /// Eq. 2's `s`, N.
+    pub s: f32,
+    /// Drops per grid slot; empty where every slot is one drop.
+    pub drops: &'a [f32],
+}
+
+impl Strength<'_> {
+    /// Every particle pulls with `s`.
+    pub fn uniform(s: f32) -> Strength<'static> {
+        Strength { s, drops: &[] }
+    }
+
+    /// The strength of the particle in grid `slot`.
+    #[inline(always)]
+    pub fn of(&self, slot: u32) -> f32 {
+        match self.drops.get(slot as usize) {
+            Some(&n) => self.s * n,
+            None => self.s,
+        }
+    }
+
+    /// The most strength one slot has (`s` times the largest pile).
+    pub fn strongest(&self) -> f32 {
+        self.s * self.drops.iter().copied().fold(1.0, f32::max)
+    }
+}
+
 /// Eq. 2 between the `W` hair points of a lane row (`mask[l]` is 1 for lanes to include, 0
 /// otherwise) and every particle of a run, whose first particle sits in grid slot
 /// `first_slot`. Each lane's pull is scaled by `weight[l]`: its mask times its share of the
@@ -155,7 +188,7 @@ pub fn gather_run_lanes(
     near: &mut Lane,
     r_min: f32,
     r_max: f32,
-    s: f32,
+    s: Strength,
     mut wet: Option<&mut super::absorb::WetRow>,
 ) {
     let r2 = r_max * r_max;
@@ -185,7 +218,7 @@ pub fn gather_run_lanes(
                 w.demand(slot, &d2s, &inside, r_min, r_max);
                 w.strength(slot)
             }
-            None => s,
+            None => s.of(slot),
         };
         let (mut rx, mut ry, mut rz) = ([0.0f32; W], [0.0f32; W], [0.0f32; W]);
         let mut stiff = [0.0f32; W];
@@ -224,7 +257,7 @@ pub fn gather_runs_lanes(
     near: &mut Lane,
     r_min: f32,
     r_max: f32,
-    s: f32,
+    s: Strength,
     mut wet: Option<&mut super::absorb::WetRow>,
 ) {
     for &(a, e) in runs {
@@ -269,11 +302,11 @@ pub fn gather_row_lanes(
     near: &mut Lane,
     r_min: f32,
     r_max: f32,
-    s: f32,
+    s: Strength,
     wet: Option<&mut super::absorb::WetRow>,
 ) {
     let limited = {
-        let strength = |slot| wet.as_deref().map_or(s, |w| w.strength(slot));
+        let strength = |slot| wet.as_deref().map_or_else(|| s.of(slot), |w| w.strength(slot));
         limit.row_weights(x, weight, inv_mass, runs, sorted, strength)
     };
     gather_runs_lanes(

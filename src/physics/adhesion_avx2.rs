@@ -14,7 +14,7 @@
 //! paper scene's frame with 1,000 drops, 2-5 % left (docs/PERFORMANCE.md, 2026-12-01).
 
 use super::absorb::WetRow;
-use super::adhesion::{Reaction, MIN_DISTANCE};
+use super::adhesion::{Reaction, Strength, MIN_DISTANCE};
 use super::lanes::{Lane, L3, W};
 use super::pull_limit::PullLimit;
 use std::arch::x86_64::*;
@@ -86,7 +86,7 @@ pub unsafe fn gather_row_lanes(
     near: &mut Lane,
     r_min: f32,
     r_max: f32,
-    s: f32,
+    s: Strength,
     mut wet: Option<&mut WetRow>,
 ) {
     let load = |a: &Lane| -> __m256 {
@@ -151,7 +151,7 @@ pub unsafe fn gather_row_lanes(
         let mut counted = false;
         if !limited {
             limited = true;
-            let strength = |slot| wet.as_deref().map_or(s, |w| w.strength(slot));
+            let strength = |slot| wet.as_deref().map_or_else(|| s.of(slot), |w| w.strength(slot));
             if r < runs.len() {
                 // More within reach than one list holds: the lane form's count over the runs.
                 share = load(&limit.row_weights(x, weight, inv_mass, runs, sorted, strength));
@@ -193,7 +193,7 @@ pub unsafe fn gather_row_lanes(
                     w.demand(slot, &d2s, &ins, r_min, r_max);
                     w.strength(slot)
                 }
-                None => s,
+                None => s.of(slot),
             };
             // `force_scale`: s g(d) / d inside the reach and above MIN_DISTANCE, else 0.
             let Terms { d, shell, stiff } = if counted {
@@ -240,7 +240,7 @@ pub unsafe fn gather_row_lanes(
 #[cfg(test)]
 mod tests {
     use super::super::absorb::{Demand, WetRow};
-    use super::super::adhesion::{self, Reaction};
+    use super::super::adhesion::{self, Reaction, Strength};
     use super::super::lanes::{Lane, L3, W};
     use super::super::pull_limit::PullLimit;
     use crate::scenes::Lcg;
@@ -297,7 +297,7 @@ mod tests {
             &mut Lane,
             f32,
             f32,
-            f32,
+            Strength<'_>,
             Option<&mut WetRow>,
         );
         let gather: Gather = if avx2 {
@@ -320,7 +320,7 @@ mod tests {
                 &mut near,
                 r_min,
                 r_max,
-                s,
+                Strength::uniform(s),
                 row.as_mut(),
             )
         };

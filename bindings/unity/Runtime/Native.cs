@@ -192,6 +192,12 @@ namespace WetHair
         /// however finely it is sampled.</summary>
         public float water_adhesion_length;
         public uint reserved10;
+        /// <summary>Since 0.9.0: drops that meet coalesce, m (0, the default: they pass
+        /// through each other): drops in one cell of this side take their mean position and
+        /// velocity and pull as one. At most (r_max - r_min) / 8; the paper's model and the
+        /// CPU backend only for now.</summary>
+        public float water_pile_cell;
+        public uint reserved11;
     }
 
     /// <summary>Which strands are guides (WetHairGuideChoice).</summary>

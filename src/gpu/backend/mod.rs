@@ -194,6 +194,9 @@ impl GpuBackend {
                 "the GPU backend runs symplectic Euler, implicit Euler and BDF2; {integrator:?} runs on the CPU backend"
             )));
         }
+        if let Some(why) = crate::gpu::refuses(params) {
+            return Err(Error::Unsupported(why));
+        }
         if integrator.is_implicit() && groom.max_strand_points() > MAX_IMPLICIT_POINTS {
             return Err(Error::Unsupported(format!(
                 "the GPU's implicit solve takes strands of up to {MAX_IMPLICIT_POINTS} points (this groom has {}); \

@@ -175,6 +175,8 @@ class WetHairSimDesc(C.Structure):
         ("reserved9", u32),
         ("water_adhesion_length", f32),
         ("reserved10", u32),
+        ("water_pile_cell", f32),
+        ("reserved11", u32),
     ]
 
 
