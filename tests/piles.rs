@@ -1,7 +1,7 @@
 //! Drops that meet coalesce (`WaterParams::pile_cell`, `cpu/piles.rs`): the paper scene clumps
 //! as with every drop its own source while the pairs fall, twin drops pull as one exactly as
 //! two did, drops that never meet give the same bits as with coalescence off, the results are
-//! the same on every thread count, and the GPU backend refuses it by name.
+//! the same on every thread count, and the GPU backend refuses it by name where it applies.
 
 use crate::common::serial;
 use glam::Vec3;
@@ -144,7 +144,11 @@ fn the_pile_cell_is_checked_and_the_gpu_refuses_it() {
     };
     assert!(e.to_string().contains("pile_cell"), "{e}");
     p.backend = Backend::AUTO;
-    let sim = Simulation::new(&groom, p).unwrap();
+    let sim = Simulation::new(&groom, p.clone()).unwrap();
     assert_eq!(sim.backend_info().backend, Backend::CPU);
     assert!(sim.backend_info().fallback_reason.contains("pile_cell"));
+    // With held water every particle carries its own water and the cell is ignored, on the
+    // GPU as on the CPU: nothing to refuse.
+    p.held_water = wethair::HeldWater::ON;
+    assert_eq!(wethair::gpu::refuses(&p), None);
 }
