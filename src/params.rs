@@ -363,6 +363,13 @@ impl SimParams {
         crate::physics::per_length::PerLength::new(1.0, self.water.adhesion_length)
     }
 
+    /// Whether drops that meet coalesce (`water.pile_cell`): a cell is set and the scene runs
+    /// the paper's model (with held water each particle carries its own water, and the cell
+    /// is ignored).
+    pub fn coalesces(&self) -> bool {
+        self.water.pile_cell > 0.0 && !self.held_water.enabled
+    }
+
     /// The strand stride of the error estimate: the host's, or the budget's default when a
     /// tolerance is set without one (0: no estimate).
     pub fn estimate_stride(&self) -> u32 {

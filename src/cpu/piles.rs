@@ -69,6 +69,8 @@ pub struct Piles {
     keyed: Vec<([i32; 3], u32)>,
     /// Scratch: the drops' moves and the new starts.
     moved: (Vec<Vec3>, Vec<Vec3>, Vec<u32>),
+    /// Each drop's share of its source's force (`share`).
+    per_drop: Vec<Vec4>,
 }
 
 impl Piles {
@@ -87,6 +89,7 @@ impl Piles {
                 Vec::with_capacity(capacity),
                 Vec::with_capacity(capacity + 1),
             ),
+            per_drop: Vec::with_capacity(capacity),
         }
     }
 
@@ -127,6 +130,7 @@ impl Piles {
             + b(&self.moved.0)
             + b(&self.moved.1)
             + b(&self.moved.2)
+            + b(&self.per_drop)
     }
 
     /// Groups the drops at `pos` by cell. Where some cell holds two or more, moves the drops
@@ -210,15 +214,16 @@ impl Piles {
     }
 
     /// Each drop's share of its source's force, from `per_slot` (by grid slot: the reactions
-    /// in `xyz`, the stiffness in `w`) into `per_drop`: an equal share of the force, since
-    /// the drops weigh alike, and the whole stiffness, which is per unit of strength (each
-    /// drop is held as stiffly as its source).
-    pub fn share(&self, per_slot: &[Vec4], per_drop: &mut Vec<Vec4>) {
-        per_drop.clear();
-        per_drop.extend(self.slot_of.iter().map(|&k| {
+    /// in `xyz`, the stiffness in `w`): an equal share of the force, since the drops weigh
+    /// alike, and the whole stiffness, which is per unit of strength (each drop is held as
+    /// stiffly as its source).
+    pub fn share(&mut self, per_slot: &[Vec4]) -> &[Vec4] {
+        self.per_drop.clear();
+        self.per_drop.extend(self.slot_of.iter().map(|&k| {
             let f = per_slot[k as usize];
             (f.truncate() / self.drops[k as usize]).extend(f.w)
         }));
+        &self.per_drop
     }
 }
 
@@ -274,8 +279,7 @@ mod tests {
             let per_slot: Vec<Vec4> = (0..2)
                 .map(|s| Vec4::new(2.0, 4.0, 6.0, 3.0) * piles.drops()[s])
                 .collect();
-            let mut per_drop = Vec::new();
-            piles.share(&per_slot, &mut per_drop);
+            let per_drop = piles.share(&per_slot).to_vec();
             assert_eq!(per_drop[at_pile[0]], Vec4::new(2.0, 4.0, 6.0, 6.0));
             assert_eq!(per_drop[j_lone], Vec4::new(2.0, 4.0, 6.0, 3.0));
             outs.push((pos, vel, sorted));

@@ -296,7 +296,12 @@ impl CpuBackend {
         }
         let cap = self.params.water.capacity as usize;
         let hw = &self.params.held_water;
-        self.water = Some(Water::new(&self.params.water, self.domain, hw.enabled));
+        self.water = Some(Water::new(
+            &self.params.water,
+            self.domain,
+            hw.enabled,
+            self.params.coalesces(),
+        ));
         if self.wet.is_empty() {
             self.wet = AlignedRows::filled([0.0; W], self.state.len());
         }

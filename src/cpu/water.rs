@@ -75,19 +75,15 @@ pub struct Water {
     /// Drops that met in one cell, coalesced and pulling as one source
     /// (`WaterParams::pile_cell` > 0, the paper's model only: `cpu/piles.rs`).
     piles: Option<Piles>,
-    /// Scratch of `integrate` with piles: each drop's share of its source's force.
-    shared: Vec<Vec4>,
 }
 
 impl Water {
     /// Allocates storage for `p.capacity` particles (`massive`: each carries its own water,
-    /// for held water). The grid cell is `2 r_max`, so a query cube of side `2 r_max`
-    /// overlaps exactly 8 cells.
-    pub fn new(p: &WaterParams, domain: WaterDomain, massive: bool) -> Water {
+    /// for held water; `coalesce`: drops that meet coalesce, `SimParams::coalesces`). The grid
+    /// cell is `2 r_max`, so a query cube of side `2 r_max` overlaps exactly 8 cells.
+    pub fn new(p: &WaterParams, domain: WaterDomain, massive: bool, coalesce: bool) -> Water {
         let cap = p.capacity as usize;
         let per = |n: usize| if massive { n } else { 0 };
-        // Drops coalesce in the paper's model only: with held water each carries its own.
-        let piled = p.pile_cell > 0.0 && !massive;
         Water {
             pos: Vec::with_capacity(cap),
             vel: Vec::with_capacity(cap),
@@ -113,8 +109,7 @@ impl Water {
             demand: Vec::with_capacity(per(cap)),
             given: Vec::with_capacity(per(cap)),
             best: Vec::with_capacity(per(cap)),
-            piles: piled.then(|| Piles::new(p.pile_cell, cap)),
-            shared: Vec::with_capacity(if piled { cap } else { 0 }),
+            piles: coalesce.then(|| Piles::new(p.pile_cell, cap)),
         }
     }
 
@@ -129,9 +124,7 @@ impl Water {
 
     /// Bytes held by the coalescence's grouping (0 without it).
     pub fn piles_bytes(&self) -> usize {
-        self.piles
-            .as_ref()
-            .map_or(0, |p| p.bytes() + self.shared.capacity() * std::mem::size_of::<Vec4>())
+        self.piles.as_ref().map_or(0, Piles::bytes)
     }
 
     /// The grid's slots this substep: the particles, or with active piles their sources.
@@ -428,11 +421,8 @@ impl Water {
             );
         });
         // With piles, each drop takes its share of its source's.
-        let force = match self.piles.as_ref().filter(|p| p.active()) {
-            Some(piles) => {
-                piles.share(&self.force, &mut self.shared);
-                &self.shared
-            }
+        let force = match self.piles.as_mut().filter(|p| p.active()) {
+            Some(piles) => piles.share(&self.force),
             None => &self.force,
         };
         // Each particle then moves on its own: in chunks on the pool.

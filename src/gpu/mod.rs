@@ -20,6 +20,6 @@ pub use device::GpuDevice;
 /// water both backends ignore it) run on the CPU backend only. `Backend::GPU` is refused with
 /// this, and AUTO picks the CPU backend with it as the reason.
 pub fn refuses(p: &crate::SimParams) -> Option<String> {
-    (p.water.pile_cell > 0.0 && !p.held_water.enabled)
+    p.coalesces()
         .then(|| "water pile_cell (drops that meet coalesce) runs on the CPU backend only for now".to_string())
 }
