@@ -1,7 +1,8 @@
 //! GPU and CPU backends side by side, one run: ms/frame on the paper scene (10,000 × 6, head
 //! collider) dry and with 1,000 particles, and on a large scene (100,000 × 32, 100,000
-//! particles), with the paper's model and with the full wet model (held water with liquid
-//! bridges, absorption, flow, drip and drying). Every row names its device.
+//! particles), with the paper's model, with it and drops that meet coalescing in 0.1 mm cells
+//! (`WaterParams::pile_cell`), and with the full wet model (held water with liquid bridges,
+//! absorption, flow, drip and drying). Every row names its device.
 //!
 //! A GPU step returns once submitted, so a row times `frames` steps and one blocking vertex
 //! read at the end (which waits for all of them) and divides by `frames`: throughput, the
@@ -22,6 +23,27 @@ use wethair::groom::{paper_scene, Groom};
 use wethair::scenes::{on_hair, Lcg};
 use wethair::{Backend, HeldWater, Integrator, SimParams, Simulation};
 
+/// The water's model in a row.
+#[derive(Clone, Copy, PartialEq)]
+enum Model {
+    /// The paper's.
+    Paper,
+    /// The paper's, with drops that meet coalescing in 0.1 mm cells.
+    Piles,
+    /// The full wet model.
+    Full,
+}
+
+impl Model {
+    fn name(self) -> &'static str {
+        match self {
+            Model::Paper => "paper",
+            Model::Piles => "paper, coalescing",
+            Model::Full => "full wet model",
+        }
+    }
+}
+
 /// What one row measured.
 struct Measured {
     /// ms/frame, throughput.
@@ -41,7 +63,7 @@ fn run(
     backend: Backend,
     integrator: Integrator,
     particles: usize,
-    held: bool,
+    model: Model,
     frames: usize,
 ) -> Result<Measured, String> {
     let mut params = SimParams {
@@ -49,8 +71,10 @@ fn run(
         integrator,
         ..SimParams::paper_scene_with_head()
     };
-    if held {
-        params.held_water = HeldWater::ON;
+    match model {
+        Model::Paper => {}
+        Model::Piles => params.water.pile_cell = 1.0e-4,
+        Model::Full => params.held_water = HeldWater::ON,
     }
     params.water.capacity = params.water.capacity.max(particles as u32);
     let mut sim = Simulation::new(groom, params).map_err(|e| e.to_string())?;
@@ -144,33 +168,38 @@ fn main() {
     // the rows say what the hair costs and what the water adds; then the GPU alone from
     // 10,000 to 1,000,000 particles (the CPU's sweep is `frame -- particles`), so the rows say
     // how the water's cost grows.
-    // (scene, groom, integrator, particles, held water, frames, with the CPU)
-    let rows: [(&str, &Groom, Integrator, usize, bool, usize, bool); 13] = [
-        ("paper 10000x6", &paper, se, 0, false, paper_frames, true),
-        ("paper 10000x6", &paper, se, 1000, false, paper_frames, true),
-        ("paper 10000x6", &paper, se, 1000, true, paper_frames, true),
+    // (scene, groom, integrator, particles, model, frames, with the CPU)
+    let (paper_m, piles, full) = (Model::Paper, Model::Piles, Model::Full);
+    let rows: [(&str, &Groom, Integrator, usize, Model, usize, bool); 17] = [
+        ("paper 10000x6", &paper, se, 0, paper_m, paper_frames, true),
+        ("paper 10000x6", &paper, se, 1000, paper_m, paper_frames, true),
+        ("paper 10000x6", &paper, se, 1000, piles, paper_frames, true),
+        ("paper 10000x6", &paper, se, 1000, full, paper_frames, true),
         (
             "paper 10000x6",
             &paper,
             Integrator::IMPLICIT_EULER,
             0,
-            false,
+            paper_m,
             paper_frames,
             true,
         ),
-        ("paper 10000x6", &paper, se, 10_000, false, paper_frames, false),
-        ("paper 10000x6", &paper, se, 100_000, false, paper_frames, false),
-        ("large 100000x32", &big, se, 0, false, big_frames, true),
-        ("large 100000x32", &big, se, 1000, false, big_frames, true),
-        ("large 100000x32", &big, se, 10_000, false, big_frames, false),
-        ("large 100000x32", &big, se, 100_000, false, big_frames, true),
-        ("large 100000x32", &big, se, 100_000, true, big_frames, true),
-        ("large 100000x32", &big, se, 1_000_000, false, big_frames, false),
-        ("large 100000x32", &big, se, 1_000_000, true, big_frames, false),
+        ("paper 10000x6", &paper, se, 10_000, paper_m, paper_frames, false),
+        ("paper 10000x6", &paper, se, 100_000, paper_m, paper_frames, false),
+        ("large 100000x32", &big, se, 0, paper_m, big_frames, true),
+        ("large 100000x32", &big, se, 1000, paper_m, big_frames, true),
+        ("large 100000x32", &big, se, 1000, piles, big_frames, false),
+        ("large 100000x32", &big, se, 10_000, paper_m, big_frames, false),
+        ("large 100000x32", &big, se, 100_000, paper_m, big_frames, true),
+        ("large 100000x32", &big, se, 100_000, piles, big_frames, false),
+        ("large 100000x32", &big, se, 100_000, full, big_frames, true),
+        ("large 100000x32", &big, se, 1_000_000, paper_m, big_frames, false),
+        ("large 100000x32", &big, se, 1_000_000, piles, big_frames, false),
+        ("large 100000x32", &big, se, 1_000_000, full, big_frames, false),
     ];
     let mut splits = Vec::new();
-    for (name, groom, integrator, particles, held, frames, with_cpu) in rows {
-        let model = if held { "full wet model" } else { "paper" };
+    for (name, groom, integrator, particles, model_kind, frames, with_cpu) in rows {
+        let model = model_kind.name();
         if only
             .as_ref()
             .is_some_and(|o| !format!("{name} {particles} {model}").contains(o.as_str()))
@@ -184,7 +213,7 @@ fn main() {
         };
         for &backend in backends {
             let i = format!("{integrator:?}");
-            match run(groom, backend, integrator, particles, held, frames) {
+            match run(groom, backend, integrator, particles, model_kind, frames) {
                 Ok(m) => {
                     let (ms, gpu_ms, device, what) = (m.ms, &m.gpu_ms, &m.device, &m.what);
                     println!(

@@ -307,7 +307,7 @@ fn frame_rows(cores: u32, frames: usize, warmup: usize, quick: bool) {
                 pile_cell: 0.0,
             });
         }
-        // Drops that meet coalescing (`WaterParams::pile_cell`, the CPU backend only).
+        // Drops that meet coalescing (`WaterParams::pile_cell`).
         rows.push(Row {
             scene: "paper 10000x6, drops coalescing in 0.1 mm cells".into(),
             particles: 1000,

@@ -703,8 +703,7 @@ typedef struct WetHairSimDesc {
   // mean position and velocity and from then on pull as one source of eq. 2, which spares
   // the pulls of drops piled in one well of the hair. 0 (the default, and what a 360-byte
   // layout (0.8.0) gets): drops pass through each other, as in the paper. The paper's
-  // model only (ignored with held water); the CPU backend only for now (the GPU backend
-  // refuses it, AUTO picks the CPU).
+  // model only (ignored with held water); both backends.
   float water_pile_cell;
   // Unused; keep 0.
   uint32_t reserved11;

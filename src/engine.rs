@@ -316,18 +316,12 @@ fn create_bare(
         match p.backend {
             Backend::CPU => cpu(String::new()),
             Backend::GPU => {
-                if let Some(why) = crate::gpu::refuses(p) {
-                    return Err(crate::error::Error::Unsupported(why));
-                }
                 let dev = crate::gpu::GpuDevice::open(true)?;
                 create_gpu(dev, groom, p, integrator, head, vertex_points)
             }
             Backend::AUTO => {
                 if integrator == Integrator::XPBD {
                     return cpu(format!("{integrator:?} runs on the CPU backend only"));
-                }
-                if let Some(why) = crate::gpu::refuses(p) {
-                    return cpu(why);
                 }
                 match crate::gpu::GpuDevice::open(false) {
                     Err(e) => cpu(e.to_string()),

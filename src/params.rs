@@ -225,8 +225,7 @@ pub struct WaterParams {
     /// strength, each taking an equal share of its reaction (`cpu/piles.rs`). The host still
     /// sees every drop. 0 (the default): drops pass through each other, as in the paper. At
     /// most `(r_max − r_min) / 8`. The paper's model only (with held water each particle
-    /// carries its own water, and this is ignored); the CPU backend only for now (the GPU
-    /// backend refuses it; AUTO picks the CPU).
+    /// carries its own water, and this is ignored); both backends (the GPU's `piles.wgsl`).
     pub pile_cell: f32,
 }
 

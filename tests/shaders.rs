@@ -54,6 +54,7 @@ fn output_modules_validate() {
                 "write_followers",
             ),
             ("water", water_source(c), "water_cull"),
+            ("piles", wethair::gpu::pipelines::piles_source(c), "pile_insert"),
             ("water output", water_output_source(c), "write_water_vertices"),
             ("held", held_source(c), "dry"),
             ("sdf hair", sdf_hair_source(c, 3), "hair_sdf"),
@@ -145,6 +146,7 @@ fn all_modules() -> Vec<(String, String)> {
         }
         out.push((format!("bridges bend={bend}"), bridges_source(c, 2048, 1000)));
         out.push((format!("water bend={bend}"), water_source(c)));
+        out.push((format!("piles bend={bend}"), wethair::gpu::pipelines::piles_source(c)));
         out.push((format!("output bend={bend}"), output_source(c)));
         out.push((format!("water output bend={bend}"), water_output_source(c)));
         out.push((
@@ -225,8 +227,8 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
     }
     assert_eq!(
         checked,
-        records().len() * 38,
-        "every record in every module (38 modules)"
+        records().len() * 40,
+        "every record in every module (40 modules)"
     );
 }
 

@@ -15,7 +15,7 @@ mod held_rows;
 pub mod kernel;
 pub mod layout;
 pub mod output;
-mod piles;
+pub(crate) mod piles;
 pub mod pool;
 mod prefetch;
 mod roots;

@@ -31,11 +31,11 @@ use glam::{Vec3, Vec4};
 
 /// The fixed-point unit of a coalescing drop's offset in its cell, in cells: 2⁻²⁰ (0.1 nm
 /// in a 0.1 mm cell).
-const POSITION_UNIT: f32 = 1.0 / (1u32 << 20) as f32;
+pub(crate) const POSITION_UNIT: f32 = 1.0 / (1u32 << 20) as f32;
 
 /// The fixed-point unit of a coalescing drop's velocity, m/s: 2⁻²⁴ (a sum of 64-bit integers
 /// holds ±5·10¹¹ m/s).
-const VELOCITY_UNIT: f32 = 1.0 / (1u32 << 24) as f32;
+pub(crate) const VELOCITY_UNIT: f32 = 1.0 / (1u32 << 24) as f32;
 
 /// The mean of `v` about `origin`, each offset rounded to a whole number of `unit` and the
 /// offsets summed as integers: exact, so the same whatever order the drops come in.

@@ -289,8 +289,7 @@ pub struct WetHairSimDesc {
     /// mean position and velocity and from then on pull as one source of eq. 2, which spares
     /// the pulls of drops piled in one well of the hair. 0 (the default, and what a 360-byte
     /// layout (0.8.0) gets): drops pass through each other, as in the paper. The paper's
-    /// model only (ignored with held water); the CPU backend only for now (the GPU backend
-    /// refuses it, AUTO picks the CPU).
+    /// model only (ignored with held water); both backends.
     pub water_pile_cell: f32,
     /// Unused; keep 0.
     pub reserved11: u32,

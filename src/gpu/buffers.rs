@@ -98,8 +98,18 @@ gpu_record! {
         /// (`physics/pull_limit.rs` `PullLimit::slope_h2`).
         pub pull_slope_h2: f32,
         /// Eq. 2's stability limit: how many candidate particles a point may have with no
-        /// need to count them (`PullLimit::free`; 0: every point counts).
+        /// need to count them (`PullLimit::free`; 0: every point counts), for particles of one
+        /// drop each (a point divides it by the largest pile, `grid_header::PILE_MAX`).
         pub pull_free: u32,
+        /// Drops that meet coalesce in cells of this side, m (`SimParams::coalesces`; 0: off).
+        pub pile_cell: f32,
+        /// 1 / `pile_cell`, as the CPU computes it.
+        pub pile_inv_cell: f32,
+        /// The fixed-point unit of a drop's offset in its pile cell, m (`pile_cell` times
+        /// `cpu/piles.rs`'s `POSITION_UNIT`).
+        pub pile_unit: f32,
+        /// 1 / `pile_unit`, as the CPU computes it.
+        pub pile_inv_unit: f32,
         /// Padding (a uniform's size is a multiple of 16 bytes).
         pub pad0: u32,
     }
@@ -419,6 +429,9 @@ pub mod grid_header {
     pub const MARKS: u32 = 10;
     /// Where the mark table starts, in words (written once, at create: [`super::grid_words`]).
     pub const MARK_AT: u32 = 11;
+    /// The most drops one particle of the grid stands for: coalesced drops pull as one
+    /// (`piles.wgsl`'s `pile_finish` writes it each step; 0 or 1: one each).
+    pub const PILE_MAX: u32 = 12;
     /// start[b] at START + b; start[buckets] = count.
     pub const START: u32 = 16;
 }
@@ -465,6 +478,50 @@ pub mod water_state {
     pub const KEPT: u32 = 1;
     /// Particles removed since reset.
     pub const REMOVED: u32 = 2;
+    /// Drops that meet coalesce: the sources counted while a step's piles are made (0
+    /// otherwise).
+    pub const SOURCES: u32 = 3;
+    /// Drops that meet coalesce: the drops held while their sources stand for them in the
+    /// step's substeps (`HELD` is then the sources).
+    pub const DROPS: u32 = 6;
+    /// Drops that meet coalesce: the largest pile, while a step's piles are made.
+    pub const PILE_MAX: u32 = 7;
+}
+
+/// Word offsets of one slot of the table that groups drops by pile cell (`piles.wgsl`,
+/// [`pile_words::WORDS`] words a slot, [`pile_words::slots`] slots for `n` drops): drops that
+/// meet coalesce on the GPU (`cpu/piles.rs` on the CPU).
+pub mod pile_words {
+    /// The cell's first drop to claim the slot (its key: the cell is the drop's), or
+    /// [`EMPTY`].
+    pub const OWNER: u32 = 0;
+    /// Drops in the cell.
+    pub const COUNT: u32 = 1;
+    /// Nonzero when some drop of the cell differs from the owner in place or velocity.
+    pub const APART: u32 = 2;
+    /// The drops' offsets from the cell's corner summed, in fixed point (x, y, z as 64-bit
+    /// lo, hi word pairs); after the sources are made, the source's place at the step's end
+    /// (`PLACE`).
+    pub const SUM_X: u32 = 3;
+    /// The drops' velocities summed, in fixed point (as `SUM_X`); after the sources are made,
+    /// the source's velocity at the step's end (`VEL`).
+    pub const SUM_V: u32 = 9;
+    /// The source's place at the step's end (f32 bits, xyz), over `SUM_X`.
+    pub const PLACE: u32 = SUM_X;
+    /// The source's velocity at the step's end (f32 bits, xyz), after `PLACE`.
+    pub const VEL: u32 = SUM_X + 3;
+    /// Words a slot.
+    pub const WORDS: u32 = 15;
+    /// An empty slot's `OWNER`.
+    pub const EMPTY: u32 = u32::MAX;
+    /// Fewest slots a table has.
+    pub const MIN_SLOTS: u32 = 64;
+
+    /// Slots of the table for `n` drops: a power of two, at least twice `n` (linear probing
+    /// always finds room, and its runs stay short).
+    pub fn slots(n: u32) -> u32 {
+        (2 * n.max(1)).next_power_of_two().max(MIN_SLOTS)
+    }
 }
 
 /// Word offsets of the held-water ledger block (`held_ledger`): 64-bit counts as (lo, hi)

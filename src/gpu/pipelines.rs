@@ -14,6 +14,7 @@ const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
 const REACTION32: &str = include_str!("shaders/reaction32.wgsl");
 const REACTION64: &str = include_str!("shaders/reaction64.wgsl");
 const WATER: &str = include_str!("shaders/water.wgsl");
+const PILES: &str = include_str!("shaders/piles.wgsl");
 const OUTPUT: &str = include_str!("shaders/output.wgsl");
 const VERTEX: &str = include_str!("shaders/vertex.wgsl");
 const FOLLOW: &str = include_str!("shaders/follow.wgsl");
@@ -202,6 +203,11 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
 /// The water module (grid build, append, cull).
 pub fn water_source(c: SceneConsts) -> String {
     format!("{}{GRID}\n{SCAN}\n{WATER}", prelude(c))
+}
+
+/// The module that coalesces drops that meet (scenes where `SimParams::coalesces`).
+pub fn piles_source(c: SceneConsts) -> String {
+    format!("{}{PILES}", prelude(c))
 }
 
 /// The held-water module (scenes with held water only).

@@ -7,7 +7,7 @@ use super::super::pipelines as pl;
 use super::stamps::close;
 use super::GpuBackend;
 use crate::error::Result;
-use crate::params::{Integrator, Readback, VertexAttributes};
+use crate::params::{Integrator, Readback, SimParams, VertexAttributes};
 use crate::physics::bdf2::Bdf2Blend;
 use crate::physics::collide::Placed;
 use crate::physics::hash_grid::buckets_for;
@@ -94,6 +94,12 @@ impl GpuBackend {
             adhesion_scale: p.adhesion_share().scale,
             pull_slope_h2: limit.slope_h2,
             pull_free: limit.free,
+            // Drops that meet coalesce: the cell and its fixed-point unit, with their inverses
+            // computed as `cpu/piles.rs` computes them.
+            pile_cell: if p.coalesces() { p.water.pile_cell } else { 0.0 },
+            pile_inv_cell: if p.coalesces() { 1.0 / p.water.pile_cell } else { 0.0 },
+            pile_unit: pile_unit(p),
+            pile_inv_unit: if p.coalesces() { 1.0 / pile_unit(p) } else { 0.0 },
             pad0: 0,
         };
         self.dev
@@ -197,6 +203,14 @@ impl GpuBackend {
                 // The new particles' insertion, booked with the grid that sorts them.
                 close(stamps, &mut pass, Stage::WaterGrid);
             }
+            if let (true, Some(w)) = (wet, self.water.as_mut()) {
+                if let Some(p) = &w.piles {
+                    // Drops that meet coalesce: the substeps see their sources (booked with
+                    // the grid, as on the CPU).
+                    p.encode_group(&mut pass, &mut w.cur, w.bound);
+                    close(stamps, &mut pass, Stage::WaterGrid);
+                }
+            }
             for s in 0..self.n_sub {
                 let off = [(s as u64 * self.sub_stride) as u32];
                 if let (true, Some(w)) = (wet, self.water.as_mut()) {
@@ -279,6 +293,10 @@ impl GpuBackend {
                 }
             }
             if let (true, Some(w)) = (wet, self.water.as_mut()) {
+                if let Some(p) = &w.piles {
+                    // The drops take their sources' places again.
+                    p.encode_spread(&mut pass, &mut w.cur, w.bound);
+                }
                 // Pass water_cull.
                 let (gx, gy) = groups(w.bound);
                 pass.set_bind_group(0, &w.build_bg[w.cur], &[]);
@@ -416,5 +434,15 @@ impl GpuBackend {
         return self.dev.shared.is_some();
         #[cfg(not(feature = "vulkan"))]
         false
+    }
+}
+
+/// The fixed-point unit of a coalescing drop's offset in its pile cell, m (0 where drops do not
+/// coalesce): `cpu/piles.rs`'s `cell * POSITION_UNIT`.
+fn pile_unit(p: &SimParams) -> f32 {
+    if p.coalesces() {
+        p.water.pile_cell * crate::cpu::piles::POSITION_UNIT
+    } else {
+        0.0
     }
 }

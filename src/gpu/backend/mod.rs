@@ -12,6 +12,7 @@ mod engine;
 mod followers;
 mod held;
 mod kernels;
+mod piles;
 mod readback;
 mod roots;
 mod sample;
@@ -193,9 +194,6 @@ impl GpuBackend {
             return Err(Error::Unsupported(format!(
                 "the GPU backend runs symplectic Euler, implicit Euler and BDF2; {integrator:?} runs on the CPU backend"
             )));
-        }
-        if let Some(why) = crate::gpu::refuses(params) {
-            return Err(Error::Unsupported(why));
         }
         if integrator.is_implicit() && groom.max_strand_points() > MAX_IMPLICIT_POINTS {
             return Err(Error::Unsupported(format!(
@@ -584,6 +582,9 @@ impl GpuBackend {
                 (w.grid.size() + w.grid_count.size() + w.state.size() + w.dispatch.size()) as usize,
             ));
             v.push(("water_incoming", w.incoming.size() as usize));
+            if let Some(p) = &w.piles {
+                v.push(("water_piles", p.bytes() as usize));
+            }
         }
         if let Some(h) = &self.held {
             v.push(("held_water", h.bytes()));

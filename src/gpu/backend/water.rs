@@ -7,6 +7,7 @@ use super::super::buffers::{
 };
 use super::super::pipelines::{self as pl, Slot};
 use super::kernels::HairKernels;
+use super::piles::PilesGpu;
 use super::GpuBackend;
 use crate::error::{Error, Result};
 use crate::physics::hash_grid::buckets_for;
@@ -45,6 +46,8 @@ pub(super) struct WaterGpu {
     pub(super) pending: u32,
     /// Removed since create or reset, as of the last status read.
     pub(super) removed: u64,
+    /// Drops that meet coalesce (`SimParams::coalesces`): their grouping.
+    pub(super) piles: Option<PilesGpu>,
 }
 
 pub(super) const WATER_ENTRIES: [&str; 10] = [
@@ -269,6 +272,17 @@ impl GpuBackend {
             self.strands_layout.as_ref(),
             self.bridges.as_ref().map(|b| &b.cohesion_layout),
         );
+        let piles = self.params.coalesces().then(|| {
+            PilesGpu::new(
+                &self.dev,
+                self.consts,
+                &self.params_buf,
+                &particles,
+                &state,
+                &grid,
+                self.params.water.capacity,
+            )
+        });
         self.dev.check()?;
         Ok(WaterGpu {
             build_bg: [mk_build(0), mk_build(1)],
@@ -289,6 +303,7 @@ impl GpuBackend {
             bound: 0,
             pending: 0,
             removed: 0,
+            piles,
         })
     }
 

@@ -54,11 +54,6 @@ fn to_fixed(x: f32) -> vec2<u32> {
     return select(r, fixed_neg(r), x < 0.0);
 }
 
-// Two's-complement negation of a 64-bit word pair.
-fn fixed_neg(a: vec2<u32>) -> vec2<u32> {
-    return vec2<u32>(~a.x + 1u, ~a.y + select(0u, 1u, a.x == 0u));
-}
-
 fn fixed_add(a: vec2<u32>, b: vec2<u32>) -> vec2<u32> {
     let lo = a.x + b.x;
     return vec2<u32>(lo, a.y + b.y + select(0u, 1u, lo < a.x));
@@ -112,17 +107,23 @@ fn particle_limit(stiffness: f32) -> f32 {
     return pull_limit(P.adhesion * P.particle_inv_mass, stiffness, 1.0);
 }
 
-// A particle's pull strength: eq. 2's s, or with absorption the water it holds.
+// A particle's pull strength: eq. 2's s, with absorption the water it holds, or where drops
+// that meet coalesce, s times the drops the source stands for (piles.wgsl; physics/adhesion.rs
+// `Strength::of`).
 fn strength_of(k: u32) -> f32 {
     if (P.absorbs != 0u) {
         return f32(sorted[k].mass) * P.strength_per_quantum;
+    }
+    if (P.pile_cell > 0.0) {
+        return P.adhesion * f32(sorted[k].mass);
     }
     return P.adhesion;
 }
 
 // physics/pull_limit.rs `PullLimit::row_weights` for one point: its weight with the limit
 // applied, from the particles of the span within r_max. A point whose cells hold at most
-// `pull_free` candidates skips the count (it cannot reach the limit).
+// `pull_free` candidates skips the count (it cannot reach the limit); a source of several
+// drops pulls as that many, so the count is divided by the largest pile.
 fn limited_weight(i: u32, x: vec3<f32>, span: Span, weight: f32) -> f32 {
     let inv_mass = points[i].inv_mass;
     if (weight == 0.0 || inv_mass == 0.0) {
@@ -134,7 +135,7 @@ fn limited_weight(i: u32, x: vec3<f32>, span: Span, weight: f32) -> f32 {
         let run = cell_run(span_cell(span, j));
         candidates += run.y - run.x;
     }
-    if (candidates <= P.pull_free) {
+    if (candidates <= P.pull_free / max(grid[G_PILE_MAX], 1u)) {
         return weight;
     }
     // stiffness_in_reach: each particle's strength times the pair's stiffness, summed.
@@ -187,10 +188,9 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
                 continue;
             }
             *near = 1.0;
-            var s = P.adhesion;
+            let s = strength_of(k);
             if (P.absorbs != 0u) {
                 let q = sorted[k].mass;
-                s = f32(q) * P.strength_per_quantum;
                 let demand = absorb_demand(q, d2, sat, take);
                 if (demand > 0u) {
                     ask(k, demand);
@@ -264,7 +264,15 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
         rate = P.water_drag_rate;
         factor = particle_limit(stiffness);
     }
-    let a = factor * (react * inv_m + P.g.xyz);
+    // A source of coalesced drops moves as each of them: an equal share of its reaction on
+    // a drop's mass (piles.wgsl; cpu/water.rs `integrate` with `Piles::share`).
+    var force = react;
+    var left = 0u;
+    if (P.pile_cell > 0.0) {
+        force = react / f32(p.mass);
+        left = p.left;
+    }
+    let a = factor * (force * inv_m + P.g.xyz);
     var v = particle_velocity(p.v.xyz, a, rate, factor * P.wind.xyz, P.h);
     var x = p.x.xyz + P.h * v;
     for (var c = 0u; c < N_COLLIDERS; c++) {
@@ -278,5 +286,5 @@ fn water_integrate(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroup
     if (P.absorbs != 0u) {
         mass = p.left;
     }
-    sorted[k] = Particle(x, mass, v, 0u);
+    sorted[k] = Particle(x, mass, v, left);
 }

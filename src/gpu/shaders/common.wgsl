@@ -61,6 +61,12 @@ fn carried_high(old: u32, v: vec2<u32>) -> u32 {
     return v.y + select(0u, 1u, old + v.x < old);
 }
 
+// Two's-complement negation of a 64-bit word pair (lo, hi): adhesion's reaction sums and the
+// piles' fixed-point sums.
+fn fixed_neg(a: vec2<u32>) -> vec2<u32> {
+    return vec2<u32>(~a.x + 1u, ~a.y + select(0u, 1u, a.x == 0u));
+}
+
 // A cell's coordinates folded in one by one by odd multipliers and shifts (physics/hash_grid.rs
 // `bucket_at` before its mask): the hashed grids of the water and of the liquid bridges.
 fn hash_cell(c: vec3<i32>) -> u32 {
