@@ -4,7 +4,7 @@
 
 #![cfg(feature = "gpu")]
 
-use crate::common::{max_diff, nudged_groom};
+use crate::common::{max_diff, nudged_groom, places};
 use glam::Vec3;
 use wethair::engine::GpuGrid;
 use wethair::gpu::buffers::WATER_CELL_R;
@@ -251,6 +251,26 @@ fn dry_paper_scene_matches_the_cpu_after_100_frames() {
 /// Wet paper scene: 1,000 particles on the hair. Eq. 2 makes strand-particle contact chaotic
 /// (a 1e-7 m nudge of the particles moves the CPU's own answer by centimetres within 100
 /// frames), so after the contact phase the GPU is held to that floor, and to the statistics.
+/// The wet parity's bound, GPU `g` against CPU `c` after the same frames: the hair within twice
+/// the distance a 1e-7 m nudge of the drops moves the CPU's (`nudged`), plus a thousandth of
+/// the longest strand `len`, and the clumping within 5 %. Returns the GPU's distance, m.
+fn assert_wet_parity(g: &Simulation, c: &Simulation, nudged: &Simulation, len: f32) -> f32 {
+    let d = max_diff(&g.positions(), &c.positions());
+    let floor = max_diff(&nudged.positions(), &c.positions());
+    assert!(
+        d <= 2.0 * floor + 1e-3 * len,
+        "GPU {d} m from the CPU; CPU nudged 1e-7 m: {floor} m"
+    );
+    let (sg, sc) = (g.stats(), c.stats());
+    assert!(
+        (sg.clumping - sc.clumping).abs() < 0.05 * sc.clumping,
+        "clumping {} vs {}",
+        sg.clumping,
+        sc.clumping
+    );
+    d
+}
+
 #[test]
 fn wet_paper_scene_matches_the_cpu() {
     let _serial = serial();
@@ -277,19 +297,9 @@ fn wet_paper_scene_matches_the_cpu() {
             assert!(d < 1e-3 * len, "after 5 wet frames: {d} m (strand {len} m)");
         }
     }
-    let d = max_diff(&g.positions(), &c.positions());
+    let d = assert_wet_parity(&g, &c, &nudged, len);
     let floor = max_diff(&nudged.positions(), &c.positions());
-    assert!(
-        d <= 2.0 * floor + 1e-3 * len,
-        "GPU {d} m from the CPU; CPU nudged 1e-7 m: {floor} m"
-    );
     let (sg, sc) = (g.stats(), c.stats());
-    assert!(
-        (sg.clumping - sc.clumping).abs() < 0.05 * sc.clumping,
-        "clumping {} vs {}",
-        sg.clumping,
-        sc.clumping
-    );
     let (pg, pc, pn) = (
         sg.particles as f32,
         sc.particles as f32,
@@ -1351,14 +1361,6 @@ fn a_groom_beyond_the_device_binding_limit_is_refused_by_name() {
 /// adhesion and the particles' reactions are sums over pairs whose order depends on how the
 /// device schedules invocations; they are summed as integers (fixed point) so the order does
 /// not matter. With float atomics these runs ended apart on lavapipe.
-/// How many places the drops at `p` occupy, bit for bit.
-fn places(p: &[Vec3]) -> usize {
-    let mut bits: Vec<[u32; 3]> = p.iter().map(|v| v.to_array().map(f32::to_bits)).collect();
-    bits.sort_unstable();
-    bits.dedup();
-    bits.len()
-}
-
 /// Drops that meet coalesce on the GPU as on the CPU (`piles.wgsl`, `cpu/piles.rs`): 400
 /// drops in the hair of a 3,000-strand paper scene with its head, drops in one 0.1 mm cell
 /// coalescing, 60 frames. The GPU's drops sit at under nine places in ten drops, and at
@@ -1414,19 +1416,7 @@ fn drops_that_meet_coalesce_as_on_the_cpu() {
         wc.len()
     );
     let len = groom.max_strand_length();
-    let d = max_diff(&g.positions(), &c.positions());
-    let floor = max_diff(&nudged.positions(), &c.positions());
-    assert!(
-        d <= 2.0 * floor + 1e-3 * len,
-        "GPU {d} m from the CPU; CPU nudged 1e-7 m: {floor} m"
-    );
-    let (sg, sc) = (g.stats(), c.stats());
-    assert!(
-        (sg.clumping - sc.clumping).abs() < 0.05 * sc.clumping,
-        "clumping {} vs {}",
-        sg.clumping,
-        sc.clumping
-    );
+    assert_wet_parity(&g, &c, &nudged, len);
     assert!(g.positions().iter().all(|p| p.is_finite()));
     // The grouping's buffers exist where drops coalesce, and only there.
     let has_piles = |s: &Simulation| s.buffers().iter().any(|(name, _)| *name == "water_piles");

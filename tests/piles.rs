@@ -3,7 +3,7 @@
 //! two did, drops that never meet give the same bits as with coalescence off, the results are
 //! the same on every thread count, and a bad cell is refused on every backend.
 
-use crate::common::serial;
+use crate::common::{places, serial};
 use glam::Vec3;
 use wethair::groom::paper_scene;
 use wethair::scenes::{on_hair, Lcg};
@@ -23,14 +23,6 @@ fn stepped(sim: &mut Simulation, frames: usize) {
     for _ in 0..frames {
         sim.step(1.0 / 60.0).unwrap();
     }
-}
-
-/// How many places the drops occupy, bit for bit.
-fn places(p: &[Vec3]) -> usize {
-    let mut bits: Vec<[u32; 3]> = p.iter().map(|v| v.to_array().map(f32::to_bits)).collect();
-    bits.sort_unstable();
-    bits.dedup();
-    bits.len()
 }
 
 /// The paper scene with 1,000 drops in its hair, 150 frames: with drops that meet coalescing

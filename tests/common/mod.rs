@@ -101,6 +101,14 @@ pub fn max_diff(a: &[glam::Vec3], b: &[glam::Vec3]) -> f32 {
     a.iter().zip(b).map(|(p, q)| (*p - *q).length()).fold(0.0, f32::max)
 }
 
+/// How many places the points at `p` occupy, bit for bit (coalesced drops share one).
+pub fn places(p: &[glam::Vec3]) -> usize {
+    let mut bits: Vec<[u32; 3]> = p.iter().map(|v| v.to_array().map(f32::to_bits)).collect();
+    bits.sort_unstable();
+    bits.dedup();
+    bits.len()
+}
+
 /// Runs test `name` (its full path, e.g. `gpu::some_test`) again, alone, in a child process of
 /// this test binary with `marker` set in its environment, and asserts that it ran and passed.
 /// Returns false in that child (where the test goes on to its check), true in the parent (where
