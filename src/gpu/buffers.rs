@@ -517,10 +517,12 @@ pub mod pile_words {
     /// Fewest slots a table has.
     pub const MIN_SLOTS: u32 = 64;
 
-    /// Slots of the table for `n` drops: a power of two, at least twice `n` (linear probing
-    /// always finds room, and its runs stay short).
+    /// Slots of the table for `n` drops: half as many again (linear probing always finds room,
+    /// and at two thirds full its runs stay short), at least [`MIN_SLOTS`]. Not rounded to a
+    /// power of two (a slot is `hash % slots`): at the largest capacity, twice the drops
+    /// rounded up would take a gigabyte.
     pub fn slots(n: u32) -> u32 {
-        (2 * n.max(1)).next_power_of_two().max(MIN_SLOTS)
+        (n as u64 + n as u64 / 2).clamp(MIN_SLOTS as u64, u32::MAX as u64) as u32
     }
 }
 

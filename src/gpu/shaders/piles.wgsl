@@ -1,7 +1,7 @@
 // Drops that meet coalesce (cpu/piles.rs; docs/METHOD.md §2, "Drops that meet"), on the GPU.
 //
 // At a step's start the drops are grouped by the pile cell they lie in through a hash table of
-// `pile_words::slots(n)` slots: the first drop to claim a slot owns it, and stands for its
+// `pile_words::slots(n)` slots (a cell's first is its hash modulo their number): the first drop to claim a slot owns it, and stands for its
 // cell's key (a drop whose cell hashes alike but differs probes on). Each cell's drops add
 // their offsets from the cell's corner and their velocities to its slot in fixed point, as
 // 64-bit word pairs by integer atomics (the units of cpu/piles.rs, so the sums are exact and
@@ -23,10 +23,9 @@
 // Each drop's slot in the table, by its index in the step's drops.
 @group(0) @binding(6) var<storage, read_write> pile_slot: array<u32>;
 
-// `pile_words::slots`: the table's slots for n drops.
+// `pile_words::slots`: the table's slots for n drops (n is at most the capacity, 2^22).
 fn pile_slots(n: u32) -> u32 {
-    let twice = 2u * max(n, 1u);
-    return max(PILE_MIN_SLOTS, 1u << (32u - countLeadingZeros(twice - 1u)));
+    return max(PILE_MIN_SLOTS, n + n / 2u);
 }
 
 // cpu/piles.rs `Piles::group`'s cell: floor(x / cell) (beyond i32 saturates; the CPU's `as`
@@ -93,10 +92,10 @@ fn pile_insert(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
     if (i >= n) {
         return;
     }
-    let mask = pile_slots(n) - 1u;
+    let slots = pile_slots(n);
     let p = cur[i];
     let c = pile_cell_of(p.x);
-    var h = hash_cell(c) & mask;
+    var h = hash_cell(c) % slots;
     var owner = i;
     loop {
         let r = atomicCompareExchangeWeak(&pile_table[h * PILE_WORDS + PILE_OWNER], PILE_EMPTY, i);
@@ -109,7 +108,7 @@ fn pile_insert(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) n
                 owner = r.old_value;
                 break;
             }
-            h = (h + 1u) & mask;
+            h = select(h + 1u, 0u, h + 1u == slots);
         }
     }
     pile_slot[i] = h;
