@@ -32,6 +32,7 @@ impl GpuBackend {
             (!p.held_water.absorbs()).then_some(p.water.adhesion),
             self.pull_weight_max,
         );
+        let [pile_cell, pile_inv_cell, pile_unit, pile_inv_unit] = pile_scale(p);
         let rec = Params {
             h,
             inv_h: 1.0 / h,
@@ -94,12 +95,10 @@ impl GpuBackend {
             adhesion_scale: p.adhesion_share().scale,
             pull_slope_h2: limit.slope_h2,
             pull_free: limit.free,
-            // Drops that meet coalesce: the cell and its fixed-point unit, with their inverses
-            // computed as `cpu/piles.rs` computes them.
-            pile_cell: if p.coalesces() { p.water.pile_cell } else { 0.0 },
-            pile_inv_cell: if p.coalesces() { 1.0 / p.water.pile_cell } else { 0.0 },
-            pile_unit: pile_unit(p),
-            pile_inv_unit: if p.coalesces() { 1.0 / pile_unit(p) } else { 0.0 },
+            pile_cell,
+            pile_inv_cell,
+            pile_unit,
+            pile_inv_unit,
             pad0: 0,
         };
         self.dev
@@ -437,12 +436,14 @@ impl GpuBackend {
     }
 }
 
-/// The fixed-point unit of a coalescing drop's offset in its pile cell, m (0 where drops do not
-/// coalesce): `cpu/piles.rs`'s `cell * POSITION_UNIT`.
-fn pile_unit(p: &SimParams) -> f32 {
-    if p.coalesces() {
-        p.water.pile_cell * crate::cpu::piles::POSITION_UNIT
-    } else {
-        0.0
+/// Where drops that meet coalesce: the pile cell, m, the fixed-point unit of a drop's offset in
+/// it (`cpu/piles.rs`'s `cell * POSITION_UNIT`), and their inverses, computed as the CPU
+/// computes them; all 0 where drops do not coalesce.
+fn pile_scale(p: &SimParams) -> [f32; 4] {
+    if !p.coalesces() {
+        return [0.0; 4];
     }
+    let cell = p.water.pile_cell;
+    let unit = cell * crate::cpu::piles::POSITION_UNIT;
+    [cell, 1.0 / cell, unit, 1.0 / unit]
 }

@@ -50,9 +50,9 @@ impl PilesGpu {
         let table = b::buffer(d, "pile_table", table_bytes, STORAGE);
         let slot_bytes = capacity.max(1) as u64 * 4;
         let slots = b::buffer(d, "pile_slot", slot_bytes, STORAGE);
-        let mut slots_kinds = vec![Slot::Uniform];
-        slots_kinds.extend([Slot::ReadWrite; 6]);
-        let layout = pl::layout(d, "piles", &slots_kinds);
+        let mut kinds = vec![Slot::Uniform];
+        kinds.extend([Slot::ReadWrite; 6]);
+        let layout = pl::layout(d, "piles", &kinds);
         let mk = |i: usize| {
             pl::bind(
                 d,
@@ -79,25 +79,25 @@ impl PilesGpu {
     /// Encodes the step's grouping over at most `bound` drops in `particles[*cur]`: the sources
     /// go to the other buffer, which becomes `cur`.
     pub(super) fn encode_group(&self, pass: &mut wgpu::ComputePass, cur: &mut usize, bound: u32) {
-        self.encode(pass, *cur, &PILE_ENTRIES[..PILE_GROUP], bound);
+        self.encode(pass, *cur, 0..PILE_GROUP, bound);
         *cur = 1 - *cur;
     }
 
     /// Encodes the step's end: each drop takes its source's place and velocity, into the other
     /// buffer, which becomes `cur`.
     pub(super) fn encode_spread(&self, pass: &mut wgpu::ComputePass, cur: &mut usize, bound: u32) {
-        self.encode(pass, *cur, &PILE_ENTRIES[PILE_GROUP..], bound);
+        self.encode(pass, *cur, PILE_GROUP..PILE_ENTRIES.len(), bound);
         *cur = 1 - *cur;
     }
 
-    fn encode(&self, pass: &mut wgpu::ComputePass, cur: usize, entries: &[&str], bound: u32) {
+    /// Encodes the entries `run` of [`PILE_ENTRIES`] on the bind group for `particles[cur]`.
+    fn encode(&self, pass: &mut wgpu::ComputePass, cur: usize, run: std::ops::Range<usize>, bound: u32) {
         pass.set_bind_group(0, &self.bg[cur], &[]);
-        for e in entries {
-            let k = PILE_ENTRIES.iter().position(|x| x == e).expect("a pile entry");
+        for k in run {
             pass.set_pipeline(&self.pipes[k]);
             // The table's passes cover its slots for `bound` drops; the others the drops; the
             // finishing ones run once.
-            let (gx, gy) = match *e {
+            let (gx, gy) = match PILE_ENTRIES[k] {
                 "pile_finish" | "pile_spread_finish" => (1, 1),
                 "pile_clear" | "pile_sources" => groups(pile_words::slots(bound)),
                 _ => groups(bound.max(1)),
