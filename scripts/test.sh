@@ -32,7 +32,7 @@ make -C examples/c --quiet all build/unity_fake
 ./examples/c/build/header_check_c
 ./examples/c/build/header_check_cpp
 ./examples/c/build/smoke --backend cpu
-./examples/c/build/smoke 100 --backend gpu
+./examples/c/build/smoke 60 --backend gpu
 ./examples/c/build/smoke 10 1000 --backend gpu --lose-device
 mkdir -p out
 # The strip (2.5 s: dry, soaked, dripping, half dry; the host checks the water ledger) and the

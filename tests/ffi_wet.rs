@@ -6,7 +6,7 @@ use std::ptr::null_mut;
 use wethair::ffi::*;
 use WetHairResult::*;
 
-use crate::common::last_error;
+use crate::common::{last_error, serial};
 
 fn paper(strands: u32) -> *mut WetHairGroom {
     let mut g = null_mut();
@@ -82,6 +82,7 @@ fn the_ledger_reaches_c_hosts_exactly() {
 /// an adapter exists (always under `WETHAIR_REQUIRE_GPU=1`): the same exact ledger.
 #[test]
 fn the_full_wet_model_runs_on_the_gpu_through_c() {
+    let _serial = serial();
     ledger_through_c(wethair::Backend::GPU);
 }
 

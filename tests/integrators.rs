@@ -10,6 +10,8 @@ use wethair::reference::Reference;
 use wethair::scenes::{paper_slice, swinging_chain, ReportScene};
 use wethair::{Backend, Error, Integrator, SimParams, Simulation, SpringParams};
 
+use crate::common::serial;
+
 const ALL: [Integrator; 4] = [
     Integrator::SYMPLECTIC_EULER,
     Integrator::IMPLICIT_EULER,
@@ -345,6 +347,7 @@ fn bdf2_with_implicit_drag_is_second_order_at_varying_frame_times() {
 /// rose again past 128 substeps (2.1e-8 and 3.1e-8 m at 256 and 512).
 #[test]
 fn bdf2_converges_past_the_f32_rounding() {
+    let _serial = serial();
     for stiffness in [1.0, 1000.0] {
         let sc = paper_slice(20, 0, stiffness);
         let dts = [1.0f32 / 60.0; 60];

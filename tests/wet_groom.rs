@@ -99,6 +99,7 @@ fn a_real_groom_under_a_thousand_drops_keeps_its_length() {
 /// 4.5 (measured 2026-12-01). The drops are light enough to stay in the hair at any substep.
 #[test]
 fn a_real_groom_clumps_at_4_substeps_as_at_64() {
+    let _serial = serial();
     let groom = ponytail();
     let clumping = |substeps: u32| {
         let params = SimParams {
@@ -129,6 +130,7 @@ fn a_real_groom_clumps_at_4_substeps_as_at_64() {
 
 #[test]
 fn a_soaked_ponytail_hangs_lower_drips_from_its_tips_and_lets_go_as_it_dries() {
+    let _serial = serial();
     let groom = ponytail();
     let base = SimParams {
         backend: Backend::CPU,

@@ -9,6 +9,8 @@ use wethair::groom::{paper_scene, Groom};
 use wethair::physics::wet::{bend_scale, hold_limit, to_quanta, ABSORB_LAST_FRACTION, CAPACITY_RATIO, FREE_RATIO};
 use wethair::{Backend, HeldWater, SimParams, Simulation, SpringParams, Wind};
 
+use crate::common::serial;
+
 const DT: f32 = 1.0 / 60.0;
 
 /// The paper's parameters on the CPU with the full wet model, drying after `dry_time` s.
@@ -82,7 +84,7 @@ fn particles_soak_into_the_hair_and_vanish_with_the_ledger_exact() {
 /// point to twelve times its limit.)
 #[test]
 fn drops_fill_fine_hair_to_its_hold_limit_and_no_further() {
-    let _g = crate::common::serial();
+    let _g = serial();
     let line = Groom::new(vec![Vec3::ZERO, Vec3::new(0.0, 0.0, -0.3)], &[2], None, None, 1.0).unwrap();
     let sampled = wethair::groom::LoadOptions {
         resample_points: 61,
@@ -491,6 +493,7 @@ fn liquid_bridges_pull_two_wet_strands_together_equally_and_dry_or_damp_ones_not
 /// both).
 #[test]
 fn a_soaked_groom_stays_clumped_then_lets_go_as_it_dries() {
+    let _serial = serial();
     let groom = paper_scene(10_000, 6).unwrap();
     let base = SimParams {
         backend: Backend::CPU,
