@@ -1,8 +1,9 @@
 // Drops that meet coalesce (cpu/piles.rs; docs/METHOD.md §2, "Drops that meet"), on the GPU.
 //
 // At a step's start the drops are grouped by the pile cell they lie in through a hash table of
-// `pile_words::slots(n)` slots (a cell's first is its hash modulo their number): the first drop to claim a slot owns it, and stands for its
-// cell's key (a drop whose cell hashes alike but differs probes on). Each cell's drops add
+// `pile_words::slots(n)` slots (a cell's first is its hash modulo their number): the first
+// drop to claim a slot owns it, and stands for its cell's key (a drop whose cell hashes alike
+// but differs probes on). Each cell's drops add
 // their offsets from the cell's corner and their velocities to its slot in fixed point, as
 // 64-bit word pairs by integer atomics (the units of cpu/piles.rs, so the sums are exact and
 // the same in any order). Each occupied slot then makes one source: a particle at its drops'
