@@ -5,7 +5,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 . scripts/env.sh
-cargo build --release --quiet
+# The same build as the tests' (with the Unity plugin's entry points, which nothing calls
+# here): after scripts/test.sh this is a no-op rather than a second build of the library.
+cargo build --release --quiet --features unity
 make -C examples/c --quiet build/render
 mkdir -p out
 ./examples/c/build/render --out out/wethair.png "$@"
