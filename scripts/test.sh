@@ -203,8 +203,10 @@ step "Peer bench harness: NumPy and wethair (through its Python package) agree o
 target/pyenv/bin/python benches/peers/bench.py --scenes tiny --engines numpy,wethair --threads 2 --reps 1 \
     --max-disagreement 1e-6 --out target/peers-smoke
 
-step "The main job prints only its own lines (no Mesa warning without XDG_RUNTIME_DIR); last, as it rebuilds the library without the unity feature"
+step "The main job prints only its own lines (no Mesa warning without XDG_RUNTIME_DIR); it reuses this build of the library"
+built=$(stat -c %.9Y target/release/libwethair.so)
 env -u XDG_RUNTIME_DIR bash scripts/main.sh --frames 10 --strip-seconds 2 --out out/test-main.png 2>&1 | tee target/main.log
+test "$(stat -c %.9Y target/release/libwethair.so)" = "$built"
 ! grep -qi "error\|warning" target/main.log
 grep -q "^timing (paper model): dry" target/main.log
 grep -q "^wet model .* ms/frame" target/main.log
