@@ -27,11 +27,7 @@ grep -q "test result: ok" target/rust-tests.log
 ! grep -q "test result: FAILED" target/rust-tests.log
 
 step "C hosts (-Wall -Wextra -Werror; header as C11 and C++17)"
-# The tests' build made the library; this build and the main job's reuse it (Cargo.toml
-# names the features the dev-dependencies turn on), which the file's time checks.
-built=$(stat -c %.9Y target/release/libwethair.so)
 cargo build --release --quiet "${features[@]}"
-test "$(stat -c %.9Y target/release/libwethair.so)" = "$built"
 make -C examples/c --quiet all build/unity_fake
 ./examples/c/build/header_check_c
 ./examples/c/build/header_check_cpp
@@ -208,6 +204,7 @@ target/pyenv/bin/python benches/peers/bench.py --scenes tiny --engines numpy,wet
     --max-disagreement 1e-6 --out target/peers-smoke
 
 step "The main job prints only its own lines (no Mesa warning without XDG_RUNTIME_DIR); it reuses this build of the library"
+built=$(stat -c %.9Y target/release/libwethair.so)
 env -u XDG_RUNTIME_DIR bash scripts/main.sh --frames 10 --strip-seconds 2 --out out/test-main.png 2>&1 | tee target/main.log
 test "$(stat -c %.9Y target/release/libwethair.so)" = "$built"
 ! grep -qi "error\|warning" target/main.log
