@@ -206,7 +206,7 @@ target/pyenv/bin/python benches/peers/bench.py --scenes tiny --engines numpy,wet
 step "The main job prints only its own lines (no Mesa warning without XDG_RUNTIME_DIR); it reuses this build of the library"
 built=$(stat -c %.9Y target/release/libwethair.so)
 env -u XDG_RUNTIME_DIR bash scripts/main.sh --frames 10 --strip-seconds 2 --out out/test-main.png 2>&1 | tee target/main.log
-test "$(stat -c %.9Y target/release/libwethair.so)" = "$built"
+test "$(stat -c %.9Y target/release/libwethair.so)" = "$built" || { echo "scripts/main.sh rebuilt the library: its cargo build must use the features above" >&2; exit 1; }
 ! grep -qi "error\|warning" target/main.log
 grep -q "^timing (paper model): dry" target/main.log
 grep -q "^wet model .* ms/frame" target/main.log
