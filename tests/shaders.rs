@@ -94,8 +94,10 @@ fn consts(bend: bool, colliders: u32) -> wethair::gpu::pipelines::SceneConsts {
         iterations: 2,
         bdf2: false,
         roots: bend,
-        // Each reaction form: word pairs without bend springs, 64-bit adds with them.
+        // Each reaction form: word pairs without bend springs, 64-bit adds with them (the
+        // gathered form is added to the wet modules in `all_modules`).
         atomic64: bend,
+        gathered: false,
     }
 }
 
@@ -135,6 +137,9 @@ fn all_modules() -> Vec<(String, String)> {
                 let name = format!("hair {integrator:?} wet={wet} bend={bend} colliders={colliders}");
                 out.push((name, hair_source(c, &passes)));
             }
+            let gathered = wethair::gpu::pipelines::SceneConsts { gathered: true, ..c };
+            let name = format!("hair {integrator:?} wet, reactions gathered, bend={bend} colliders={colliders}");
+            out.push((name, hair_source(gathered, &pass_list(&p, integrator, bend, true))));
             let bridged = SimParams {
                 held_water: wethair::HeldWater::ON,
                 ..p.clone()
@@ -146,6 +151,10 @@ fn all_modules() -> Vec<(String, String)> {
         }
         out.push((format!("bridges bend={bend}"), bridges_source(c, 2048, 1000)));
         out.push((format!("water bend={bend}"), water_source(c)));
+        out.push((
+            format!("reactions bend={bend}"),
+            wethair::gpu::pipelines::reactions_source(wethair::gpu::pipelines::SceneConsts { gathered: true, ..c }),
+        ));
         out.push((format!("piles bend={bend}"), wethair::gpu::pipelines::piles_source(c)));
         out.push((format!("output bend={bend}"), output_source(c)));
         out.push((format!("water output bend={bend}"), water_output_source(c)));
@@ -227,8 +236,8 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
     }
     assert_eq!(
         checked,
-        records().len() * 40,
-        "every record in every module (40 modules)"
+        records().len() * 48,
+        "every record in every module (48 modules)"
     );
 }
 

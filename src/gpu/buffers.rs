@@ -393,6 +393,30 @@ pub const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
 /// any order.
 pub const WATER_FORCE_WORDS: u32 = 8;
 
+/// Where the particles gather their reactions (`reaction_gathered.wgsl`, `reactions.wgsl`):
+/// the words of the `wet` buffer, which takes `water_force`'s binding and place, and of its
+/// sort order.
+pub mod wet_words {
+    use super::{SCAN_BLOCK, WATER_FORCE_WORDS};
+
+    /// Words of a hair point's record: its key (its water-grid bucket + 1, 0 without a pair
+    /// this substep), the place its pulls were reckoned at (3), their weight, its saturation
+    /// and absorption take, and a word of padding.
+    pub const RECORD: u32 = 8;
+
+    /// The `wet` buffer: the particles' sums (as `water_force`), a count per bucket, and a
+    /// record per hair point.
+    pub fn words(capacity: u32, max_buckets: u32, points: u32) -> u64 {
+        WATER_FORCE_WORDS as u64 * capacity as u64 + max_buckets as u64 + RECORD as u64 * points as u64
+    }
+
+    /// The `wet_order` buffer: the buckets' starts (one more than the buckets), the prefix
+    /// sum's block sums, and the recorded points' indices in bucket order.
+    pub fn order_words(max_buckets: u32, points: u32) -> u64 {
+        max_buckets as u64 + 1 + max_buckets.div_ceil(SCAN_BLOCK) as u64 + points as u64
+    }
+}
+
 /// Fixed-point units per unit of [`crate::physics::adhesion::pair_stiffness`] in a particle's
 /// sum of how stiffly the hair holds it (2^16): each pair's rounding is 8e-6 of the stiffest
 /// pair's, and the sum's 32 bits hold 65,535 such pairs, more than a drop finds within reach

@@ -172,6 +172,13 @@ pub(crate) fn wanted(have: wgpu::Features, have_limits: &wgpu::Limits) -> (wgpu:
     (features, limits)
 }
 
+/// Whether the particles gather eq. 2's reactions (`reactions.wgsl`) rather than the hair
+/// points adding them by atomics: `WETHAIR_GPU_REACTIONS=gather`. Both give the same bits
+/// (`tests/gpu.rs`); the scatter form stays the default until the gather is timed on a GPU.
+pub(crate) fn gathers_reactions() -> bool {
+    std::env::var("WETHAIR_GPU_REACTIONS").is_ok_and(|v| v == "gather")
+}
+
 /// The device descriptor for [`wanted`]'s features and limits.
 pub(crate) fn descriptor(features: wgpu::Features, limits: &wgpu::Limits) -> wgpu::DeviceDescriptor<'static> {
     wgpu::DeviceDescriptor {

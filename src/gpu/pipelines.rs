@@ -13,6 +13,9 @@ const EXPLICIT_POINT: &str = include_str!("shaders/explicit_point.wgsl");
 const ADHESION: &str = include_str!("shaders/adhesion.wgsl");
 const REACTION32: &str = include_str!("shaders/reaction32.wgsl");
 const REACTION64: &str = include_str!("shaders/reaction64.wgsl");
+const REACTION_GATHERED: &str = include_str!("shaders/reaction_gathered.wgsl");
+const REACTIONS: &str = include_str!("shaders/reactions.wgsl");
+const PAIR: &str = include_str!("shaders/pair.wgsl");
 const WATER: &str = include_str!("shaders/water.wgsl");
 const PILES: &str = include_str!("shaders/piles.wgsl");
 const OUTPUT: &str = include_str!("shaders/output.wgsl");
@@ -61,6 +64,9 @@ pub struct SceneConsts {
     pub roots: bool,
     /// The device adds 64-bit integers atomically (`reaction64.wgsl`, else `reaction32.wgsl`).
     pub atomic64: bool,
+    /// The particles gather their reactions (`reaction_gathered.wgsl`, `reactions.wgsl`)
+    /// instead of the hair points adding them (`WETHAIR_GPU_REACTIONS=gather`).
+    pub gathered: bool,
 }
 
 /// The scene's constants, the generated prelude (shared constants and structs), and the
@@ -157,10 +163,25 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
 }
 
 /// Eq. 2, absorption's demand, and the grid queries they make (wet scenes only), with the
-/// particles' reaction sums in the device's widest atomic integers.
+/// particles' reaction sums in the device's widest atomic integers, or gathered by the
+/// particles.
 fn adhesion(c: SceneConsts) -> String {
-    let reaction = if c.atomic64 { REACTION64 } else { REACTION32 };
-    format!("{GRID}\n{GRID_MARKS}\n{ABSORB}\n{reaction}\n{ADHESION}")
+    let reaction = match (c.gathered, c.atomic64) {
+        (true, _) => REACTION_GATHERED,
+        (false, true) => REACTION64,
+        (false, false) => REACTION32,
+    };
+    format!("{GRID}\n{GRID_MARKS}\n{ABSORB}\n{reaction}\n{PAIR}\n{ADHESION}")
+}
+
+/// The module where the particles gather their reactions (`SceneConsts::gathered`): the
+/// records' sort and the gather. Absorption's laws read `points` only in functions it does
+/// not call, so that binding is declared and never bound.
+pub fn reactions_source(c: SceneConsts) -> String {
+    format!(
+        "{}@group(1) @binding(0) var<storage, read> points: array<Point>;\n{REST_SEGMENTS}{GRID}\n{GRID_MARKS}\n{SCAN}\n{ABSORB}\n{PAIR}\n{REACTIONS}",
+        prelude(c)
+    )
 }
 
 /// Implicit Euler's (and BDF2's) hair module: `hair_forces` (adhesion, wetting, cohesion; per

@@ -114,6 +114,7 @@ pub fn constants() -> Vec<(&'static str, Const)> {
         ("DRIP_WG", U32(buffers::DRIP_WG)),
         ("GRID_COUNT_HEADER", U32(buffers::GRID_COUNT_HEADER)),
         ("WATER_FORCE_WORDS", U32(buffers::WATER_FORCE_WORDS)),
+        ("WET_RECORD", U32(buffers::wet_words::RECORD)),
         ("FIXED_SCALE", F32(buffers::FIXED_SCALE)),
         ("STIFFNESS_SCALE", F32(buffers::STIFFNESS_SCALE)),
         ("G_LO", U32(gh::LO)),

@@ -241,6 +241,13 @@ impl GpuBackend {
                         pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
                         close(stamps, &mut pass, Stage::Blocks);
                     }
+                    if let Some(r) = &w.reactions {
+                        // Pass reactions: the particles gather what the hair kernel's pulls
+                        // gave them (booked with the hair kernel).
+                        r.encode(&mut pass, w.cur, &w.dispatch, self.active_points, w.bound);
+                        pass.set_bind_group(0, &self.hair_bg[self.cur], &off);
+                        close(stamps, &mut pass, Stage::Blocks);
+                    }
                     if let Some(h) = self.held.as_ref().filter(|h| !h.absorb_dispatches().is_empty()) {
                         // Pass absorb: the particles give the hair what it asked for (its own
                         // bind groups; water_integrate's go back after it).

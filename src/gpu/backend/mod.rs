@@ -13,6 +13,7 @@ mod followers;
 mod held;
 mod kernels;
 mod piles;
+mod reactions;
 mod readback;
 mod roots;
 mod sample;
@@ -286,6 +287,7 @@ impl GpuBackend {
             bdf2: integrator == Integrator::BDF2,
             roots: params.skinned_roots,
             atomic64: dev.atomic64,
+            gathered: super::device::gathers_reactions(),
         };
         let n_sub = params.substeps as usize;
         let align = dev.limits.min_uniform_buffer_offset_alignment as u64;
@@ -577,6 +579,9 @@ impl GpuBackend {
         if let Some(w) = &self.water {
             v.push(("water_particles", 2 * w.particles[0].size() as usize));
             v.push(("water_reactions", w.force.size() as usize));
+            if let Some(r) = &w.reactions {
+                v.push(("water_reaction_order", r.order_bytes()));
+            }
             v.push((
                 "water_grid",
                 (w.grid.size() + w.grid_count.size() + w.state.size() + w.dispatch.size()) as usize,

@@ -8,6 +8,7 @@ use super::super::buffers::{
 use super::super::pipelines::{self as pl, Slot};
 use super::kernels::HairKernels;
 use super::piles::PilesGpu;
+use super::reactions::ReactionsGpu;
 use super::GpuBackend;
 use crate::error::{Error, Result};
 use crate::physics::hash_grid::buckets_for;
@@ -18,6 +19,8 @@ use glam::Vec3;
 #[derive(Debug)]
 pub(super) struct WaterGpu {
     pub(super) particles: [wgpu::Buffer; 2],
+    /// The particles' reaction sums (`buffers::WATER_FORCE_WORDS` words each); where the
+    /// particles gather them, also the points' records (`buffers::wet_words`).
     pub(super) force: wgpu::Buffer,
     pub(super) grid_count: wgpu::Buffer,
     pub(super) grid: wgpu::Buffer,
@@ -48,6 +51,8 @@ pub(super) struct WaterGpu {
     pub(super) removed: u64,
     /// Drops that meet coalesce (`SimParams::coalesces`): their grouping.
     pub(super) piles: Option<PilesGpu>,
+    /// The particles gather their reactions (`SceneConsts::gathered`): its passes.
+    pub(super) reactions: Option<ReactionsGpu>,
 }
 
 pub(super) const WATER_ENTRIES: [&str; 10] = [
@@ -177,10 +182,15 @@ impl GpuBackend {
             b::buffer(d, "particles_a", cap * 32, STORAGE),
             b::buffer(d, "particles_b", cap * 32, STORAGE),
         ];
-        let force = b::buffer(d, "water_force", cap * 4 * WATER_FORCE_WORDS as u64, STORAGE);
         // The hashed grid's table for the capacity (a step's table, sized by the particles it
         // holds, is at most this).
         let max_buckets = buckets_for(cap as usize) as u64;
+        let force_words = if self.consts.gathered {
+            b::wet_words::words(cap as u32, max_buckets as u32, self.points)
+        } else {
+            cap * WATER_FORCE_WORDS as u64
+        };
+        let force = b::buffer(d, "water_force", force_words * 4, STORAGE);
         let grid_count = b::buffer(d, "grid_count", (GRID_COUNT_HEADER as u64 + max_buckets) * 4, STORAGE);
         // Header, start[0..=buckets], the prefix sum's per-block totals, the mark table.
         let (mark_at, grid_words) = b::grid_words(max_buckets as u32);
@@ -283,6 +293,19 @@ impl GpuBackend {
                 self.params.water.capacity,
             )
         });
+        let reactions = self.consts.gathered.then(|| {
+            ReactionsGpu::new(
+                d,
+                self.consts,
+                &self.params_buf,
+                &particles,
+                &grid,
+                &force,
+                &absorb,
+                self.points,
+                max_buckets as u32,
+            )
+        });
         self.dev.check()?;
         Ok(WaterGpu {
             build_bg: [mk_build(0), mk_build(1)],
@@ -304,6 +327,7 @@ impl GpuBackend {
             pending: 0,
             removed: 0,
             piles,
+            reactions,
         })
     }
 

@@ -1,72 +1,18 @@
 // Eq. 2 on the GPU (physics/adhesion.rs): each hair point gathers the particles of the grid
 // cells within r_max (grid.wgsl); the opposite force goes to the particle by integer atomic
-// adds (reaction64.wgsl or reaction32.wgsl). Both sides sum in 64-bit fixed point
+// adds (reaction64.wgsl or reaction32.wgsl), or the particles gather it from the records the
+// points leave (reaction_gathered.wgsl, reactions.wgsl). Both sides sum in 64-bit fixed point
 // (FIXED_SCALE units per adhesion strength), so a sum is the same whatever order the
 // particles of a cell, or the points that pull one particle, come in: a step gives the same
 // bits run after run, and hair and water exchange exactly equal and opposite forces up to the
 // one rounding back to f32.
 
 @group(1) @binding(0) var<storage, read_write> sorted: array<Particle>;
-// Binding 1, the particles' reaction sums, and their adds come from reaction32.wgsl or
-// reaction64.wgsl.
+// Binding 1, the particles' reaction sums, and their adds come from reaction32.wgsl,
+// reaction64.wgsl or reaction_gathered.wgsl.
 @group(1) @binding(2) var<storage, read> grid: array<u32>;
 // Absorption's per-particle scratch (buffers::absorb_words; a placeholder without absorption).
 @group(1) @binding(3) var<storage, read_write> absorb_scratch: array<atomic<u32>>;
-
-// physics/adhesion.rs `profile_variable`: 1 at r_min, 0 halfway, -1 at r_max.
-fn profile_variable(d: f32) -> f32 {
-    return (2.0 * d - P.r_min - P.r_max) / (P.r_min - P.r_max);
-}
-
-// physics/adhesion.rs `pair_stiffness`: how stiffly one hair point holds a particle at squared
-// distance d2, per unit of its strength, in the profile's steepest slopes: the larger of u and
-// (r_max - r_min) g(d) / 4d, 0 where force_scale is 0.
-fn pair_stiffness(d2: f32) -> f32 {
-    if (d2 > P.r_max * P.r_max || d2 < MIN_DISTANCE * MIN_DISTANCE) {
-        return 0.0;
-    }
-    let d = sqrt(d2);
-    let u = profile_variable(d);
-    // At most 1 (physics/adhesion.rs `stiffest_pair`), held there against rounding.
-    let across = min((0.25 * (P.r_max - P.r_min)) * (1.0 - u * u) / d, 1.0);
-    return max(u, across);
-}
-
-// Eq. 2's factor (physics/adhesion.rs `force_scale`): s g(d) / d within [MIN_DISTANCE, r_max],
-// else 0, for a particle of strength s.
-fn force_scale(d2: f32, s: f32) -> f32 {
-    if (d2 > P.r_max * P.r_max || d2 < MIN_DISTANCE * MIN_DISTANCE) {
-        return 0.0;
-    }
-    let d = sqrt(d2);
-    let u = profile_variable(d);
-    return s * (1.0 - u * u) / d;
-}
-
-// A force component as a 64-bit two's-complement integer (low word, high word) in units of
-// the adhesion strength over FIXED_SCALE: 2.3e-10 of the largest pull one particle gives,
-// finer than f32 near it, with room for 2^31 such pulls in one sum.
-fn to_fixed(x: f32) -> vec2<u32> {
-    let m = abs(x) * (FIXED_SCALE / P.adhesion);
-    let hi = floor(m / 4294967296.0);
-    // Exact: m and hi * 2^32 agree above the 24 bits an f32 holds.
-    let r = vec2<u32>(u32(m - hi * 4294967296.0), u32(hi));
-    return select(r, fixed_neg(r), x < 0.0);
-}
-
-fn fixed_add(a: vec2<u32>, b: vec2<u32>) -> vec2<u32> {
-    let lo = a.x + b.x;
-    return vec2<u32>(lo, a.y + b.y + select(0u, 1u, lo < a.x));
-}
-
-// Back to newtons: the magnitude converted, then the sign (converting the two words of a
-// negative value apart would cancel catastrophically).
-fn from_fixed(a: vec2<u32>) -> f32 {
-    let neg = (a.y & 0x80000000u) != 0u;
-    let m = select(a, fixed_neg(a), neg);
-    let v = (f32(m.y) * 4294967296.0 + f32(m.x)) * (P.adhesion / FIXED_SCALE);
-    return select(v, -v, neg);
-}
 
 // Particle k's reaction in newtons.
 fn reaction(k: u32) -> vec3<f32> {
@@ -107,19 +53,6 @@ fn particle_limit(stiffness: f32) -> f32 {
     return pull_limit(P.adhesion * P.particle_inv_mass, stiffness, 1.0);
 }
 
-// A particle's pull strength: eq. 2's s, with absorption the water it holds, or where drops
-// that meet coalesce, s times the drops the source stands for (piles.wgsl; physics/adhesion.rs
-// `Strength::of`).
-fn strength_of(k: u32) -> f32 {
-    if (P.absorbs != 0u) {
-        return f32(sorted[k].mass) * P.strength_per_quantum;
-    }
-    if (P.pile_cell > 0.0) {
-        return P.adhesion * f32(sorted[k].mass);
-    }
-    return P.adhesion;
-}
-
 // physics/pull_limit.rs `PullLimit::row_weights` for one point: its weight with the limit
 // applied, from the particles of the span within r_max. A point whose cells hold at most
 // `pull_free` candidates skips the count (it cannot reach the limit); a source of several
@@ -138,8 +71,11 @@ fn limited_weight(i: u32, x: vec3<f32>, span: Span, weight: f32) -> f32 {
     if (candidates <= P.pull_free / max(grid[G_PILE_MAX], 1u)) {
         return weight;
     }
-    // stiffness_in_reach: each particle's strength times the pair's stiffness, summed.
-    var stiffness = 0.0;
+    // stiffness_in_reach: each particle's strength times the pair's stiffness, summed in the
+    // reactions' 64-bit fixed point, so the sum is the same in whatever order the atomics of
+    // the grid's scatter left a bucket's particles (an f32 sum in that order made wet runs
+    // differ in their last bits run to run, found 2026-12-03).
+    var stiffness = vec2<u32>(0u);
     for (var j = 0; j < span_cells(span); j++) {
         let c = span_cell(span, j);
         let run = cell_run(c);
@@ -148,11 +84,11 @@ fn limited_weight(i: u32, x: vec3<f32>, span: Span, weight: f32) -> f32 {
             let d = y - x;
             let d2 = dot(d, d);
             if (d2 <= r * r && in_cell(y, c)) {
-                stiffness += strength_of(k) * pair_stiffness(d2);
+                stiffness = fixed_add(stiffness, to_fixed(strength_of(k) * pair_stiffness(d2)));
             }
         }
     }
-    return weight * pull_limit(stiffness, weight, inv_mass);
+    return weight * pull_limit(from_fixed(stiffness), weight, inv_mass);
 }
 
 // Pass adhesion: returns the force on hair point i at x and sets `near` when a particle is
@@ -164,6 +100,7 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
     let r = P.r_max;
     var span: Span;
     if (!near_span(x, r, &span)) {
+        note_wet(i, x, 0.0, 0.0, 0.0, false);
         return vec3<f32>(0.0);
     }
     var take = 0.0;
@@ -189,17 +126,20 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
             }
             *near = 1.0;
             let s = strength_of(k);
-            if (P.absorbs != 0u) {
-                let q = sorted[k].mass;
-                let demand = absorb_demand(q, d2, sat, take);
-                if (demand > 0u) {
-                    ask(k, demand);
+            // Where the particles gather, react_gather reckons these from the point's record.
+            if (!GATHERED) {
+                if (P.absorbs != 0u) {
+                    let q = sorted[k].mass;
+                    let demand = absorb_demand(q, d2, sat, take);
+                    if (demand > 0u) {
+                        ask(k, demand);
+                    }
                 }
-            }
-            // How stiffly the point holds the particle, for its side of the stability limit.
-            let stiff = u32(pair_stiffness(d2) * share * STIFFNESS_SCALE + 0.5);
-            if (stiff != 0u) {
-                add_stiffness(k, stiff);
+                // How stiffly the point holds the particle, for its side of the stability limit.
+                let stiff = stiffness_units(d2, share);
+                if (stiff != 0u) {
+                    add_stiffness(k, stiff);
+                }
             }
             let m = force_scale(d2, s) * share;
             if (m == 0.0) {
@@ -212,10 +152,13 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
             for (var a = 0u; a < 3u; a++) {
                 let f = to_fixed(g[a]);
                 acc[a] = fixed_add(acc[a], f);
-                add_reaction(k, a, fixed_neg(f));
+                if (!GATHERED) {
+                    add_reaction(k, a, fixed_neg(f));
+                }
             }
         }
     }
+    note_wet(i, x, share, sat, take, *near != 0.0);
     if (bad) {
         atomicOr(&status[STATUS_FLAGS], FLAG_WATER_NONFINITE);
         return vec3<f32>(bitcast<f32>(0x7fc00000u));

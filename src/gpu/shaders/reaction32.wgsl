@@ -41,3 +41,9 @@ fn clear_reactions(k: u32) {
         atomicStore(&water_force[WATER_FORCE_WORDS * k + w], 0u);
     }
 }
+
+// The scatter form: the hair points add the reactions above, and leave no record for a
+// gather (reaction_gathered.wgsl).
+const GATHERED: bool = false;
+
+fn note_wet(i: u32, x: vec3<f32>, share: f32, sat: f32, take: f32, found: bool) {}
