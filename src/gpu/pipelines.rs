@@ -41,6 +41,7 @@ const HELD: &str = include_str!("shaders/held.wgsl");
 const ABSORB: &str = include_str!("shaders/absorb.wgsl");
 const REST_SEGMENTS: &str = include_str!("shaders/rest_segments.wgsl");
 const SCAN: &str = include_str!("shaders/scan.wgsl");
+const COUNTING_SCAN: &str = include_str!("shaders/counting_scan.wgsl");
 const BRIDGES: &str = include_str!("shaders/bridges.wgsl");
 const COHESION: &str = include_str!("shaders/cohesion.wgsl");
 
@@ -179,7 +180,7 @@ fn adhesion(c: SceneConsts) -> String {
 /// not call, so that binding is declared and never bound.
 pub fn reactions_source(c: SceneConsts) -> String {
     format!(
-        "{}@group(1) @binding(0) var<storage, read> points: array<Point>;\n{REST_SEGMENTS}{GRID}\n{GRID_MARKS}\n{SCAN}\n{ABSORB}\n{PAIR}\n{REACTIONS}",
+        "{}@group(1) @binding(0) var<storage, read> points: array<Point>;\n{REST_SEGMENTS}{GRID}\n{GRID_MARKS}\n{SCAN}\n{COUNTING_SCAN}\n{ABSORB}\n{PAIR}\n{REACTIONS}",
         prelude(c)
     )
 }
@@ -223,7 +224,7 @@ fn implicit_source(c: SceneConsts, passes: &[Pass]) -> String {
 
 /// The water module (grid build, append, cull).
 pub fn water_source(c: SceneConsts) -> String {
-    format!("{}{GRID}\n{SCAN}\n{WATER}", prelude(c))
+    format!("{}{GRID}\n{SCAN}\n{COUNTING_SCAN}\n{WATER}", prelude(c))
 }
 
 /// The module that coalesces drops that meet (scenes where `SimParams::coalesces`).
@@ -245,7 +246,7 @@ pub fn held_source(c: SceneConsts) -> String {
 pub fn bridges_source(c: SceneConsts, buckets: u32, points: u32) -> String {
     format!(
         "{}const BRIDGE_BUCKETS: u32 = {buckets}u;\nconst BRIDGE_BLOCKS: u32 = {}u;\nconst BRIDGE_POINTS: u32 = {points}u;\n\
-         {SCAN}\n{REST_SEGMENTS}{ABSORB}\n{BRIDGES}",
+         {SCAN}\n{COUNTING_SCAN}\n{REST_SEGMENTS}{ABSORB}\n{BRIDGES}",
         prelude(c),
         buckets / super::buffers::SCAN_BLOCK,
     )

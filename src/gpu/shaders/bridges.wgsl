@@ -109,26 +109,24 @@ fn bridge_count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     }
 }
 
+// The counting sort's hooks (counting_scan.wgsl): bucket b's count and start.
+fn count_of(b: u32) -> u32 {
+    return atomicLoad(&bucket_count[b]);
+}
+
+fn start_of(b: u32) -> u32 {
+    return bucket[b];
+}
+
+fn set_start(b: u32, v: u32) {
+    bucket[b] = v;
+}
+
 // Pass hair_grid, part 2a: exclusive prefix sum of the counts within blocks of SCAN_BLOCK
 // buckets (BRIDGE_BUCKETS is a multiple of it).
 @compute @workgroup_size(256)
 fn bridge_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let base = wid.x * SCAN_BLOCK + lid * 4u;
-    var c = array<u32, 4>(0u, 0u, 0u, 0u);
-    var sum = 0u;
-    for (var k = 0u; k < 4u; k++) {
-        c[k] = atomicLoad(&bucket_count[base + k]);
-        sum += c[k];
-    }
-    scan_inclusive(lid, sum);
-    var run = scan[lid] - sum;
-    for (var k = 0u; k < 4u; k++) {
-        bucket[base + k] = run;
-        run += c[k];
-    }
-    if (lid == 255u) {
-        bucket[B_SUMS + wid.x] = scan[255];
-    }
+    scan_counts_block(wid.x, lid, BRIDGE_BUCKETS);
 }
 
 // The scan's block sums (scan.wgsl `scan_block_sums`).
@@ -153,11 +151,7 @@ fn bridge_scan_sums(@builtin(local_invocation_index) lid: u32) {
 // Pass hair_grid, part 2c: each block's offset added to its buckets' starts.
 @compute @workgroup_size(256)
 fn bridge_scan_add(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let add = bucket[B_SUMS + wid.x];
-    let base = wid.x * SCAN_BLOCK + lid * 4u;
-    for (var k = 0u; k < 4u; k++) {
-        bucket[base + k] += add;
-    }
+    add_block_offset(wid.x, lid, BRIDGE_BUCKETS);
 }
 
 // Pass hair_grid, part 3: each wet point into its bucket (in any order within it: a search

@@ -31,7 +31,20 @@ fn wet_list_at() -> u32 {
     return P.max_buckets + 1u + (P.max_buckets + SCAN_BLOCK - 1u) / SCAN_BLOCK;
 }
 
-// The scan's block sums, after the starts (scan.wgsl `scan_block_sums`).
+// The counting sort's hooks (counting_scan.wgsl and scan.wgsl): bucket b's count and start,
+// and the block sums after the starts.
+fn count_of(b: u32) -> u32 {
+    return atomicLoad(&wet[wet_counts_at() + b]);
+}
+
+fn start_of(b: u32) -> u32 {
+    return wet_order[b];
+}
+
+fn set_start(b: u32, v: u32) {
+    wet_order[b] = v;
+}
+
 fn block_sum(k: u32) -> u32 {
     return wet_order[P.max_buckets + 1u + k];
 }
@@ -44,27 +57,7 @@ fn set_block_sum(k: u32, v: u32) {
 // SCAN_BLOCK buckets (this substep's water grid has grid[G_BUCKETS]).
 @compute @workgroup_size(256)
 fn react_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let buckets = grid[G_BUCKETS];
-    let base = wid.x * SCAN_BLOCK + lid * 4u;
-    var c = array<u32, 4>(0u, 0u, 0u, 0u);
-    var sum = 0u;
-    for (var k = 0u; k < 4u; k++) {
-        if (base + k < buckets) {
-            c[k] = atomicLoad(&wet[wet_counts_at() + base + k]);
-        }
-        sum += c[k];
-    }
-    scan_inclusive(lid, sum);
-    var run = scan[lid] - sum;
-    for (var k = 0u; k < 4u; k++) {
-        if (base + k < buckets) {
-            wet_order[base + k] = run;
-        }
-        run += c[k];
-    }
-    if (lid == 255u) {
-        set_block_sum(wid.x, scan[255]);
-    }
+    scan_counts_block(wid.x, lid, grid[G_BUCKETS]);
 }
 
 // Pass reactions, part 1b (one workgroup): the block sums' prefix sum; the total closes the
@@ -80,14 +73,7 @@ fn react_scan_sums(@builtin(local_invocation_index) lid: u32) {
 // Pass reactions, part 1c: the block offsets added to every bucket's start.
 @compute @workgroup_size(256)
 fn react_scan_add(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let buckets = grid[G_BUCKETS];
-    let add = block_sum(wid.x);
-    let base = wid.x * SCAN_BLOCK + lid * 4u;
-    for (var k = 0u; k < 4u; k++) {
-        if (base + k < buckets) {
-            wet_order[base + k] += add;
-        }
-    }
+    add_block_offset(wid.x, lid, grid[G_BUCKETS]);
 }
 
 // Pass reactions, part 2: each recorded point's index to its slot in bucket order (the counts

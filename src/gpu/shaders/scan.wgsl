@@ -1,6 +1,8 @@
 // A workgroup's inclusive prefix sum, and the exclusive one of a counting sort's block sums,
-// shared by the modules that sort by counting (the water grid and the liquid bridges' hashed
-// grid). Each of them defines `block_sum(k)` and `set_block_sum(k, v)` over its own buffer.
+// shared by the modules that sort by counting (the water grid, the liquid bridges' hashed
+// grid, the records of the particles' gather; counting_scan.wgsl has the per-block parts) and
+// the held water's drips. Each of them defines `block_sum(k)` and `set_block_sum(k, v)` over
+// its own buffer.
 
 var<workgroup> scan: array<u32, 256>;
 

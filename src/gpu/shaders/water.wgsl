@@ -164,31 +164,24 @@ fn grid_count_cells(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgrou
     }
 }
 
+// The counting sort's hooks (counting_scan.wgsl): bucket b's count and start.
+fn count_of(b: u32) -> u32 {
+    return atomicLoad(&grid_count[GRID_COUNT_HEADER + b]);
+}
+
+fn start_of(b: u32) -> u32 {
+    return grid[G_START + b];
+}
+
+fn set_start(b: u32, v: u32) {
+    grid[G_START + b] = v;
+}
+
 // Pass water_grid, part 4a: exclusive prefix sum of the counts within blocks of 1,024
 // buckets.
 @compute @workgroup_size(256)
 fn grid_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let buckets = grid[G_BUCKETS];
-    let base = wid.x * SCAN_BLOCK + lid * 4u;
-    var c = array<u32, 4>(0u, 0u, 0u, 0u);
-    var sum = 0u;
-    for (var k = 0u; k < 4u; k++) {
-        if (base + k < buckets) {
-            c[k] = atomicLoad(&grid_count[GRID_COUNT_HEADER + base + k]);
-        }
-        sum += c[k];
-    }
-    scan_inclusive(lid, sum);
-    var run = scan[lid] - sum;
-    for (var k = 0u; k < 4u; k++) {
-        if (base + k < buckets) {
-            grid[G_START + base + k] = run;
-        }
-        run += c[k];
-    }
-    if (lid == 255u) {
-        grid[G_START + P.max_buckets + 1u + wid.x] = scan[255];
-    }
+    scan_counts_block(wid.x, lid, grid[G_BUCKETS]);
 }
 
 // The scan's block sums, after start[0..=max_buckets] (scan.wgsl `scan_block_sums`).
@@ -213,14 +206,7 @@ fn grid_scan_sums(@builtin(local_invocation_index) lid: u32) {
 // Pass water_grid, part 4c: block offsets added to every bucket's start.
 @compute @workgroup_size(256)
 fn grid_scan_add(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let buckets = grid[G_BUCKETS];
-    let add = grid[G_START + P.max_buckets + 1u + wid.x];
-    let base = wid.x * SCAN_BLOCK + lid * 4u;
-    for (var k = 0u; k < 4u; k++) {
-        if (base + k < buckets) {
-            grid[G_START + base + k] += add;
-        }
-    }
+    add_block_offset(wid.x, lid, grid[G_BUCKETS]);
 }
 
 // Pass water_grid, part 5: each particle to its slot in bucket order (counts drop back to 0,
