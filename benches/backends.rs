@@ -16,7 +16,9 @@
 //! Run: `cargo bench --bench backends` (`-- --quick` for fewer frames, `-- --only "large
 //! 100000 "` for the rows whose scene, particle count and model read so, `-- --gpu` for the
 //! GPU rows alone). Without a GPU adapter
-//! the GPU rows say so.
+//! the GPU rows say so. The GPU rows add the particles' reactions by atomics unless
+//! `WETHAIR_GPU_REACTIONS=gather` is set (the particles gather them; the same bits), and the
+//! header says which: run it both ways to compare the forms on one device.
 
 use std::time::Instant;
 use wethair::groom::{paper_scene, Groom};
@@ -157,6 +159,18 @@ fn main() {
     println!(
         "wethair {} backends; frame = 1/60 s in 4 substeps; ms/frame = (frames + final read) / frames",
         env!("CARGO_PKG_VERSION")
+    );
+    #[cfg(feature = "gpu")]
+    let gathered = wethair::gpu::device::gathers_reactions();
+    #[cfg(not(feature = "gpu"))]
+    let gathered = false;
+    println!(
+        "GPU reactions: {}",
+        if gathered {
+            "gathered by the particles (WETHAIR_GPU_REACTIONS=gather)"
+        } else {
+            "added by the hair points' atomics (the default; WETHAIR_GPU_REACTIONS=gather gathers them)"
+        }
     );
     println!();
     println!(

@@ -175,7 +175,7 @@ pub(crate) fn wanted(have: wgpu::Features, have_limits: &wgpu::Limits) -> (wgpu:
 /// Whether the particles gather eq. 2's reactions (`reactions.wgsl`) rather than the hair
 /// points adding them by atomics: `WETHAIR_GPU_REACTIONS=gather`. Both give the same bits
 /// (`tests/gpu.rs`); the scatter form stays the default until the gather is timed on a GPU.
-pub(crate) fn gathers_reactions() -> bool {
+pub fn gathers_reactions() -> bool {
     std::env::var("WETHAIR_GPU_REACTIONS").is_ok_and(|v| v == "gather")
 }
 
