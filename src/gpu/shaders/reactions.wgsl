@@ -116,11 +116,14 @@ fn react_gather(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     let r = P.r_max;
     let own = water_cell(y);
     // The cells of the points that may have taken this particle: those within reach, with a
-    // margin for the rounding of the points' own spans and distances.
+    // margin for the rounding of the points' own spans and distances (a few f32 steps of the
+    // coordinates). Cells are twice the reach, so that is 2 a side, 3 where rounding straddles
+    // a face; the span is held to 3 a side, so that a particle too far out for f32 to resolve
+    // the reach (or a non-finite one, which the hair kernel reports) cannot stall the kernel.
     let m = abs(y);
-    let wide = r * 1.001 + max(max(m.x, m.y), m.z) * 1.0e-6;
+    let wide = r * 1.001 + max(max(m.x, m.y), m.z) * 5.0e-7;
     let c0 = water_cell(y - vec3<f32>(wide));
-    let n = water_cell(y + vec3<f32>(wide)) - c0 + vec3<i32>(1);
+    let n = clamp(water_cell(y + vec3<f32>(wide)) - c0 + vec3<i32>(1), vec3<i32>(0), vec3<i32>(3));
     var acc = array<vec2<u32>, 3>(vec2<u32>(0u), vec2<u32>(0u), vec2<u32>(0u));
     var stiffness = 0u;
     var asked = vec2<u32>(0u);
