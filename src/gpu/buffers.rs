@@ -394,7 +394,7 @@ pub const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
 pub const WATER_FORCE_WORDS: u32 = 8;
 
 /// Where the particles gather their reactions (`reaction_gathered.wgsl`, `reactions.wgsl`):
-/// the words of the `wet` buffer, which takes `water_force`'s binding and place, and of its
+/// the words of the `wet` buffer (its WGSL twin: `wet_layout.wgsl`), which takes `water_force`'s binding and place, and of its
 /// sort order.
 pub mod wet_words {
     use super::{SCAN_BLOCK, WATER_FORCE_WORDS};

@@ -15,6 +15,7 @@ const REACTION32: &str = include_str!("shaders/reaction32.wgsl");
 const REACTION64: &str = include_str!("shaders/reaction64.wgsl");
 const REACTION_GATHERED: &str = include_str!("shaders/reaction_gathered.wgsl");
 const REACTIONS: &str = include_str!("shaders/reactions.wgsl");
+const WET_LAYOUT: &str = include_str!("shaders/wet_layout.wgsl");
 const PAIR: &str = include_str!("shaders/pair.wgsl");
 const WATER: &str = include_str!("shaders/water.wgsl");
 const PILES: &str = include_str!("shaders/piles.wgsl");
@@ -167,12 +168,14 @@ pub fn hair_source(c: SceneConsts, passes: &[Pass]) -> String {
 /// particles' reaction sums in the device's widest atomic integers, or gathered by the
 /// particles.
 fn adhesion(c: SceneConsts) -> String {
-    let reaction = match (c.gathered, c.atomic64) {
-        (true, _) => REACTION_GATHERED,
-        (false, true) => REACTION64,
-        (false, false) => REACTION32,
+    // The gathered form's records follow the `wet` buffer's layout, which the particles'
+    // side shares.
+    let (layout, reaction) = match (c.gathered, c.atomic64) {
+        (true, _) => (WET_LAYOUT, REACTION_GATHERED),
+        (false, true) => ("", REACTION64),
+        (false, false) => ("", REACTION32),
     };
-    format!("{GRID}\n{GRID_MARKS}\n{ABSORB}\n{reaction}\n{PAIR}\n{ADHESION}")
+    format!("{GRID}\n{GRID_MARKS}\n{ABSORB}\n{layout}\n{reaction}\n{PAIR}\n{ADHESION}")
 }
 
 /// The module where the particles gather their reactions (`SceneConsts::gathered`): the
@@ -180,7 +183,7 @@ fn adhesion(c: SceneConsts) -> String {
 /// not call, so that binding is declared and never bound.
 pub fn reactions_source(c: SceneConsts) -> String {
     format!(
-        "{}@group(1) @binding(0) var<storage, read> points: array<Point>;\n{REST_SEGMENTS}{GRID}\n{GRID_MARKS}\n{SCAN}\n{COUNTING_SCAN}\n{ABSORB}\n{PAIR}\n{REACTIONS}",
+        "{}@group(1) @binding(0) var<storage, read> points: array<Point>;\n{REST_SEGMENTS}{GRID}\n{GRID_MARKS}\n{SCAN}\n{COUNTING_SCAN}\n{ABSORB}\n{WET_LAYOUT}\n{PAIR}\n{REACTIONS}",
         prelude(c)
     )
 }

@@ -142,10 +142,7 @@ fn set_block_sum(k: u32, v: u32) {
 // closes the starts.
 @compute @workgroup_size(256)
 fn bridge_scan_sums(@builtin(local_invocation_index) lid: u32) {
-    let total = scan_block_sums(lid, BRIDGE_BLOCKS);
-    if (lid == 255u) {
-        bucket[BRIDGE_BUCKETS] = total;
-    }
+    scan_block_totals(lid, BRIDGE_BUCKETS);
 }
 
 // Pass hair_grid, part 2c: each block's offset added to its buckets' starts.

@@ -3,7 +3,7 @@
 // grid (bridges.wgsl) and the records of the particles' gather (reactions.wgsl). Each
 // defines, over its own buffers, `count_of(b)`, `start_of(b)` and `set_start(b, v)` for
 // bucket b, and scan.wgsl's `block_sum(k)` and `set_block_sum(k, v)`. A sort's scan is
-// `scan_counts_block` for each block, `scan_block_sums` in one workgroup (scan.wgsl), then
+// `scan_counts_block` for each block, `scan_block_totals` in one workgroup, then
 // `add_block_offset` for each block.
 
 // Part a, run by the 256 invocations of the workgroup for block `block`: the exclusive prefix
@@ -29,6 +29,15 @@ fn scan_counts_block(block: u32, lid: u32, buckets: u32) {
     }
     if (lid == 255u) {
         set_block_sum(block, scan[255]);
+    }
+}
+
+// Part b, run by one workgroup of 256: the block sums' exclusive prefix sum (scan.wgsl
+// `scan_block_sums`), and their total as the start past the last of the `buckets` buckets.
+fn scan_block_totals(lid: u32, buckets: u32) {
+    let total = scan_block_sums(lid, (buckets + SCAN_BLOCK - 1u) / SCAN_BLOCK);
+    if (lid == 255u) {
+        set_start(buckets, total);
     }
 }
 

@@ -7,23 +7,12 @@
 // the same 64-bit fixed point: the sums are the scatter form's to the bit, with no atomic add
 // a pair (94% of the hair kernel with 100,000 particles on an H200, 2026-11-27).
 //
-// One buffer, `wet` (buffers::wet_words), holds it all, so the hair kernel binds no more
-// storage buffers than in the scatter form: the sums as the scatter form's `water_force`
-// (WATER_FORCE_WORDS a particle, for the capacity), then the per-bucket counts
-// (P.max_buckets), then a record of WET_RECORD words a hair point.
+// One buffer, `wet` (laid out in wet_layout.wgsl), holds it all, so the hair kernel binds no
+// more storage buffers than in the scatter form.
 
 @group(1) @binding(1) var<storage, read_write> wet: array<atomic<u32>>;
 
 const GATHERED: bool = true;
-
-// The first word of the counts, and of point i's record.
-fn wet_counts_at() -> u32 {
-    return WATER_FORCE_WORDS * P.capacity;
-}
-
-fn wet_record_at(i: u32) -> u32 {
-    return wet_counts_at() + P.max_buckets + WET_RECORD * i;
-}
 
 // The scatter form's adds: the particles gather their sums (reactions.wgsl).
 fn add_reaction(k: u32, a: u32, v: vec2<u32>) {}

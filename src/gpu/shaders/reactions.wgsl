@@ -18,14 +18,6 @@
 // Absorption's per-particle scratch (buffers::absorb_words; a placeholder without absorption).
 @group(0) @binding(5) var<storage, read_write> absorb_scratch: array<u32>;
 
-fn wet_counts_at() -> u32 {
-    return WATER_FORCE_WORDS * P.capacity;
-}
-
-fn wet_record_at(i: u32) -> u32 {
-    return wet_counts_at() + P.max_buckets + WET_RECORD * i;
-}
-
 // Where the indices in bucket order start in `wet_order`.
 fn wet_list_at() -> u32 {
     return P.max_buckets + 1u + (P.max_buckets + SCAN_BLOCK - 1u) / SCAN_BLOCK;
@@ -64,10 +56,7 @@ fn react_scan_blocks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invoc
 // starts.
 @compute @workgroup_size(256)
 fn react_scan_sums(@builtin(local_invocation_index) lid: u32) {
-    let total = scan_block_sums(lid, (grid[G_BUCKETS] + SCAN_BLOCK - 1u) / SCAN_BLOCK);
-    if (lid == 255u) {
-        wet_order[grid[G_BUCKETS]] = total;
-    }
+    scan_block_totals(lid, grid[G_BUCKETS]);
 }
 
 // Pass reactions, part 1c: the block offsets added to every bucket's start.

@@ -197,10 +197,7 @@ fn set_block_sum(k: u32, v: u32) {
 // total closes the starts.
 @compute @workgroup_size(256)
 fn grid_scan_sums(@builtin(local_invocation_index) lid: u32) {
-    let total = scan_block_sums(lid, (grid[G_BUCKETS] + SCAN_BLOCK - 1u) / SCAN_BLOCK);
-    if (lid == 255u) {
-        grid[G_START + grid[G_BUCKETS]] = total;
-    }
+    scan_block_totals(lid, grid[G_BUCKETS]);
 }
 
 // Pass water_grid, part 4c: block offsets added to every bucket's start.
