@@ -4,7 +4,7 @@
  * where the machine allows it, else with OpenGL 3.3 from the copy path; the choice and its
  * reason are printed at start.
  *
- * usage: viewer [--groom FILE.tfx|.hair] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl]
+ * usage: viewer [--groom FILE.tfx|.hair | --strands N] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl]
  *               [--size WxH] [--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N]
  *               [--wet-model] [--guides N] [--volume] [--sdf-head] [--skinned-roots]
  *               [--fixed-step HZ]
@@ -18,6 +18,8 @@
  * simulation and draw ms/frame, renderer and vertex source, backend and adapter, integrator,
  * points, particles, the clumping measure, the spray rate.
  *
+ * --strands N sets the paper scene's strand count (default 10,000; 6 points each) when no groom
+ *   file is given: a slower machine, or a software device in the tests, runs a lighter head.
  * --renderer vulkan fails when Vulkan cannot draw; auto (the default) falls back to OpenGL.
  * --msaa N: antialiasing samples (default 4 in a window, 1 in scripted and screenshot runs).
  * --validate (Vulkan) enables VK_LAYER_KHRONOS_validation; any error it reports fails the run.
@@ -598,8 +600,17 @@ int main(int argc, char **argv) {
     v.guide_fraction = 1.0f;
     const char *groom_path = NULL, *shot = NULL, *script = NULL, *renderer = "auto";
     int frames = 0, msaa = 0;
+    uint32_t paper_strands = 10000;
     for (int i = 1; i < argc; i++) {
         if (i + 1 < argc && !strcmp(argv[i], "--groom")) groom_path = argv[++i];
+        else if (i + 1 < argc && !strcmp(argv[i], "--strands")) {
+            long n = strtol(argv[++i], NULL, 10);
+            if (n < 1 || n > 1000000) {
+                fprintf(stderr, "viewer: --strands wants a strand count from 1 to 1000000\n");
+                return 2;
+            }
+            paper_strands = (uint32_t)n;
+        }
         else if (!strcmp(argv[i], "--wet-model")) v.wet_model = 1;
         else if (i + 1 < argc && !strcmp(argv[i], "--guides")) v.guides = (uint32_t)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--volume")) v.volume = 1;
@@ -622,7 +633,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--validate")) v.validate = 1;
         else {
             fprintf(stderr,
-                    "usage: %s [--groom FILE] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl] [--size WxH] "
+                    "usage: %s [--groom FILE | --strands N] [--backend auto|cpu|gpu] [--renderer auto|vulkan|gl] [--size WxH] "
                     "[--msaa 1|4] [--validate] [--script FILE] [--screenshot FILE --frames N] [--wet-model] "
                     "[--guides N] [--volume] [--sdf-head] [--skinned-roots] [--fixed-step HZ]\n",
                     argv[0]);
@@ -666,7 +677,7 @@ int main(int argc, char **argv) {
         /* Real grooms' short, light segments are too stiff for symplectic Euler at 60 Hz. */
         v.integrator = WETHAIR_INTEGRATOR_IMPLICIT_EULER;
     }
-    else wh_check(wethair_groom_create_paper_scene(10000, 6, &v.groom), "wethair_groom_create_paper_scene");
+    else wh_check(wethair_groom_create_paper_scene(paper_strands, 6, &v.groom), "wethair_groom_create_paper_scene");
     v.is_paper = groom_path == NULL;
     make_sim(&v);
     v.lay.struct_size = sizeof v.lay;
