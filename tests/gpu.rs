@@ -1700,23 +1700,42 @@ fn process_footprint() -> (usize, usize, u64) {
 /// its wet hash under the form its environment picks.
 const FORM_CHILD: &str = "WETHAIR_GPU_REACTION_FORM_CHILD";
 
+/// Particles far out, kept by a domain that wide: one where f32 cannot resolve `r_max` (its
+/// coordinates' spacing is 1 m, and its cell saturates i32) and one 300 km out. Under the
+/// gathered form each searches at most 3 cells a side and finds no record; the bits stay.
+const FAR_OUT: [Vec3; 3] = [
+    Vec3::new(1.0e7, -2.0e6, 5.0e5),
+    Vec3::new(2.0e6, 1.0e3, -1.0e3),
+    Vec3::new(-3.0e5, 0.0, 1.0e3),
+];
+
 /// A hash of the vertex buffer and the particles after 30 wet frames of a 1,000-strand paper
-/// scene with 1,500 particles, with the paper's model and with the full wet model.
+/// scene with 1,500 particles in the hair and [`FAR_OUT`], with the paper's model and with the
+/// full wet model.
 fn wet_hash() -> Option<u64> {
     let groom = paper_scene(1_000, 8).unwrap();
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut eat = |b: u32| h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
     for held in [wethair::HeldWater::OFF, wethair::HeldWater::ON] {
-        let params = SimParams {
+        let mut params = SimParams {
             held_water: held,
             ..SimParams::paper_scene_with_head()
         };
+        params.water.domain_radius = 1.0e8;
         let mut g = gpu(&groom, params)?;
-        g.add_water(&on_hair(groom.positions(), 1_500, &mut Lcg(77)), &[])
-            .unwrap();
+        let mut water = on_hair(groom.positions(), 1_500, &mut Lcg(77));
+        water.extend(FAR_OUT);
+        g.add_water(&water, &[]).unwrap();
         for _ in 0..30 {
             g.step(1.0 / 60.0).unwrap();
         }
+        let far = g
+            .water_positions()
+            .unwrap()
+            .iter()
+            .filter(|p| p.length() > 1.0e5)
+            .count();
+        assert_eq!(far, FAR_OUT.len(), "the far particles left ({held:?})");
         let mut v = vec![0.0f32; g.vertex_count() * 7];
         g.write_vertices(&mut v).unwrap();
         v.iter().for_each(|x| eat(x.to_bits()));
@@ -1733,8 +1752,8 @@ fn wet_hash() -> Option<u64> {
 /// (lavapipe and NVIDIA do), two 32-bit words with a carry elsewhere
 /// (`WETHAIR_GPU_NO_ATOMIC64`), or the particles gathering their pairs from the points'
 /// records with no atomic add (`WETHAIR_GPU_REACTIONS=gather`), whose pairs must be exactly the
-/// ones the hair took. A child process of this test binary runs the wet scenes under each
-/// alternative and prints its hash.
+/// ones the hair took, also for particles too far out for f32 to resolve their reach. A child
+/// process of this test binary runs the wet scenes under each alternative and prints its hash.
 #[test]
 fn all_reaction_forms_give_the_same_bits() {
     if std::env::var_os(FORM_CHILD).is_some() {
