@@ -1700,6 +1700,30 @@ fn process_footprint() -> (usize, usize, u64) {
 /// its wet hash under the form its environment picks.
 const FORM_CHILD: &str = "WETHAIR_GPU_REACTION_FORM_CHILD";
 
+/// A wet blow-up (stretch stiffness far past the explicit limit, drops on the hair): the step
+/// reports it and no NaN reaches the host's buffer, in every reaction form. Particles near the
+/// blown-up points may go non-finite within the step, so the gather must end its searches for
+/// them (its span bound) and the report come as in the default form.
+fn wet_blowup_is_reported() {
+    let groom = paper_scene(100, 6).unwrap();
+    let mut params = SimParams::paper_scene_with_head();
+    params.stretch.stiffness = 1e9;
+    let mut g = gpu(&groom, params).expect("a GPU adapter");
+    g.add_water(&on_hair(groom.positions(), 200, &mut Lcg(5)), &[]).unwrap();
+    let mut v = vec![-7.0f32; g.vertex_count() * 7];
+    let mut err = None;
+    for _ in 0..20 {
+        if let Err(e) = g.step(1.0 / 60.0).and_then(|_| g.write_vertices(&mut v).map(|_| ())) {
+            err = Some(e);
+            break;
+        }
+        assert!(v.iter().all(|x| x.is_finite()));
+    }
+    eprintln!("wet blow-up: {err:?}");
+    assert!(matches!(err, Some(Error::Unstable { .. })), "{err:?}");
+    assert!(v.iter().all(|x| x.is_finite()), "a NaN reached the host's buffer");
+}
+
 /// Particles far out, kept by a domain that wide: one where f32 cannot resolve `r_max` (its
 /// coordinates' spacing is 1 m, and its cell saturates i32) and one 300 km out. Under the
 /// gathered form each searches at most 3 cells a side and finds no record; the bits stay.
@@ -1758,6 +1782,7 @@ fn wet_hash() -> Option<u64> {
 fn all_reaction_forms_give_the_same_bits() {
     if std::env::var_os(FORM_CHILD).is_some() {
         if let Some(h) = wet_hash() {
+            wet_blowup_is_reported();
             eprintln!("form hash {h:016x}");
         }
         return;
@@ -1766,6 +1791,7 @@ fn all_reaction_forms_give_the_same_bits() {
     let Some(wide) = wet_hash() else {
         return;
     };
+    wet_blowup_is_reported();
     for (var, value) in [("WETHAIR_GPU_NO_ATOMIC64", "1"), ("WETHAIR_GPU_REACTIONS", "gather")] {
         let out = std::process::Command::new(std::env::current_exe().expect("test binary"))
             .args([
