@@ -604,8 +604,9 @@ int main(int argc, char **argv) {
     for (int i = 1; i < argc; i++) {
         if (i + 1 < argc && !strcmp(argv[i], "--groom")) groom_path = argv[++i];
         else if (i + 1 < argc && !strcmp(argv[i], "--strands")) {
-            long n = strtol(argv[++i], NULL, 10);
-            if (n < 1 || n > 1000000) {
+            char *end = NULL;
+            long n = strtol(argv[++i], &end, 10);
+            if (end == argv[i] || *end != '\0' || n < 1 || n > 1000000) {
                 fprintf(stderr, "viewer: --strands wants a strand count from 1 to 1000000\n");
                 return 2;
             }
