@@ -97,6 +97,12 @@ bash 'bindings/check_layout.sh' target/cs/layout.txt include
 
 step "Viewer, Vulkan renderer, under xvfb on lavapipe with validation: drawn from the shared VkBuffer"
 make -C examples/c --quiet build/viewer
+# A strand count that is not a whole number in range is refused by name (exit 2).
+for bad in 5k 0 -3; do
+    rc=0; ./examples/c/build/viewer --strands "$bad" 2>target/viewer-bad.log || rc=$?
+    test "$rc" = 2
+    grep -q "^viewer: --strands wants a strand count from 1 to 1000000$" target/viewer-bad.log
+done
 # Half the paper scene's strands: the session on lavapipe in 40 s instead of 108, and the spray
 # still clumps them (clumping 0.853 of dry, 0.872 with all 10,000; measured 2026-12-03).
 xvfb-run -a -s "-screen 0 1280x720x24" ./examples/c/build/viewer --renderer vulkan --backend gpu --validate \
@@ -217,5 +223,5 @@ grep -q "^timing (paper model): dry" target/main.log
 grep -q "^wet model .* ms/frame" target/main.log
 
 rust=$(cat target/rust-tests.log target/python-tests.log | grep -o "[0-9]* passed" | awk '{s+=$1} END {print s}')
-c_checks=38  # peer bench harness, build-tree links shared and static, 0.1.0 host, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback + wet model + skinned roots, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
+c_checks=39  # viewer --strands refusal, peer bench harness, build-tree links shared and static, 0.1.0 host, main job output, header C11 and C++17, smoke cpu+gpu+device loss, render cpu+gpu, C++ wrapper, install + pkg-config shared and static, Unity fake x2, C# drive + layout, viewer Vulkan session + copy frame + MSAA, viewer GL session + fallback + wet model + skinned roots, HLSL, Vulkan host, 7 under ASan, valgrind, fmt+clippy
 printf "\nwethair tests: %d passed, 0 failed (%d s)\n" "$((rust + c_checks))" "$SECONDS"
