@@ -15,6 +15,7 @@ mod fixed_step;
 mod gpu;
 mod grid;
 mod guide_roots;
+mod guide_water;
 mod guides;
 mod hardening;
 mod header;

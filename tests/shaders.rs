@@ -56,7 +56,7 @@ fn output_modules_validate() {
             ("water", water_source(c), "water_cull"),
             ("piles", wethair::gpu::pipelines::piles_source(c), "pile_insert"),
             ("water output", water_output_source(c), "write_water_vertices"),
-            ("held", held_source(c), "dry"),
+            ("held", held_source(c, 1000, false), "dry"),
             ("sdf hair", sdf_hair_source(c, 3), "hair_sdf"),
             ("sdf water", sdf_water_source(c, 1), "water_sdf"),
         ] {
@@ -166,7 +166,8 @@ fn all_modules() -> Vec<(String, String)> {
             format!("followers bend={bend}"),
             wethair::gpu::pipelines::write_followers_source(c),
         ));
-        out.push((format!("held bend={bend}"), held_source(c)));
+        out.push((format!("held bend={bend}"), held_source(c, 1000, false)));
+        out.push((format!("held bend={bend} bundles"), held_source(c, 1000, true)));
         out.push((format!("roots bend={bend}"), wethair::gpu::pipelines::roots_source(c)));
         out.push((
             format!("volume spread bend={bend}"),
@@ -236,8 +237,8 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
     }
     assert_eq!(
         checked,
-        records().len() * 48,
-        "every record in every module (48 modules)"
+        records().len() * 50,
+        "every record in every module (50 modules)"
     );
 }
 

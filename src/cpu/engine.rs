@@ -207,4 +207,18 @@ impl Engine for CpuBackend {
     fn ledger(&self) -> Option<Result<WaterLedger>> {
         CpuBackend::ledger(self).map(Ok)
     }
+
+    fn set_bundles(&mut self, bundle: &[f32], water: Option<&[u32]>) -> Result<()> {
+        if let Some(h) = &mut self.held {
+            h.set_bundles(&self.lay, bundle);
+            if let Some(w) = water {
+                h.set_water_of_points(&self.lay, w);
+            }
+        }
+        Ok(())
+    }
+
+    fn held_water(&self) -> Result<Vec<u32>> {
+        Ok(self.held.as_ref().map_or(Vec::new(), |h| h.water_of_points(&self.lay)))
+    }
 }

@@ -28,6 +28,10 @@ pub struct Held {
     pub hold: AlignedRows<[u32; W]>,
     /// Per row, the dry values the wet parameters are computed from.
     dry: Vec<DryRow>,
+    /// Per row, the water one quantum adds to each strand of a point, kg
+    /// (`wet::quantum_per_strand` of its bundle); empty without guides, where it is
+    /// `WATER_QUANTUM` everywhere.
+    quantum: Vec<Lane>,
     /// The layout's row parameters with each free point's inverse mass from its dry mass plus
     /// its water (what the kernel reads instead of the layout's while water is held).
     pub params: Vec<ParamRow>,
@@ -74,25 +78,22 @@ impl Held {
                 bend_k: p.bend.k,
             })
             .collect();
-        let mut capacity = AlignedRows::filled([0u32; W], n_rows);
-        let mut hold = AlignedRows::filled([0u32; W], n_rows);
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
             let first = lay.strand_first[s] as usize;
             for i in 0..lay.strand_points(s) {
-                let (m, r) = (lay.mass[first + i], b * lay.rows + i);
+                let r = b * lay.rows + i;
                 if lay.params[r].inv_mass[l] > 0.0 {
-                    dry[r].mass[l] = m;
+                    dry[r].mass[l] = lay.mass[first + i];
                 }
-                capacity[r][l] = wet::capacity(m, cfg.capacity_ratio);
-                hold[r][l] = wet::hold_limit(m, cfg.capacity_ratio, cfg.free_ratio);
             }
         }
         let flows = cfg.flows();
-        Held {
+        let mut held = Held {
             water: AlignedRows::filled([0; W], n_rows),
-            capacity,
-            hold,
+            capacity: AlignedRows::filled([0u32; W], n_rows),
+            hold: AlignedRows::filled([0u32; W], n_rows),
+            quantum: Vec::new(),
             dry,
             params: lay.params.clone(),
             params_wet: vec![false; n_rows],
@@ -108,7 +109,64 @@ impl Held {
             params_wet_any: false,
             fresh: false,
             avx2: cpu_has_avx2(),
+        };
+        held.set_bundles(lay, &[]);
+        held
+    }
+
+    /// Sets how many strands' hair each strand of the layout stands for (`bundle`, in the
+    /// groom's strand order; empty: every strand for itself, as without guides): a point's
+    /// capacity and hold limit are its bundle's, so a guide holds its followers' water, and a
+    /// quantum adds `1 / bundle` of its mass to the strand's own inertia (docs/GUIDES.md
+    /// "Water"). The water held stays; the parameters follow at the next step.
+    pub fn set_bundles(&mut self, lay: &Layout, bundle: &[f32]) {
+        let cfg = self.cfg;
+        self.quantum = match bundle.is_empty() {
+            true => Vec::new(),
+            false => vec![[wet::quantum_per_strand(1.0); W]; self.water.len()],
+        };
+        for s in 0..lay.strands {
+            let (b, l) = lay.lane_of(s);
+            let first = lay.strand_first[s] as usize;
+            let k = bundle.get(s).copied().unwrap_or(1.0);
+            for i in 0..lay.strand_points(s) {
+                let r = b * lay.rows + i;
+                (self.capacity[r][l], self.hold[r][l]) =
+                    wet::bundle_limits(lay.mass[first + i], k, cfg.capacity_ratio, cfg.free_ratio);
+                if let Some(q) = self.quantum.get_mut(r) {
+                    q[l] = wet::quantum_per_strand(k);
+                }
+            }
         }
+        self.params_wet_any = true;
+        self.fresh = false;
+    }
+
+    /// Each point's water, quanta, in the groom's order (strand after strand).
+    pub fn water_of_points(&self, lay: &Layout) -> Vec<u32> {
+        let mut out = Vec::with_capacity(lay.mass.len());
+        for s in 0..lay.strands {
+            let (b, l) = lay.lane_of(s);
+            out.extend((0..lay.strand_points(s)).map(|i| self.water[b * lay.rows + i][l]));
+        }
+        out
+    }
+
+    /// Sets each point's water (quanta, in the groom's order) to what water moved between
+    /// points left there: the ledger's books are the host's to keep balanced (the sum held
+    /// changes by what `water` adds or takes).
+    pub fn set_water_of_points(&mut self, lay: &Layout, water: &[u32]) {
+        let mut k = 0;
+        for s in 0..lay.strands {
+            let (b, l) = lay.lane_of(s);
+            for i in 0..lay.strand_points(s) {
+                self.water[b * lay.rows + i][l] = water[k];
+                k += 1;
+            }
+        }
+        self.may_hold = true;
+        self.params_wet_any = true;
+        self.fresh = false;
     }
 
     /// Pass `wet_params` (once per step, before the substeps): sets each free point's inverse
@@ -144,6 +202,7 @@ impl Held {
         ParamSource {
             rows: lay.rows,
             dry: &self.dry,
+            quantum: &self.quantum,
             capacity: &self.capacity,
             hold: &self.hold,
             limp: self.cfg.limp(),
@@ -255,6 +314,7 @@ impl Held {
             + self.capacity.capacity() * 4 * W
             + self.hold.capacity() * 4 * W
             + self.dry.capacity() * std::mem::size_of::<DryRow>()
+            + self.quantum.capacity() * 4 * W
             + self.params.capacity() * std::mem::size_of::<ParamRow>()
             + self.params_wet.capacity()
             + self.v0.capacity() * std::mem::size_of::<L3>()

@@ -25,6 +25,9 @@ pub struct DryRow {
     pub bend_k: Lane,
 }
 
+/// A quantum's water on a point that stands for its own strand only.
+const ONE_STRAND: Lane = [wet::WATER_QUANTUM as f32; W];
+
 /// What the wet parameters are computed from: the rows' dry records and capacities, and the
 /// model's limpness.
 pub struct ParamSource<'a> {
@@ -32,6 +35,8 @@ pub struct ParamSource<'a> {
     pub rows: usize,
     /// Each row's dry record.
     pub dry: &'a [DryRow],
+    /// Each row's water per quantum and strand, kg (empty: `WATER_QUANTUM` everywhere).
+    pub quantum: &'a [Lane],
     pub capacity: &'a [[u32; W]],
     /// The rows' hold limits.
     pub hold: &'a [[u32; W]],
@@ -67,7 +72,8 @@ pub fn refresh_rows(
         *was_wet = wet;
         // Each lane computed, then chosen (a branch per point was most of the pass).
         let dry = &src.dry[r];
-        row.inv_mass = wet::wet_inv_mass_lanes(&dry.mass, &water[k]);
+        let quantum = src.quantum.get(r).unwrap_or(&ONE_STRAND);
+        row.inv_mass = wet::wet_inv_mass_lanes(&dry.mass, &water[k], quantum);
         if bends {
             let (s_a, s_b) = (sat(k), sat(k + 2));
             for l in 0..W {

@@ -235,10 +235,13 @@ pub fn piles_source(c: SceneConsts) -> String {
     format!("{}{PILES}", prelude(c))
 }
 
-/// The held-water module (scenes with held water only).
-pub fn held_source(c: SceneConsts) -> String {
+/// The held-water module (scenes with held water only) for a groom of `points` points (its
+/// buffers' length: the limits and the guides' quanta follow each point's value at that
+/// offset, whatever the points stepped now); `bundles`: a guide groom, whose points' quanta
+/// follow their dry masses.
+pub fn held_source(c: SceneConsts, points: u32, bundles: bool) -> String {
     format!(
-        "{}{SCAN}\n{HELD}\n{GRID}\n{GRID_MARKS}\n{REST_SEGMENTS}{ABSORB}\n{EXPLICIT_POINT}",
+        "{}const HELD_POINTS: u32 = {points}u;\nconst HELD_BUNDLES: bool = {bundles};\n{SCAN}\n{HELD}\n{GRID}\n{GRID_MARKS}\n{REST_SEGMENTS}{ABSORB}\n{EXPLICIT_POINT}",
         prelude(c)
     )
 }

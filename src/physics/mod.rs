@@ -7,6 +7,7 @@ pub mod adhesion;
 #[cfg(target_arch = "x86_64")]
 pub mod adhesion_avx2;
 pub mod bdf2;
+pub mod bundles;
 pub mod clumping;
 pub mod collide;
 pub mod counting_sort;

@@ -97,6 +97,20 @@ pub fn hold_limit(dry_mass: f32, capacity_ratio: f32, free_ratio: f32) -> u32 {
     to_quanta(dry_mass as f64 * (capacity_ratio as f64 + free_ratio as f64))
 }
 
+/// The capacity and hold limit (quanta) of a point of dry mass `dry_mass` (kg) standing for
+/// `bundle` strands' hair (`physics/bundles.rs`; 1 without guides): those of `bundle` times the
+/// mass, each at most [`HELD_LIMIT`], what one count holds. A groom's own points are checked
+/// to fit at create (`HeldWater::check_masses`); a bundle may not, and then its guide holds no
+/// more than the count (docs/GUIDES.md "Water").
+#[inline]
+pub fn bundle_limits(dry_mass: f32, bundle: f32, capacity_ratio: f32, free_ratio: f32) -> (u32, u32) {
+    let m = dry_mass * bundle;
+    (
+        capacity(m, capacity_ratio).min(HELD_LIMIT),
+        hold_limit(m, capacity_ratio, free_ratio).min(HELD_LIMIT),
+    )
+}
+
 /// The most a soaking may fill a point to, as a multiple of its hold limit: ten times what the
 /// hair holds against gravity is hair fresh out of a bath.
 pub const MAX_SOAK: f32 = 10.0;
@@ -134,28 +148,38 @@ pub fn saturation_lanes(held: &[u32; W], capacity: &[u32; W]) -> Lane {
     s
 }
 
-/// The inverse mass of a free point of dry mass `dry_mass` (kg) holding `held` quanta:
-/// `1 / (m_dry + m_w)`, in single precision as the GPU computes it (a relative error of a few
-/// parts in 10^7, far below any mass the groom is given to).
+/// The water one quantum adds to each strand of a point that stands for `bundle` strands'
+/// hair (a guide and its followers, docs/GUIDES.md "Water"; 1 without guides), kg:
+/// `WATER_QUANTUM / bundle` in single precision. With `bundle` 1 it is `WATER_QUANTUM` as `f32`
+/// exactly, so a groom without guides keeps its bits.
+#[inline]
+pub fn quantum_per_strand(bundle: f32) -> f32 {
+    WATER_QUANTUM as f32 / bundle
+}
+
+/// The inverse mass of a free point of dry mass `dry_mass` (kg) holding `held` quanta, one
+/// quantum adding `quantum` kg to it ([`quantum_per_strand`]): `1 / (m_dry + m_w)`, in single
+/// precision as the GPU computes it (a relative error of a few parts in 10^7, far below any
+/// mass the groom is given to).
 #[inline(always)]
-pub fn wet_inv_mass(dry_mass: f32, held: u32) -> f32 {
-    inv_mass_of(dry_mass, held as f32)
+pub fn wet_inv_mass(dry_mass: f32, held: u32, quantum: f32) -> f32 {
+    inv_mass_of(dry_mass, held as f32, quantum)
 }
 
 /// [`wet_inv_mass`] with the water already as `f32` (its conversion vectorised apart).
 #[inline(always)]
-fn inv_mass_of(dry_mass: f32, held_f: f32) -> f32 {
-    1.0 / (dry_mass + held_f * WATER_QUANTUM as f32)
+fn inv_mass_of(dry_mass: f32, held_f: f32, quantum: f32) -> f32 {
+    1.0 / (dry_mass + held_f * quantum)
 }
 
 /// [`wet_inv_mass`] of a row of eight points, the same bits, as vectors: one divide for the
 /// row, where the double-precision form it replaces was eight scalar ones.
 #[inline(always)]
-pub fn wet_inv_mass_lanes(dry_mass: &Lane, held: &[u32; W]) -> Lane {
+pub fn wet_inv_mass_lanes(dry_mass: &Lane, held: &[u32; W], quantum: &Lane) -> Lane {
     let q = u32_as_f32(held);
     let mut inv = [0.0f32; W];
     for l in 0..W {
-        inv[l] = inv_mass_of(dry_mass[l], q[l]);
+        inv[l] = inv_mass_of(dry_mass[l], q[l], quantum[l]);
     }
     inv
 }
@@ -710,6 +734,25 @@ pub fn gust(w0: Vec3, amplitude: f32, seed: u32, t: f64) -> Vec3 {
 mod tests {
     use super::*;
 
+    /// A strand that stands for itself keeps its bits: one quantum weighs `WATER_QUANTUM` on
+    /// it, and its limits are its own.
+    #[test]
+    fn a_bundle_of_one_is_the_strand_itself() {
+        assert_eq!(quantum_per_strand(1.0).to_bits(), (WATER_QUANTUM as f32).to_bits());
+        for m in [1.0e-9f32, 3.7e-7, 1.0e-3] {
+            assert_eq!(
+                bundle_limits(m, 1.0, 0.3, 1.0),
+                (capacity(m, 0.3), hold_limit(m, 0.3, 1.0))
+            );
+        }
+        // A bundle past one count holds one count.
+        assert_eq!(bundle_limits(1.0e-3, 10.0, 0.3, 1.0), (HELD_LIMIT, HELD_LIMIT));
+        assert_eq!(
+            bundle_limits(1.0e-6, 10.0, 0.3, 1.0),
+            (capacity(1.0e-5, 0.3), hold_limit(1.0e-5, 0.3, 1.0))
+        );
+    }
+
     /// The row forms of the saturation and of `to_kg` give the one-point laws' bits, over
     /// capacities of zero, water over capacity and the ends of the count.
     #[test]
@@ -730,8 +773,9 @@ mod tests {
                 "{held:?} {cap:?}"
             );
             let m: Lane = std::array::from_fn(|l| 1e-9 * (1 + cap[l] % 1000) as f32);
-            let inv: [u32; W] = std::array::from_fn(|l| wet_inv_mass(m[l], held[l]).to_bits());
-            assert_eq!(wet_inv_mass_lanes(&m, &held).map(f32::to_bits), inv);
+            let b: Lane = std::array::from_fn(|l| quantum_per_strand(1.0 + (cap[l] % 7) as f32 * 0.75));
+            let inv: [u32; W] = std::array::from_fn(|l| wet_inv_mass(m[l], held[l], b[l]).to_bits());
+            assert_eq!(wet_inv_mass_lanes(&m, &held, &b).map(f32::to_bits), inv);
         }
     }
 

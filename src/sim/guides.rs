@@ -9,9 +9,10 @@ use crate::engine::Engine;
 use crate::error::Result;
 use crate::groom::Groom;
 use crate::params::{GuideChoice, Guides};
+use crate::physics::bundles::{bundles, give_back, take_shares};
 use crate::physics::follow::{follow_point, follow_velocity, guide_frame_at, head_quat, GuidePoint};
 use crate::physics::follow_roots::{root_points, root_strand, OwnRoot};
-use crate::physics::followers::{bind, choose, cluster, Followers, GuideSpan};
+use crate::physics::followers::{bind, choose, cluster, Follow, Followers, GuideSpan};
 use crate::physics::roots::RootFrame;
 use glam::{Affine3A, Quat, Vec3};
 
@@ -34,6 +35,10 @@ pub(super) struct GuideState {
     head: Quat,
     /// What the backend writes the output from.
     data: Followers,
+    /// Every host strand's dry mass, kg (what a guide's bundle weighs).
+    strand_mass: Vec<f32>,
+    /// Each guide's bundle now (`physics/bundles.rs`; 1 for guides not simulated).
+    bundle: Vec<f32>,
 }
 
 impl GuideState {
@@ -89,13 +94,52 @@ impl GuideState {
                     false => Vec::new(),
                 },
             },
+            strand_mass: (0..groom.strand_count())
+                .map(|s| groom.masses()[groom.strand_range(s)].iter().sum())
+                .collect(),
+            bundle: Vec::new(),
             host_of,
             roots,
         };
         st.active = st.count_for(g.fraction);
         st.stepping = st.active;
         st.data.follow = bind(&st.roots, &st.host_of[..st.active], st.per);
+        st.bundle = bundles(&st.data.follow, &st.strand_mass, &st.host_of);
         Ok((st, guide_groom))
+    }
+
+    /// Gives the backend each guide's bundle (held water only; a backend without it ignores
+    /// them).
+    pub(super) fn start(&self, engine: &mut dyn Engine) -> Result<()> {
+        engine.set_bundles(&self.bundle, None)
+    }
+
+    /// The held water follows the hair from the bindings `before` (guides `0..was`
+    /// simulated) to the current ones: guides added take their shares, guides dropped give
+    /// theirs back; then the new bundles (`physics/bundles.rs`).
+    fn move_water(&mut self, was: usize, before: &[Follow], engine: &mut dyn Engine) -> Result<()> {
+        let bundle = bundles(&self.data.follow, &self.strand_mass, &self.host_of);
+        let mut water = engine.held_water()?;
+        if water.is_empty() {
+            self.bundle = bundle;
+            return Ok(());
+        }
+        let (spans, host_of) = (&self.data.spans, &self.host_of);
+        if self.active > was {
+            take_shares(
+                &mut water,
+                was..self.active,
+                before,
+                &self.bundle,
+                spans,
+                host_of,
+                &self.strand_mass,
+            );
+        } else {
+            give_back(&mut water, self.active..was, &self.data.follow, spans, host_of);
+        }
+        self.bundle = bundle;
+        engine.set_bundles(&self.bundle, Some(&water))
     }
 
     /// What the backend writes the output from.
@@ -137,10 +181,11 @@ impl GuideState {
             self.seed(self.active..k, roots, engine)?;
         }
         let before = std::mem::replace(&mut self.data.follow, bind(&self.roots, &self.host_of[..k], self.per));
+        let was = std::mem::replace(&mut self.active, k);
+        self.move_water(was, &before, engine)?;
         self.data.from = before;
         self.blend = 0.0;
         self.stepping = self.stepping.max(k);
-        self.active = k;
         if self.blend_time == 0.0 {
             self.settle();
         }

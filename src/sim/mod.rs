@@ -204,6 +204,7 @@ impl Simulation {
             .skinned_roots
             .then(|| roots::RootTargets::new(host_groom, guides.as_ref().map(|g| g.host_strands()), keep_prev));
         if let Some(g) = &mut guides {
+            g.start(engine.as_mut())?;
             engine.set_active_strands(g.stepping());
             g.pose(&head, roots.as_mut().map_or(&[], |r| r.shown(None)), engine.as_mut());
         }

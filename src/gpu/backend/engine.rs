@@ -56,6 +56,14 @@ impl Engine for GpuBackend {
         GpuBackend::ledger(self)
     }
 
+    fn set_bundles(&mut self, bundle: &[f32], water: Option<&[u32]>) -> Result<()> {
+        GpuBackend::set_bundles(self, bundle, water)
+    }
+
+    fn held_water(&self) -> Result<Vec<u32>> {
+        GpuBackend::held_water(self)
+    }
+
     fn set_substeps(&mut self, n: u32) {
         GpuBackend::set_substeps(self, n)
     }

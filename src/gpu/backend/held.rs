@@ -41,7 +41,12 @@ pub(super) struct HeldGpu {
     capacity_buf: wgpu::Buffer,
     /// The hold limits (soaking's targets are multiples of them).
     hold: Vec<u32>,
+    /// Each point's dry mass, kg, then (with guides only) the water a quantum adds to each
+    /// strand of it, kg (`wet::quantum_per_strand` of its bundle; `held.wgsl` `quantum_at`).
     dry_mass: wgpu::Buffer,
+    /// The dry masses and each strand's first point (what [`HeldGpu::set_bundles`] reads).
+    mass: Vec<f32>,
+    strand_first: Vec<u32>,
     /// The ledger block (`buffers::held_ledger`).
     ledger: wgpu::Buffer,
     /// Soaking's per-point targets, quanta.
@@ -74,13 +79,18 @@ pub(super) struct HeldGpu {
 }
 
 impl HeldGpu {
-    /// Buffers for `pts` (the dry point records) with dry masses `mass`, every point dry.
+    /// Buffers for `pts` (the dry point records) with dry masses `mass`, every point dry;
+    /// `bundles`: the groom is a guide groom (`strand_first` its strands), whose strands may
+    /// stand for more than themselves ([`HeldGpu::set_bundles`]).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn new(
         d: &wgpu::Device,
         q: &wgpu::Queue,
         consts: SceneConsts,
         pts: &[PointGpu],
         mass: &[f32],
+        strand_first: &[u32],
+        bundles: bool,
         cfg: HeldWater,
     ) -> HeldGpu {
         let n = pts.len() as u64;
@@ -94,8 +104,12 @@ impl HeldGpu {
         let capacity_buf = b::buffer(d, "held_limits", 2 * n * 4, STORAGE);
         q.write_buffer(&capacity_buf, 0, bytemuck::cast_slice(&capacity));
         q.write_buffer(&capacity_buf, n * 4, bytemuck::cast_slice(&hold));
-        let dry_mass = b::buffer(d, "held_dry_mass", n * 4, STORAGE);
+        let dry_mass = b::buffer(d, "held_dry_mass", if bundles { 2 * n * 4 } else { n * 4 }, STORAGE);
         q.write_buffer(&dry_mass, 0, bytemuck::cast_slice(mass));
+        if bundles {
+            let one = vec![wet::quantum_per_strand(1.0); n as usize];
+            q.write_buffer(&dry_mass, n * 4, bytemuck::cast_slice(&one));
+        }
         use Slot::*;
         let layouts = [
             pl::layout(d, "held", &[Uniform, Read, ReadWrite, Read, ReadWrite]),
@@ -108,7 +122,7 @@ impl HeldGpu {
                 &[(0, ReadWrite), (1, Read), (4, ReadWrite), (5, ReadWrite)],
             ),
         ];
-        let module = pl::module(d, "held", &pl::held_source(consts));
+        let module = pl::module(d, "held", &pl::held_source(consts, n as u32, bundles));
         let params = [Some(&layouts[0]), Some(&layouts[4])];
         let mut pipes = pl::pipelines_sparse(d, &module, &params, &HELD_ENTRIES[..1]);
         let own = [Some(&layouts[0]), Some(&layouts[1])];
@@ -136,6 +150,8 @@ impl HeldGpu {
             capacity_buf,
             hold,
             dry_mass,
+            mass: mass.to_vec(),
+            strand_first: strand_first.to_vec(),
             ledger: b::buffer(d, "held_ledger", hl::WORDS as u64 * 4, STORAGE),
             soak_target: b::buffer(d, "held_soak_target", n * 4, STORAGE),
             // Without flow, drip reads no step-start velocity: a placeholder of one (a binding
@@ -401,6 +417,37 @@ impl HeldGpu {
         enc.finish()
     }
 
+    /// [`crate::cpu::held::Held::set_bundles`]: each point's capacity and hold limit are its
+    /// strand's bundle's (`bundle` per strand, in the groom's order), and a quantum adds
+    /// `1 / bundle` of its mass to the strand; `water`, where given, replaces each point's.
+    /// Only a guide groom's simulation (made with `bundles`) is given bundles.
+    pub(super) fn set_bundles(&mut self, q: &wgpu::Queue, bundle: &[f32], water: Option<&[u32]>) {
+        let n = self.mass.len();
+        let (mut capacity, mut quantum) = (vec![0u32; 2 * n], vec![0.0f32; n]);
+        for (s, w) in self.strand_first.windows(2).enumerate() {
+            let k = bundle.get(s).copied().unwrap_or(1.0);
+            for i in w[0] as usize..w[1] as usize {
+                let cfg = &self.cfg;
+                (capacity[i], capacity[n + i]) =
+                    wet::bundle_limits(self.mass[i], k, cfg.capacity_ratio, cfg.free_ratio);
+                quantum[i] = wet::quantum_per_strand(k);
+            }
+        }
+        q.write_buffer(&self.capacity_buf, 0, bytemuck::cast_slice(&capacity));
+        if self.dry_mass.size() == 2 * n as u64 * 4 {
+            q.write_buffer(&self.dry_mass, n as u64 * 4, bytemuck::cast_slice(&quantum));
+        }
+        self.hold = capacity.split_off(n);
+        if let Some(w) = water {
+            q.write_buffer(&self.water, 0, bytemuck::cast_slice(w));
+        }
+    }
+
+    /// The buffer of each point's water, quanta.
+    pub(super) fn water_buffer(&self) -> &wgpu::Buffer {
+        &self.water
+    }
+
     /// Dry again, with an empty ledger.
     pub(super) fn reset(&self, enc: &mut wgpu::CommandEncoder) {
         enc.clear_buffer(&self.water, 0, None);
@@ -509,6 +556,26 @@ impl GpuBackend {
             }
             Ok(l)
         })())
+    }
+
+    /// [`crate::engine::Engine::set_bundles`] (held water only; else nothing).
+    pub fn set_bundles(&mut self, bundle: &[f32], water: Option<&[u32]>) -> Result<()> {
+        self.dev.check()?;
+        if let Some(h) = &mut self.held {
+            h.set_bundles(&self.dev.queue, bundle, water);
+            self.vertices_current = false;
+        }
+        self.dev.check()
+    }
+
+    /// Each point's held water, quanta (one blocking read; empty without held water).
+    pub fn held_water(&self) -> Result<Vec<u32>> {
+        let Some(h) = &self.held else {
+            return Ok(Vec::new());
+        };
+        let n = self.points as usize;
+        let bytes = self.read_buffers(&[(h.water_buffer(), n as u64 * 4)], None)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes[..n * 4]))
     }
 
     /// The water in the particles held now, quanta (blocking).

@@ -223,6 +223,9 @@ impl GpuBackend {
                 },
             ),
         ];
+        // With followers the groom is a guide groom: its strands may stand for more than
+        // themselves (held water's bundles).
+        let guides = vertex_points.is_some();
         let vertex_points = vertex_points.map_or(points as u64, |v| v as u64);
         let (what, bytes) = per_point
             .iter()
@@ -329,7 +332,16 @@ impl GpuBackend {
             ],
         );
         let held = params.held_water.enabled.then(|| {
-            let mut h = HeldGpu::new(d, &dev.queue, consts, &pts, groom.masses(), params.held_water);
+            let mut h = HeldGpu::new(
+                d,
+                &dev.queue,
+                consts,
+                &pts,
+                groom.masses(),
+                &groom.strand_first,
+                guides,
+                params.held_water,
+            );
             h.bind(d, &params_buf, &points_buf, &state);
             h
         });

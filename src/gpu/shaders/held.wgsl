@@ -85,10 +85,20 @@ fn part_flush(lid: u32, at: u32) {
     }
 }
 
-// Point i's hold limit (wet::hold_limit): the limits buffer holds the capacities, then the
-// hold limits.
+// wet::quantum_per_strand of point i's bundle: the water a quantum adds to each strand it
+// stands for, kg. Only a guide groom's buffer holds them, after every point's dry mass.
+fn quantum_at(i: u32) -> f32 {
+    if (HELD_BUNDLES) {
+        return dry_mass[HELD_POINTS + i];
+    }
+    return WATER_QUANTUM;
+}
+
+// Point i's hold limit (wet::hold_limit): the limits buffer holds every point's capacity,
+// then every point's hold limit. HELD_POINTS (the groom's), not P.points (the points stepped:
+// fewer while a lower guide fraction is simulated).
 fn hold_limit(i: u32) -> u32 {
-    return capacity[P.points + i];
+    return capacity[HELD_POINTS + i];
 }
 
 // wet::running: the water above a point's hold limit, which may run along the strand.
@@ -130,7 +140,7 @@ fn wet_params(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
     var pt = points[i];
     var wet = false;
     if (pt.inv_mass != 0.0 && q != 0u) {
-        pt.inv_mass = 1.0 / (dry_mass[i] + f32(q) * WATER_QUANTUM);
+        pt.inv_mass = 1.0 / (dry_mass[i] + f32(q) * quantum_at(i));
         wet = true;
     }
     if (P.wet_bend_ratio < 1.0 && i + 2u <= pt.last) {
