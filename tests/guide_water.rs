@@ -135,3 +135,46 @@ fn a_change_of_the_simulated_fraction_moves_the_water_with_the_hair() {
         }
     }
 }
+
+/// A guide draws water from a drop for its bundle's hair: drops scattered through the hair
+/// soak in about as fast with a tenth of the strands simulated as with all of them (within a
+/// third: a bundle's hair is where its followers are, not where the drop is; measured 0.242
+/// against 0.195 in a frame), where a guide asking for its own strand alone would take about
+/// a tenth as much (each drop meets a tenth of the points it meets with every strand
+/// simulated).
+#[test]
+fn a_guide_draws_a_drop_in_for_its_bundle() {
+    let _serial = serial();
+    // The paper scene's 10,000 strands: dense enough that a drop reaches several strands.
+    let g = paper_scene(10_000, 6).unwrap();
+    let drops = wethair::scenes::on_hair(g.positions(), 300, &mut wethair::scenes::Lcg(5));
+    for backend in backends() {
+        let mut taken = Vec::new();
+        for guides in [Guides::ALL, Guides::every_nth(10)] {
+            let mut p = params(backend, guides);
+            p.gravity = glam::Vec3::ZERO; // the drops stay where they are put
+            p.held_water.flow_mobility = 0.0;
+            p.water.particle_mass = 1.0e-5; // 10 mg: far below what the points they meet hold
+                                            // A tenth of the default rate: a frame takes a part of each drop, in proportion to
+                                            // the hair that reaches it, not all of it.
+            p.held_water.absorb_rate = 2.0;
+            let mut sim = Simulation::new(&g, p).unwrap();
+            sim.add_water(&drops, &[]).unwrap();
+            sim.step(DT).unwrap();
+            let l = sim.water_ledger().unwrap();
+            assert!(l.balanced(), "{l:?}");
+            taken.push(l.held as f64 / l.added as f64);
+        }
+        eprintln!(
+            "{backend:?}: drops soaked in one frame: {:.3} of their water with every strand simulated, {:.3} with a tenth",
+            taken[0], taken[1]
+        );
+        assert!(taken[0] > 0.05, "{backend:?}: the drops soak in: {taken:?}");
+        assert!(
+            taken[1] > 0.67 * taken[0] && taken[1] < 1.5 * taken[0],
+            "{backend:?}: a tenth simulated soaked {} of the drops in a frame, all {}",
+            taken[1],
+            taken[0]
+        );
+    }
+}

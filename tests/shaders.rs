@@ -56,7 +56,7 @@ fn output_modules_validate() {
             ("water", water_source(c), "water_cull"),
             ("piles", wethair::gpu::pipelines::piles_source(c), "pile_insert"),
             ("water output", water_output_source(c), "write_water_vertices"),
-            ("held", held_source(c, 1000, false), "dry"),
+            ("held", held_source(c, 1000), "dry"),
             ("sdf hair", sdf_hair_source(c, 3), "hair_sdf"),
             ("sdf water", sdf_water_source(c, 1), "water_sdf"),
         ] {
@@ -98,6 +98,7 @@ fn consts(bend: bool, colliders: u32) -> wethair::gpu::pipelines::SceneConsts {
         // gathered form is added to the wet modules in `all_modules`).
         atomic64: bend,
         gathered: false,
+        bundle_points: 0,
     }
 }
 
@@ -148,6 +149,13 @@ fn all_modules() -> Vec<(String, String)> {
             assert!(passes.contains(&Pass::Cohesion));
             let name = format!("hair {integrator:?} bridges bend={bend} colliders={colliders}");
             out.push((name, hair_source(c, &passes)));
+            // A guide groom's: absorption asks by each point's bundle.
+            let guides = wethair::gpu::pipelines::SceneConsts {
+                bundle_points: 1000,
+                ..c
+            };
+            let name = format!("hair {integrator:?} bridges, guides, bend={bend} colliders={colliders}");
+            out.push((name, hair_source(guides, &passes)));
         }
         out.push((format!("bridges bend={bend}"), bridges_source(c, 2048, 1000)));
         out.push((format!("water bend={bend}"), water_source(c)));
@@ -166,8 +174,13 @@ fn all_modules() -> Vec<(String, String)> {
             format!("followers bend={bend}"),
             wethair::gpu::pipelines::write_followers_source(c),
         ));
-        out.push((format!("held bend={bend}"), held_source(c, 1000, false)));
-        out.push((format!("held bend={bend} bundles"), held_source(c, 1000, true)));
+        out.push((format!("held bend={bend}"), held_source(c, 1000)));
+        // A guide groom's: bundles and quanta read after every point's limits and masses.
+        let guides = wethair::gpu::pipelines::SceneConsts {
+            bundle_points: 1000,
+            ..c
+        };
+        out.push((format!("held bend={bend} bundles"), held_source(guides, 1000)));
         out.push((format!("roots bend={bend}"), wethair::gpu::pipelines::roots_source(c)));
         out.push((
             format!("volume spread bend={bend}"),
@@ -237,8 +250,8 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
     }
     assert_eq!(
         checked,
-        records().len() * 50,
-        "every record in every module (50 modules)"
+        records().len() * 56,
+        "every record in every module (56 modules)"
     );
 }
 

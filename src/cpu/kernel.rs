@@ -118,6 +118,9 @@ pub(super) struct AbsorbCtx<'a> {
     /// start).
     pub(super) held: &'a [[u32; W]],
     pub(super) hold: &'a [[u32; W]],
+    /// Each point's bundle per row (`physics/bundles.rs`; empty: 1, no guides): a guide asks
+    /// for its bundle's hair.
+    pub(super) bundle: &'a [Lane],
 }
 
 /// One substep of one block, compiled for the best instruction set this CPU has (AVX2 where
@@ -244,11 +247,17 @@ fn block_substep_impl<const AXIAL: bool>(
             // Each lane's pull: its mask times its share of the hair (1 per point).
             let share = w.share.row(params, i);
             let weight: Lane = std::array::from_fn(|l| mask[l] * share[l]);
-            // Absorption asks in proportion to the hair each point stands for.
-            let absorb_share = if w.absorb.is_some() {
-                crate::physics::wet::ABSORB_SHARE.row(params, i)
-            } else {
-                [0.0; W]
+            // Absorption asks in proportion to the hair each point stands for: its own, times
+            // its bundle's strands in a guide groom.
+            let absorb_share = match &w.absorb {
+                Some(a) => {
+                    let own = crate::physics::wet::ABSORB_SHARE.row(params, i);
+                    match a.bundle.get(base + i) {
+                        Some(b) => std::array::from_fn(|l| own[l] * b[l]),
+                        None => own,
+                    }
+                }
+                None => [0.0; W],
             };
             let mut runs = [(0u32, 0u32); MAX_RUNS];
             let mut acc = L3::ZERO;

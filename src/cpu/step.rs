@@ -647,6 +647,7 @@ impl CpuBackend {
                     take: crate::physics::wet::absorb_take(p.held_water.absorb_rate, h),
                     held: &hd.water,
                     hold: &hd.hold,
+                    bundle: &hd.bundle,
                 }),
             }),
         };

@@ -69,6 +69,23 @@ pub struct SceneConsts {
     /// The particles gather their reactions (`reaction_gathered.wgsl`, `reactions.wgsl`)
     /// instead of the hair points adding them (`WETHAIR_GPU_REACTIONS=gather`).
     pub gathered: bool,
+    /// A guide groom's point count where its held water stands for bundles
+    /// (`physics/bundles.rs`; 0: none): the absorption scratch holds each point's bundle after
+    /// its near bits ([`bundle_at`]), and the held dry masses each point's quantum.
+    pub bundle_points: u32,
+}
+
+/// absorb.wgsl's `bundle_at(i)`: point i's bundle in a guide groom, read as f32 bits from the
+/// absorption scratch after its near bits (`HeldGpu::write_bundles`); else 1. A module that
+/// never asks (`reads` false: no `absorb_scratch`) gets the constant.
+fn bundle_at(c: SceneConsts, reads: bool) -> String {
+    match (c.bundle_points, reads) {
+        (0, _) | (_, false) => "fn bundle_at(i: u32) -> f32 {\n    return 1.0;\n}\n".into(),
+        (n, true) => format!(
+            "fn bundle_at(i: u32) -> f32 {{\n    return bitcast<f32>(atomicLoad(&absorb_scratch[P.capacity * ABS_WORDS + {}u + i]));\n}}\n",
+            super::buffers::absorb_words::near_bits(n)
+        ),
+    }
 }
 
 /// The scene's constants, the generated prelude (shared constants and structs), and the
@@ -175,7 +192,8 @@ fn adhesion(c: SceneConsts) -> String {
         (false, true) => ("", REACTION64),
         (false, false) => ("", REACTION32),
     };
-    format!("{GRID}\n{GRID_MARKS}\n{ABSORB}\n{layout}\n{reaction}\n{PAIR}\n{ADHESION}")
+    let bundles = bundle_at(c, true);
+    format!("{GRID}\n{GRID_MARKS}\n{bundles}{ABSORB}\n{layout}\n{reaction}\n{PAIR}\n{ADHESION}")
 }
 
 /// The module where the particles gather their reactions (`SceneConsts::gathered`): the
@@ -183,8 +201,9 @@ fn adhesion(c: SceneConsts) -> String {
 /// not call, so that binding is declared and never bound.
 pub fn reactions_source(c: SceneConsts) -> String {
     format!(
-        "{}@group(1) @binding(0) var<storage, read> points: array<Point>;\n{REST_SEGMENTS}{GRID}\n{GRID_MARKS}\n{SCAN}\n{COUNTING_SCAN}\n{ABSORB}\n{WET_LAYOUT}\n{PAIR}\n{REACTIONS}",
-        prelude(c)
+        "{}@group(1) @binding(0) var<storage, read> points: array<Point>;\n{REST_SEGMENTS}{GRID}\n{GRID_MARKS}\n{SCAN}\n{COUNTING_SCAN}\n{}{ABSORB}\n{WET_LAYOUT}\n{PAIR}\n{REACTIONS}",
+        prelude(c),
+        bundle_at(c, false)
     )
 }
 
@@ -236,13 +255,14 @@ pub fn piles_source(c: SceneConsts) -> String {
 }
 
 /// The held-water module (scenes with held water only) for a groom of `points` points (its
-/// buffers' length: the limits and the guides' quanta follow each point's value at that
-/// offset, whatever the points stepped now); `bundles`: a guide groom, whose points' quanta
-/// follow their dry masses.
-pub fn held_source(c: SceneConsts, points: u32, bundles: bool) -> String {
+/// buffers' length: the hold limits, and in a guide groom the bundles and quanta, follow each
+/// point's value at that offset, whatever the points stepped now).
+pub fn held_source(c: SceneConsts, points: u32) -> String {
     format!(
-        "{}const HELD_POINTS: u32 = {points}u;\nconst HELD_BUNDLES: bool = {bundles};\n{SCAN}\n{HELD}\n{GRID}\n{GRID_MARKS}\n{REST_SEGMENTS}{ABSORB}\n{EXPLICIT_POINT}",
-        prelude(c)
+        "{}const HELD_POINTS: u32 = {points}u;\nconst HELD_BUNDLES: bool = {};\n{SCAN}\n{HELD}\n{GRID}\n{GRID_MARKS}\n{REST_SEGMENTS}{}{ABSORB}\n{EXPLICIT_POINT}",
+        prelude(c),
+        c.bundle_points > 0,
+        bundle_at(c, true),
     )
 }
 
@@ -252,9 +272,10 @@ pub fn held_source(c: SceneConsts, points: u32, bundles: bool) -> String {
 pub fn bridges_source(c: SceneConsts, buckets: u32, points: u32) -> String {
     format!(
         "{}const BRIDGE_BUCKETS: u32 = {buckets}u;\nconst BRIDGE_BLOCKS: u32 = {}u;\nconst BRIDGE_POINTS: u32 = {points}u;\n\
-         {SCAN}\n{COUNTING_SCAN}\n{REST_SEGMENTS}{ABSORB}\n{BRIDGES}",
+         {SCAN}\n{COUNTING_SCAN}\n{REST_SEGMENTS}{}{ABSORB}\n{BRIDGES}",
         prelude(c),
         buckets / super::buffers::SCAN_BLOCK,
+        bundle_at(c, false),
     )
 }
 

@@ -47,6 +47,10 @@ pub(super) struct HeldGpu {
     /// The dry masses and each strand's first point (what [`HeldGpu::set_bundles`] reads).
     mass: Vec<f32>,
     strand_first: Vec<u32>,
+    /// A guide groom's bundle per point (empty otherwise): the dry masses' buffer holds each
+    /// point's quantum, and the water's absorption scratch each bundle
+    /// ([`HeldGpu::write_bundles`]).
+    bundle: Vec<f32>,
     /// The ledger block (`buffers::held_ledger`).
     ledger: wgpu::Buffer,
     /// Soaking's per-point targets, quanta.
@@ -80,9 +84,8 @@ pub(super) struct HeldGpu {
 
 impl HeldGpu {
     /// Buffers for `pts` (the dry point records) with dry masses `mass`, every point dry;
-    /// `bundles`: the groom is a guide groom (`strand_first` its strands), whose strands may
-    /// stand for more than themselves ([`HeldGpu::set_bundles`]).
-    #[allow(clippy::too_many_arguments)]
+    /// in a guide groom (`consts.bundle_points`; `strand_first` its strands) each strand may
+    /// stand for more than itself ([`HeldGpu::set_bundles`]).
     pub(super) fn new(
         d: &wgpu::Device,
         q: &wgpu::Queue,
@@ -90,9 +93,9 @@ impl HeldGpu {
         pts: &[PointGpu],
         mass: &[f32],
         strand_first: &[u32],
-        bundles: bool,
         cfg: HeldWater,
     ) -> HeldGpu {
+        let bundles = consts.bundle_points > 0;
         let n = pts.len() as u64;
         let points_wet = b::buffer(d, "points_wet", std::mem::size_of_val(pts) as u64, STORAGE);
         q.write_buffer(&points_wet, 0, bytemuck::cast_slice(pts));
@@ -122,7 +125,7 @@ impl HeldGpu {
                 &[(0, ReadWrite), (1, Read), (4, ReadWrite), (5, ReadWrite)],
             ),
         ];
-        let module = pl::module(d, "held", &pl::held_source(consts, n as u32, bundles));
+        let module = pl::module(d, "held", &pl::held_source(consts, n as u32));
         let params = [Some(&layouts[0]), Some(&layouts[4])];
         let mut pipes = pl::pipelines_sparse(d, &module, &params, &HELD_ENTRIES[..1]);
         let own = [Some(&layouts[0]), Some(&layouts[1])];
@@ -152,6 +155,7 @@ impl HeldGpu {
             dry_mass,
             mass: mass.to_vec(),
             strand_first: strand_first.to_vec(),
+            bundle: if bundles { vec![1.0; n as usize] } else { Vec::new() },
             ledger: b::buffer(d, "held_ledger", hl::WORDS as u64 * 4, STORAGE),
             soak_target: b::buffer(d, "held_soak_target", n * 4, STORAGE),
             // Without flow, drip reads no step-start velocity: a placeholder of one (a binding
@@ -427,6 +431,9 @@ impl HeldGpu {
         for (s, w) in self.strand_first.windows(2).enumerate() {
             let k = bundle.get(s).copied().unwrap_or(1.0);
             for i in w[0] as usize..w[1] as usize {
+                if let Some(b) = self.bundle.get_mut(i) {
+                    *b = k;
+                }
                 let cfg = &self.cfg;
                 (capacity[i], capacity[n + i]) =
                     wet::bundle_limits(self.mass[i], k, cfg.capacity_ratio, cfg.free_ratio);
@@ -434,13 +441,23 @@ impl HeldGpu {
             }
         }
         q.write_buffer(&self.capacity_buf, 0, bytemuck::cast_slice(&capacity));
-        if self.dry_mass.size() == 2 * n as u64 * 4 {
+        // Only a guide groom's buffers hold the quanta (`HeldGpu::new`).
+        if !self.bundle.is_empty() {
             q.write_buffer(&self.dry_mass, n as u64 * 4, bytemuck::cast_slice(&quantum));
         }
         self.hold = capacity.split_off(n);
         if let Some(w) = water {
             q.write_buffer(&self.water, 0, bytemuck::cast_slice(w));
         }
+    }
+
+    /// Writes each point's bundle after the near bits of the water's absorption scratch
+    /// `absorb`, made for `capacity` particles (`absorb.wgsl` `bundle_at`; a guide groom's
+    /// only).
+    pub(super) fn write_bundles(&self, q: &wgpu::Queue, absorb: &wgpu::Buffer, capacity: u32) {
+        let n = self.mass.len() as u32;
+        let at = capacity as u64 * b::absorb_words::WORDS as u64 + b::absorb_words::near_bits(n) as u64;
+        q.write_buffer(absorb, at * 4, bytemuck::cast_slice(&self.bundle));
     }
 
     /// The buffer of each point's water, quanta.
@@ -563,6 +580,12 @@ impl GpuBackend {
         self.dev.check()?;
         if let Some(h) = &mut self.held {
             h.set_bundles(&self.dev.queue, bundle, water);
+            if let (Some(w), true) = (
+                &self.water,
+                self.consts.bundle_points > 0 && self.params.held_water.absorbs(),
+            ) {
+                h.write_bundles(&self.dev.queue, &w.absorb, self.params.water.capacity);
+            }
             self.vertices_current = false;
         }
         self.dev.check()

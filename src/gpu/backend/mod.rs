@@ -291,6 +291,7 @@ impl GpuBackend {
             roots: params.skinned_roots,
             atomic64: dev.atomic64,
             gathered: super::device::gathers_reactions(),
+            bundle_points: if guides && params.held_water.enabled { points } else { 0 },
         };
         let n_sub = params.substeps as usize;
         let align = dev.limits.min_uniform_buffer_offset_alignment as u64;
@@ -339,7 +340,6 @@ impl GpuBackend {
                 &pts,
                 groom.masses(),
                 &groom.strand_first,
-                guides,
                 params.held_water,
             );
             h.bind(d, &params_buf, &points_buf, &state);

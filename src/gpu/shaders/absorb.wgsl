@@ -28,9 +28,10 @@ fn absorb_share(i: u32) -> f32 {
 }
 
 // wet::absorb_take_at: what point i takes of a particle within r_min this substep, in
-// proportion to the hair it stands for.
+// proportion to the hair it stands for: its own (absorb_share) times its bundle's strands
+// (bundle_at, generated per module: 1 but in a guide groom, physics/bundles.rs).
 fn absorb_take_at(i: u32) -> f32 {
-    return min(P.absorb_take * absorb_share(i), 1.0);
+    return min(P.absorb_take * (absorb_share(i) * bundle_at(i)), 1.0);
 }
 
 // What a hair point `sat` full (its water over its hold limit, the wetness it shows) at
