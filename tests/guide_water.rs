@@ -178,3 +178,55 @@ fn a_guide_draws_a_drop_in_for_its_bundle() {
         );
     }
 }
+
+/// Guides under a shower, their fraction lowered and raised while the water flows, drips and
+/// soaks in: every vertex and the ledger repeat bit for bit on 1 and 4 CPU threads, and run
+/// after run on the GPU.
+#[test]
+fn wet_guides_through_changes_of_fraction_repeat_bit_for_bit() {
+    let _serial = serial();
+    let g = paper_scene(2000, 6).unwrap();
+    let run = |backend: Backend, threads: u32| {
+        let mut p = params(backend, Guides::every_nth(4));
+        p.threads = threads;
+        p.held_water.bridge_tension = 2.0 * 0.072; // bridges too
+        let mut sim = Simulation::new(&g, p).unwrap();
+        let mut rng = wethair::scenes::Lcg(11);
+        let mut out = Vec::new();
+        for f in 0..45u32 {
+            let drops = wethair::scenes::on_hair(g.positions(), 20, &mut rng);
+            sim.add_water(&drops, &[]).unwrap();
+            if f == 10 {
+                sim.soak(1.5).unwrap();
+            }
+            match f {
+                15 => sim.set_guide_fraction(0.3).unwrap(),
+                30 => sim.set_guide_fraction(1.0).unwrap(),
+                _ => {}
+            }
+            sim.step(DT).unwrap();
+        }
+        out.extend(wetness(&mut sim).iter().map(|w| w.to_bits()));
+        let mut v = vec![0.0; sim.vertex_count() * sim.attributes().stride()];
+        sim.write_vertices(&mut v).unwrap();
+        out.extend(v.iter().map(|x| x.to_bits()));
+        let l = sim.water_ledger().unwrap();
+        assert!(l.balanced(), "{backend:?}: {l:?}");
+        assert!(
+            l.held > 0 && l.in_particles > 0,
+            "{backend:?}: water in the hair and in drops: {l:?}"
+        );
+        (out, l)
+    };
+    let (one, l1) = run(Backend::CPU, 1);
+    let (four, l4) = run(Backend::CPU, 4);
+    assert_eq!(l1, l4, "the CPU's ledger on 1 and 4 threads");
+    assert!(one == four, "the CPU's vertices on 1 and 4 threads");
+    if backends().contains(&Backend::GPU) {
+        let (a, la) = run(Backend::GPU, 0);
+        let (b, lb) = run(Backend::GPU, 0);
+        assert_eq!(la, lb, "the GPU's ledger run after run");
+        assert!(a == b, "the GPU's vertices run after run");
+        eprintln!("wet guides: CPU ledger {l1:?}; GPU {la:?}");
+    }
+}

@@ -157,9 +157,9 @@ impl Held {
         out
     }
 
-    /// Sets each point's water (quanta, in the groom's order) to what water moved between
-    /// points left there: the ledger's books are the host's to keep balanced (the sum held
-    /// changes by what `water` adds or takes).
+    /// Sets each point's water (quanta, in the groom's order) after the simulation moved
+    /// water between points (`physics/bundles.rs`): the ledger books no move, so the total
+    /// must be what it was.
     pub fn set_water_of_points(&mut self, lay: &Layout, water: &[u32]) {
         let mut k = 0;
         for s in 0..lay.strands {

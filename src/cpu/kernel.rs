@@ -43,6 +43,14 @@ pub struct Worker {
 }
 
 impl Worker {
+    /// Empties the lists a substep fills (reactions, absorption demands and their spans).
+    pub(super) fn clear_lists(&mut self) {
+        self.reactions.clear();
+        self.spans.clear();
+        self.demands.clear();
+        self.demand_spans.clear();
+    }
+
     /// Allocates the scratch `integrator` needs for blocks of `rows` rows (what is there
     /// stays: a switch back needs it again).
     pub(super) fn scratch_for(&mut self, integrator: Integrator, rows: usize) {

@@ -658,10 +658,7 @@ impl CpuBackend {
                    history: &mut [Bdf2Row],
                    worker: &mut Worker,
                    next: &mut [Vec3]| {
-            worker.reactions.clear();
-            worker.spans.clear();
-            worker.demands.clear();
-            worker.demand_spans.clear();
+            worker.clear_lists();
             let first = k * per_chunk;
             let (blocks, at) = (state.len() / rows, state.as_ptr());
             for (j, rows_b) in state.chunks_mut(rows).enumerate() {
@@ -716,8 +713,12 @@ impl CpuBackend {
             &mut self.history[..n_hist],
             &mut self.workers,
         );
+        // Workers past the last chunk run nothing this substep (a lower simulated fraction
+        // left fewer blocks than workers): the lists they filled at an earlier substep must not
+        // be read as this one's reactions and demands.
+        let n = state.len().div_ceil(chunk_rows);
+        workers.iter_mut().skip(n).for_each(Worker::clear_lists);
         let body = || {
-            let n = state.len().div_ceil(chunk_rows);
             state
                 .par_chunks_mut(chunk_rows)
                 .zip(chunks_or_empty(wet_rows, chunk_rows, n))
