@@ -10,6 +10,7 @@
 //! now follow. Every move is a whole number of quanta taken from one point and given to
 //! another, so the ledger stays exact.
 
+use super::follow::same_fraction;
 use super::followers::{Follow, GuideSpan};
 
 /// Each guide's bundle under the bindings `follow` (one per host strand): `Σ_s w_s M_s / M_g`
@@ -34,14 +35,14 @@ pub fn bundles(follow: &[Follow], strand_mass: &[f32], host_of: &[u32]) -> Vec<f
         .collect()
 }
 
-/// Point `j` of a strand of `n` points, at the same fraction of length on one of `m` points
-/// (as the followers read their guides).
+/// The point of a strand of `m` points nearest point `j` of a strand of `n` points at the same
+/// fraction of length (as the followers read their guides, [`same_fraction`]).
 fn same_place(j: u32, n: u32, m: u32) -> u32 {
-    if n == m || n < 2 {
-        j.min(m - 1)
-    } else {
-        ((j as f64 * (m - 1) as f64 / (n - 1) as f64).round() as u32).min(m - 1)
+    if n == m {
+        return j;
     }
+    let (k, u) = same_fraction(j, n, m);
+    k + (u >= 0.5) as u32
 }
 
 /// Moves `q` quanta (at most what `from` holds and what `to` has room for) from point `from`

@@ -79,6 +79,16 @@ pub fn guide_frame_at(span: GuideSpan, j: u32, rest: &[Vec3], head: Vec4, x: imp
 /// space; gathered with the rest so that a follower reads its guides' points from one place).
 pub type GuidePoint = (Vec3, f32, Vec4, Vec3);
 
+/// Where point `i` of a strand of `n` points falls on a strand of `m` points (at least 2) at
+/// the same fraction of its length, `s = i (m - 1) / (n - 1)`: between points `j` and `j + 1`
+/// (`j ≤ m - 2`), `u = s - j` of the way.
+#[inline(always)]
+pub fn same_fraction(i: u32, n: u32, m: u32) -> (u32, f32) {
+    let s = (i * (m - 1)) as f32 / (n - 1).max(1) as f32;
+    let j = (s as u32).min(m - 2);
+    (j, s - j as f32)
+}
+
 /// Where guide `span` puts point `i` of a follower of `n` points whose rest position is
 /// `rest_i`: the guide's point at the same fraction of its length (`s = i (m - 1) / (n - 1)`
 /// for a guide of `m` points, between its points `j` and `j + 1`, `u = s - j`), the follower's
@@ -94,9 +104,7 @@ pub fn from_guide(span: GuideSpan, i: u32, n: u32, rest_i: Vec3, at: &impl Fn(u3
         let (x, w, f, r) = at(span.first + i);
         return (x, rotate(f, rest_i - r), w);
     }
-    let s = (i * (m - 1)) as f32 / (n - 1).max(1) as f32;
-    let j = (s as u32).min(m - 2);
-    let u = s - j as f32;
+    let (j, u) = same_fraction(i, n, m);
     let (x0, w0, f0, r0) = at(span.first + j);
     let (x1, w1, f1, r1) = at(span.first + j + 1);
     let frame = if u > 0.0 { f1 } else { f0 };
@@ -161,10 +169,7 @@ pub fn follow_velocity(f: &Follow, spans: &[GuideSpan], i: u32, n: u32, vel: &im
             continue;
         }
         let span = spans[f.guides[k] as usize];
-        let m = span.count;
-        let s = (i * (m - 1)) as f32 / (n - 1).max(1) as f32;
-        let j = (s as u32).min(m - 2);
-        let u = s - j as f32;
+        let (j, u) = same_fraction(i, n, span.count);
         v += mix(vel(span.first + j), vel(span.first + j + 1), u) * f.weights[k];
     }
     v

@@ -99,19 +99,15 @@ impl HeldGpu {
         let n = pts.len() as u64;
         let points_wet = b::buffer(d, "points_wet", std::mem::size_of_val(pts) as u64, STORAGE);
         q.write_buffer(&points_wet, 0, bytemuck::cast_slice(pts));
-        let capacity: Vec<u32> = mass.iter().map(|&m| wet::capacity(m, cfg.capacity_ratio)).collect();
-        let hold: Vec<u32> = mass
-            .iter()
-            .map(|&m| wet::hold_limit(m, cfg.capacity_ratio, cfg.free_ratio))
-            .collect();
+        // Every strand for itself until the simulation gives the bundles.
+        let (mut limits, quantum) = point_limits(mass, strand_first, &[], &cfg);
         let capacity_buf = b::buffer(d, "held_limits", 2 * n * 4, STORAGE);
-        q.write_buffer(&capacity_buf, 0, bytemuck::cast_slice(&capacity));
-        q.write_buffer(&capacity_buf, n * 4, bytemuck::cast_slice(&hold));
+        q.write_buffer(&capacity_buf, 0, bytemuck::cast_slice(&limits));
+        let hold = limits.split_off(n as usize);
         let dry_mass = b::buffer(d, "held_dry_mass", if bundles { 2 * n * 4 } else { n * 4 }, STORAGE);
         q.write_buffer(&dry_mass, 0, bytemuck::cast_slice(mass));
         if bundles {
-            let one = vec![wet::quantum_per_strand(1.0); n as usize];
-            q.write_buffer(&dry_mass, n * 4, bytemuck::cast_slice(&one));
+            q.write_buffer(&dry_mass, n * 4, bytemuck::cast_slice(&quantum));
         }
         use Slot::*;
         let layouts = [
@@ -427,25 +423,17 @@ impl HeldGpu {
     /// Only a guide groom's simulation (made with `bundles`) is given bundles.
     pub(super) fn set_bundles(&mut self, q: &wgpu::Queue, bundle: &[f32], water: Option<&[u32]>) {
         let n = self.mass.len();
-        let (mut capacity, mut quantum) = (vec![0u32; 2 * n], vec![0.0f32; n]);
-        for (s, w) in self.strand_first.windows(2).enumerate() {
-            let k = bundle.get(s).copied().unwrap_or(1.0);
-            for i in w[0] as usize..w[1] as usize {
-                if let Some(b) = self.bundle.get_mut(i) {
-                    *b = k;
-                }
-                let cfg = &self.cfg;
-                (capacity[i], capacity[n + i]) =
-                    wet::bundle_limits(self.mass[i], k, cfg.capacity_ratio, cfg.free_ratio);
-                quantum[i] = wet::quantum_per_strand(k);
-            }
-        }
-        q.write_buffer(&self.capacity_buf, 0, bytemuck::cast_slice(&capacity));
-        // Only a guide groom's buffers hold the quanta (`HeldGpu::new`).
+        let (mut limits, quantum) = point_limits(&self.mass, &self.strand_first, bundle, &self.cfg);
+        q.write_buffer(&self.capacity_buf, 0, bytemuck::cast_slice(&limits));
+        // Only a guide groom's buffers hold the quanta and bundles (`HeldGpu::new`).
         if !self.bundle.is_empty() {
             q.write_buffer(&self.dry_mass, n as u64 * 4, bytemuck::cast_slice(&quantum));
+            for (s, w) in self.strand_first.windows(2).enumerate() {
+                let k = bundle.get(s).copied().unwrap_or(1.0);
+                self.bundle[w[0] as usize..w[1] as usize].fill(k);
+            }
         }
-        self.hold = capacity.split_off(n);
+        self.hold = limits.split_off(n);
         if let Some(w) = water {
             q.write_buffer(&self.water, 0, bytemuck::cast_slice(w));
         }
@@ -455,6 +443,9 @@ impl HeldGpu {
     /// `absorb`, made for `capacity` particles (`absorb.wgsl` `bundle_at`; a guide groom's
     /// only).
     pub(super) fn write_bundles(&self, q: &wgpu::Queue, absorb: &wgpu::Buffer, capacity: u32) {
+        if self.bundle.is_empty() {
+            return;
+        }
         let n = self.mass.len() as u32;
         let at = capacity as u64 * b::absorb_words::WORDS as u64 + b::absorb_words::near_bits(n) as u64;
         q.write_buffer(absorb, at * 4, bytemuck::cast_slice(&self.bundle));
@@ -507,6 +498,23 @@ impl HeldGpu {
         .map(|b| b.size() as usize)
         .sum()
     }
+}
+
+/// Each point's capacity, then each point's hold limit (quanta), and each point's water per
+/// quantum and strand (kg), for dry masses `mass` on the strands of `strand_first`, each
+/// standing for `bundle` strands (empty: every one for itself; `wet::bundle_limits`,
+/// `wet::quantum_per_strand`).
+fn point_limits(mass: &[f32], strand_first: &[u32], bundle: &[f32], cfg: &HeldWater) -> (Vec<u32>, Vec<f32>) {
+    let n = mass.len();
+    let (mut limits, mut quantum) = (vec![0u32; 2 * n], vec![0.0f32; n]);
+    for (s, w) in strand_first.windows(2).enumerate() {
+        let k = bundle.get(s).copied().unwrap_or(1.0);
+        for i in w[0] as usize..w[1] as usize {
+            (limits[i], limits[n + i]) = wet::bundle_limits(mass[i], k, cfg.capacity_ratio, cfg.free_ratio);
+            quantum[i] = wet::quantum_per_strand(k);
+        }
+    }
+    (limits, quantum)
 }
 
 /// Workgroups (x, y) of drip_count and drip_emit over `points`: [`b::DRIP_WG`] points each.
@@ -580,10 +588,8 @@ impl GpuBackend {
         self.dev.check()?;
         if let Some(h) = &mut self.held {
             h.set_bundles(&self.dev.queue, bundle, water);
-            if let (Some(w), true) = (
-                &self.water,
-                self.consts.bundle_points > 0 && self.params.held_water.absorbs(),
-            ) {
+            // The absorption scratch holds the bundles where there is one (`create_water`).
+            if let (Some(w), true) = (&self.water, self.params.held_water.absorbs()) {
                 h.write_bundles(&self.dev.queue, &w.absorb, self.params.water.capacity);
             }
             self.vertices_current = false;

@@ -204,15 +204,18 @@ impl GpuBackend {
         let incoming = b::buffer(d, "water_incoming", cap * 32, STORAGE);
         // Absorption's per-particle scratch (a placeholder of 16 bytes without absorption).
         // In a guide groom each point's bundle follows the bits (what absorption asks by).
-        let bundles = self.held.as_ref().filter(|_| self.consts.bundle_points > 0);
         let absorb_bytes = if self.params.held_water.absorbs() {
-            let bundle_words = bundles.map_or(0, |_| self.points as u64);
+            let bundle_words = if self.consts.bundle_points > 0 {
+                self.points as u64
+            } else {
+                0
+            };
             (cap * b::absorb_words::WORDS as u64 + b::absorb_words::near_bits(self.points) as u64 + bundle_words) * 4
         } else {
             16
         };
         let absorb = b::buffer(d, "water_absorb", absorb_bytes, STORAGE);
-        if let (Some(h), true) = (bundles, self.params.held_water.absorbs()) {
+        if let (Some(h), true) = (&self.held, self.params.held_water.absorbs()) {
             h.write_bundles(&self.dev.queue, &absorb, cap as u32);
         }
         let build_layout = pl::layout(
