@@ -204,11 +204,13 @@ pub trait Engine: std::fmt::Debug + Send {
             "held water is not simulated on this backend".into(),
         ))
     }
-    /// Guides with held water (docs/GUIDES.md "Water"): how many host strands' hair each
-    /// strand stands for (`bundle`, in this backend's strand order: its capacity and hold
-    /// limit are the bundle's, a quantum weighs `1 / bundle` as much on it) and, where given,
-    /// each point's water after the simulation moved it between guides (quanta, in this
-    /// backend's point order; the sum held may not change). Nothing without held water.
+    /// Guides (docs/GUIDES.md "Water"): how many host strands' hair each strand stands for
+    /// (`bundle`, in this backend's strand order): with held water its capacity and hold
+    /// limit are the bundle's and a quantum weighs `1 / bundle` as much on it; with water
+    /// particles it asks a drop for the bundle's water and pulls the drop back with the
+    /// bundle's hair (eq. 2's reaction). `water`, where given, is each point's water after the
+    /// simulation moved it between guides (quanta, in this backend's point order; the sum
+    /// held may not change).
     fn set_bundles(&mut self, bundle: &[f32], water: Option<&[u32]>) -> Result<()>;
     /// Each point's held water, quanta, in this backend's point order (on the GPU a blocking
     /// readback); empty without held water.

@@ -326,7 +326,9 @@ fn capsule_collider_keeps_hair_outside() {
     }
 }
 
-/// The row form of eq. 2 (one particle against 8 hair points) equals the per-point form.
+/// The row form of eq. 2 (one particle against 8 hair points) equals the per-point form; in a
+/// guide groom each lane's reaction is its bundle's (its pull on the particle times the
+/// strands it stands for) while the pull on the lane stays its own.
 #[allow(clippy::needless_range_loop)]
 #[test]
 fn adhesion_row_and_point_forms_agree() {
@@ -347,59 +349,64 @@ fn adhesion_row_and_point_forms_agree() {
         y: &cols[1],
         z: &cols[2],
     };
-    let (mut fx, mut fy, mut fz) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let (mut acc, mut near, mut reactions) = (L3::ZERO, [0.0; W], Vec::new());
-    adhesion::gather_run_lanes(
-        &x,
-        &[1.0; W],
-        &[1.0; W],
-        run,
-        0,
-        &mut reactions,
-        &mut acc,
-        &mut near,
-        r0,
-        r1,
-        adhesion::Strength::uniform(s),
-        None,
-    );
-    for r in &reactions {
-        let j = r.slot as usize;
-        fx[j] += r.f[0];
-        fy[j] += r.f[1];
-        fz[j] += r.f[2];
-    }
-    // The per-point form: the scalar law, pair by pair.
-    let (mut gx, mut gy, mut gz) = (vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]);
-    for l in 0..W {
-        let (mut f, mut any) = (Vec3::ZERO, false);
-        for (j, p) in q.iter().enumerate() {
-            let (h, w) = (x.get(l), Vec3::from(*p));
-            let fj = adhesion::force_on_hair(h, w, r0, r1, s);
-            f += fj;
-            gx[j] -= fj.x;
-            gy[j] -= fj.y;
-            gz[j] -= fj.z;
-            any |= (w - h).length_squared() <= r1 * r1;
+    let bundles: [f32; W] = [1.0, 10.0, 2.5, 1.0, 40.0, 3.0, 1.0, 7.0];
+    for bundle in [None, Some(&bundles)] {
+        let (mut fx, mut fy, mut fz) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let (mut acc, mut near, mut reactions) = (L3::ZERO, [0.0; W], Vec::new());
+        adhesion::gather_run_lanes(
+            &x,
+            &[1.0; W],
+            &[1.0; W],
+            bundle,
+            run,
+            0,
+            &mut reactions,
+            &mut acc,
+            &mut near,
+            r0,
+            r1,
+            adhesion::Strength::uniform(s),
+            None,
+        );
+        for r in &reactions {
+            let j = r.slot as usize;
+            fx[j] += r.f[0];
+            fy[j] += r.f[1];
+            fz[j] += r.f[2];
+        }
+        // The per-point form: the scalar law, pair by pair.
+        let (mut gx, mut gy, mut gz) = (vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]);
+        for l in 0..W {
+            let k = bundle.map_or(1.0, |b| b[l]);
+            let (mut f, mut any) = (Vec3::ZERO, false);
+            for (j, p) in q.iter().enumerate() {
+                let (h, w) = (x.get(l), Vec3::from(*p));
+                let fj = adhesion::force_on_hair(h, w, r0, r1, s);
+                f += fj;
+                gx[j] -= fj.x * k;
+                gy[j] -= fj.y * k;
+                gz[j] -= fj.z * k;
+                any |= (w - h).length_squared() <= r1 * r1;
+            }
+            assert!(
+                (f - acc.get(l)).length() <= 1e-6 * (1.0 + f.length()),
+                "lane {l}: {f:?} vs {:?}",
+                acc.get(l)
+            );
+            assert_eq!(any, near[l] > 0.0);
+        }
+        for j in 0..n {
+            let (a, b) = (Vec3::new(fx[j], fy[j], fz[j]), Vec3::new(gx[j], gy[j], gz[j]));
+            assert!(
+                (a - b).length() <= 1e-6 * (1.0 + b.length()),
+                "{bundle:?}: particle {j}: {a:?} vs {b:?}"
+            );
         }
         assert!(
-            (f - acc.get(l)).length() <= 1e-6 * (1.0 + f.length()),
-            "lane {l}: {f:?} vs {:?}",
-            acc.get(l)
-        );
-        assert_eq!(any, near[l] > 0.0);
-    }
-    for j in 0..n {
-        let (a, b) = (Vec3::new(fx[j], fy[j], fz[j]), Vec3::new(gx[j], gy[j], gz[j]));
-        assert!(
-            (a - b).length() <= 1e-6 * (1.0 + b.length()),
-            "particle {j}: {a:?} vs {b:?}"
+            near.iter().any(|&v| v > 0.0),
+            "the test cloud should put particles within r_max"
         );
     }
-    assert!(
-        near.iter().any(|&v| v > 0.0),
-        "the test cloud should put particles within r_max"
-    );
 }
 
 /// The air drag's law (`physics/per_length.rs`): quoted over a length `L`, a strand's points' drag

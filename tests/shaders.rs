@@ -138,6 +138,18 @@ fn all_modules() -> Vec<(String, String)> {
                 let name = format!("hair {integrator:?} wet={wet} bend={bend} colliders={colliders}");
                 out.push((name, hair_source(c, &passes)));
             }
+            // A guide groom's paper model: each point pulls the particles back with its
+            // bundle's hair, its reactions added or gathered.
+            for gathered in [false, true] {
+                let guides = wethair::gpu::pipelines::SceneConsts {
+                    bundle_points: 1000,
+                    gathered,
+                    ..c
+                };
+                let name =
+                    format!("hair {integrator:?} wet, guides, gathered={gathered} bend={bend} colliders={colliders}");
+                out.push((name, hair_source(guides, &pass_list(&p, integrator, bend, true))));
+            }
             let gathered = wethair::gpu::pipelines::SceneConsts { gathered: true, ..c };
             let name = format!("hair {integrator:?} wet, reactions gathered, bend={bend} colliders={colliders}");
             out.push((name, hair_source(gathered, &pass_list(&p, integrator, bend, true))));
@@ -162,6 +174,14 @@ fn all_modules() -> Vec<(String, String)> {
         out.push((
             format!("reactions bend={bend}"),
             wethair::gpu::pipelines::reactions_source(wethair::gpu::pipelines::SceneConsts { gathered: true, ..c }),
+        ));
+        out.push((
+            format!("reactions bend={bend} bundles"),
+            wethair::gpu::pipelines::reactions_source(wethair::gpu::pipelines::SceneConsts {
+                gathered: true,
+                bundle_points: 1000,
+                ..c
+            }),
         ));
         out.push((format!("piles bend={bend}"), wethair::gpu::pipelines::piles_source(c)));
         out.push((format!("output bend={bend}"), output_source(c)));
@@ -250,8 +270,8 @@ fn wgsl_struct_layouts_equal_the_rust_records() {
     }
     assert_eq!(
         checked,
-        records().len() * 56,
-        "every record in every module (56 modules)"
+        records().len() * 70,
+        "every record in every module (70 modules)"
     );
 }
 

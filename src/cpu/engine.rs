@@ -209,6 +209,10 @@ impl Engine for CpuBackend {
     }
 
     fn set_bundles(&mut self, bundle: &[f32], water: Option<&[u32]>) -> Result<()> {
+        self.bundle = match bundle.is_empty() {
+            true => Vec::new(),
+            false => self.lay.strand_rows(bundle, 1.0),
+        };
         if let Some(h) = &mut self.held {
             h.set_bundles(&self.lay, bundle);
             if let Some(w) = water {

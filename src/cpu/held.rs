@@ -32,8 +32,6 @@ pub struct Held {
     /// (`wet::quantum_per_strand` of its bundle); empty without guides, where it is
     /// `WATER_QUANTUM` everywhere.
     quantum: Vec<Lane>,
-    /// Per row, each point's bundle (what absorption asks by); empty without guides.
-    pub(super) bundle: Vec<Lane>,
     /// The layout's row parameters with each free point's inverse mass from its dry mass plus
     /// its water (what the kernel reads instead of the layout's while water is held).
     pub params: Vec<ParamRow>,
@@ -96,7 +94,6 @@ impl Held {
             capacity: AlignedRows::filled([0u32; W], n_rows),
             hold: AlignedRows::filled([0u32; W], n_rows),
             quantum: Vec::new(),
-            bundle: Vec::new(),
             dry,
             params: lay.params.clone(),
             params_wet: vec![false; n_rows],
@@ -121,15 +118,17 @@ impl Held {
     /// groom's strand order; empty: every strand for itself, as without guides): a point's
     /// capacity and hold limit are its bundle's, so a guide holds its followers' water, and a
     /// quantum adds `1 / bundle` of its mass to the strand's own inertia (docs/GUIDES.md
-    /// "Water"), and its points ask of a drop by their bundle's hair. The water held stays;
-    /// the parameters follow at the next step.
+    /// "Water"). The water held stays; the parameters follow at the next step. (What the
+    /// bundle changes beside held water, the backend keeps: `CpuBackend::bundle`.)
     pub fn set_bundles(&mut self, lay: &Layout, bundle: &[f32]) {
         let cfg = self.cfg;
-        let rows = |v: f32| match bundle.is_empty() {
+        self.quantum = match bundle.is_empty() {
             true => Vec::new(),
-            false => vec![[v; W]; self.water.len()],
+            false => {
+                let per_strand: Vec<f32> = bundle.iter().map(|&k| wet::quantum_per_strand(k)).collect();
+                lay.strand_rows(&per_strand, wet::quantum_per_strand(1.0))
+            }
         };
-        (self.quantum, self.bundle) = (rows(wet::quantum_per_strand(1.0)), rows(1.0));
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
             let first = lay.strand_first[s] as usize;
@@ -138,9 +137,6 @@ impl Held {
                 let r = b * lay.rows + i;
                 (self.capacity[r][l], self.hold[r][l]) =
                     wet::bundle_limits(lay.mass[first + i], k, cfg.capacity_ratio, cfg.free_ratio);
-                if let (Some(q), Some(b)) = (self.quantum.get_mut(r), self.bundle.get_mut(r)) {
-                    (q[l], b[l]) = (wet::quantum_per_strand(k), k);
-                }
             }
         }
         self.params_wet_any = true;
@@ -319,7 +315,7 @@ impl Held {
             + self.capacity.capacity() * 4 * W
             + self.hold.capacity() * 4 * W
             + self.dry.capacity() * std::mem::size_of::<DryRow>()
-            + (self.quantum.capacity() + self.bundle.capacity()) * 4 * W
+            + self.quantum.capacity() * 4 * W
             + self.params.capacity() * std::mem::size_of::<ParamRow>()
             + self.params_wet.capacity()
             + self.v0.capacity() * std::mem::size_of::<L3>()

@@ -112,6 +112,9 @@ pub(super) struct WaterCtx<'a> {
     pub(super) wet_gain: f32,
     /// Absorption (held water on).
     pub(super) absorb: Option<AbsorbCtx<'a>>,
+    /// Each point's bundle per row (`physics/bundles.rs`; empty: 1, no guides): a guide
+    /// asks a drop for its bundle's water and pulls it with its bundle's hair.
+    pub(super) bundle: &'a [Lane],
 }
 
 /// Absorption inputs of one substep (docs/WET_MODEL.md §2).
@@ -126,9 +129,6 @@ pub(super) struct AbsorbCtx<'a> {
     /// start).
     pub(super) held: &'a [[u32; W]],
     pub(super) hold: &'a [[u32; W]],
-    /// Each point's bundle per row (`physics/bundles.rs`; empty: 1, no guides): a guide asks
-    /// for its bundle's hair.
-    pub(super) bundle: &'a [Lane],
 }
 
 /// One substep of one block, compiled for the best instruction set this CPU has (AVX2 where
@@ -255,12 +255,15 @@ fn block_substep_impl<const AXIAL: bool>(
             // Each lane's pull: its mask times its share of the hair (1 per point).
             let share = w.share.row(params, i);
             let weight: Lane = std::array::from_fn(|l| mask[l] * share[l]);
+            // In a guide groom each point stands for its bundle's strands: it pulls a drop
+            // back with their hair (eq. 2's reaction), and asks it for their water.
+            let bundle = w.bundle.get(base + i);
             // Absorption asks in proportion to the hair each point stands for: its own, times
-            // its bundle's strands in a guide groom.
+            // its bundle.
             let absorb_share = match &w.absorb {
-                Some(a) => {
+                Some(_) => {
                     let own = crate::physics::wet::ABSORB_SHARE.row(params, i);
-                    match a.bundle.get(base + i) {
+                    match bundle {
                         Some(b) => std::array::from_fn(|l| own[l] * b[l]),
                         None => own,
                     }
@@ -290,6 +293,7 @@ fn block_substep_impl<const AXIAL: bool>(
                     &x,
                     &mask,
                     &weight,
+                    bundle,
                     inv_mass,
                     &runs[..n],
                     reactions,
@@ -315,6 +319,7 @@ fn block_substep_impl<const AXIAL: bool>(
                         &x,
                         &one,
                         &one_weight,
+                        bundle,
                         inv_mass,
                         &runs[..n],
                         reactions,
@@ -520,7 +525,8 @@ fn bounds_and_mask(avx2: bool, x: &L3, lanes: u32) -> (glam::Vec3, glam::Vec3, L
 /// Eq. 2 between the lanes of `x` in `mask` and the particles of grid `runs` (slices of the
 /// grid-ordered particles), under its stability limit (`physics/pull_limit.rs`, from the
 /// row's `inv_mass`): adds the hair's forces to `acc`, marks `near` lanes, and appends the
-/// particles' reactions to `reactions` (this worker's). `avx2`: run the gather's AVX2 form
+/// particles' reactions to `reactions` (this worker's), each lane's times its `bundle` in a
+/// guide groom. `avx2`: run the gather's AVX2 form
 /// (the same bits).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
@@ -530,6 +536,7 @@ fn gather_runs(
     x: &L3,
     mask: &[f32; W],
     weight: &[f32; W],
+    bundle: Option<&[f32; W]>,
     inv_mass: &[f32; W],
     runs: &[(u32, u32)],
     reactions: &mut Vec<adhesion::Reaction>,
@@ -543,13 +550,14 @@ fn gather_runs(
         // SAFETY: `avx2` comes from `is_x86_feature_detected!("avx2")` at create.
         unsafe {
             crate::physics::adhesion_avx2::gather_row_lanes(
-                x, mask, weight, inv_mass, &w.limit, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
+                x, mask, weight, bundle, inv_mass, &w.limit, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s,
+                wet_row,
             )
         };
         return;
     }
     let _ = avx2;
     adhesion::gather_row_lanes(
-        x, mask, weight, inv_mass, &w.limit, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
+        x, mask, weight, bundle, inv_mass, &w.limit, runs, sorted, reactions, acc, near, w.r_min, w.r_max, w.s, wet_row,
     );
 }

@@ -15,8 +15,8 @@
 
 use crate::groom::Groom;
 use crate::params::SimParams;
+use crate::physics::lanes::{Lane, L3, W};
 pub use crate::physics::lanes::{ParamRow, StateRow};
-use crate::physics::lanes::{L3, W};
 
 /// How host strands map to blocks, and the constant per-row data.
 #[derive(Debug)]
@@ -126,6 +126,19 @@ impl Layout {
     #[inline]
     pub fn strand_points(&self, s: usize) -> usize {
         (self.strand_first[s + 1] - self.strand_first[s]) as usize
+    }
+
+    /// A value per strand (`per_strand`, in the groom's order) as rows of lanes: each of a
+    /// strand's points takes its strand's, padding lanes and rows take `pad`.
+    pub fn strand_rows(&self, per_strand: &[f32], pad: f32) -> Vec<Lane> {
+        let mut out = vec![[pad; W]; self.blocks * self.rows];
+        for (s, &v) in per_strand.iter().enumerate().take(self.strands) {
+            let (b, l) = self.lane_of(s);
+            for i in 0..self.strand_points(s) {
+                out[b * self.rows + i][l] = v;
+            }
+        }
+        out
     }
 
     /// The rest state (positions placed by `head`, zero velocity).

@@ -97,6 +97,10 @@ pub struct CpuBackend {
     /// water only makes points heavier): which rows may skip the stability limit's count
     /// (`physics/pull_limit.rs`).
     pull_weight_max: f32,
+    /// Per row, how many strands' hair each point stands for (a guide groom's bundles,
+    /// `physics/bundles.rs`; empty without guides, where it is 1): a guide asks a drop for
+    /// its bundle's water and pulls it with its bundle's hair.
+    pub(super) bundle: Vec<Lane>,
 }
 
 /// Chunks of blocks per worker thread. With water the work is uneven (the rows near
@@ -182,6 +186,7 @@ impl CpuBackend {
             active_blocks: 0,
             adhesion_pairs: 0,
             pull_weight_max: crate::plan::water::pull_weight_max(params, groom),
+            bundle: Vec::new(),
         };
         cpu.active_blocks = cpu.lay.blocks;
         if params.skinned_roots {
@@ -244,6 +249,9 @@ impl CpuBackend {
         }
         if !self.output_from.is_empty() {
             out.push(("output_from", bytes(&self.output_from)));
+        }
+        if !self.bundle.is_empty() {
+            out.push(("bundles", bytes(&self.bundle)));
         }
         if let Some(h) = &self.held {
             out.push(("held_water", h.bytes()));
@@ -647,8 +655,8 @@ impl CpuBackend {
                     take: crate::physics::wet::absorb_take(p.held_water.absorb_rate, h),
                     held: &hd.water,
                     hold: &hd.hold,
-                    bundle: &hd.bundle,
                 }),
+                bundle: &self.bundle,
             }),
         };
         let lock_step = subs.len() == 1;

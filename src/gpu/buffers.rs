@@ -608,6 +608,16 @@ pub mod absorb_words {
     pub fn near_bits(points: u32) -> u32 {
         points.div_ceil(32)
     }
+
+    /// The first word of a guide groom's bundles (one f32 a point, `absorb.wgsl`
+    /// `bundle_at`): after the particles' records and the near bits where the scene absorbs,
+    /// else the buffer's start (the bundles are then all it holds).
+    pub fn bundles_at(absorbs: bool, capacity: u32, points: u32) -> u32 {
+        match absorbs {
+            true => capacity * WORDS + near_bits(points),
+            false => 0,
+        }
+    }
 }
 
 /// An attribute offset meaning "not written" (`Params::pos_off` and friends).

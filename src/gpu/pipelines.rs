@@ -69,22 +69,38 @@ pub struct SceneConsts {
     /// The particles gather their reactions (`reaction_gathered.wgsl`, `reactions.wgsl`)
     /// instead of the hair points adding them (`WETHAIR_GPU_REACTIONS=gather`).
     pub gathered: bool,
-    /// A guide groom's point count where its held water stands for bundles
-    /// (`physics/bundles.rs`; 0: none): the absorption scratch holds each point's bundle after
-    /// its near bits ([`bundle_at`]), and the held dry masses each point's quantum.
+    /// A guide groom's point count (0: none), whose strands stand for bundles
+    /// (`physics/bundles.rs`): the absorption scratch holds each point's bundle
+    /// ([`bundle_at`]), and with held water the held dry masses each point's quantum.
     pub bundle_points: u32,
 }
 
+/// How a module reads the absorption scratch, where a guide groom's bundles are kept.
+#[derive(Clone, Copy, PartialEq)]
+enum Scratch {
+    /// Not bound: every bundle is 1 to it.
+    None,
+    /// Bound as `array<atomic<u32>>` (the hair and held-water modules).
+    Atomic,
+    /// Bound as `array<u32>` (the particles' gather, `reactions.wgsl`).
+    Plain,
+}
+
 /// absorb.wgsl's `bundle_at(i)`: point i's bundle in a guide groom, read as f32 bits from the
-/// absorption scratch after its near bits (`HeldGpu::write_bundles`); else 1. A module that
-/// never asks (`reads` false: no `absorb_scratch`) gets the constant.
-fn bundle_at(c: SceneConsts, reads: bool) -> String {
-    match (c.bundle_points, reads) {
-        (0, _) | (_, false) => "fn bundle_at(i: u32) -> f32 {\n    return 1.0;\n}\n".into(),
-        (n, true) => format!(
-            "fn bundle_at(i: u32) -> f32 {{\n    return bitcast<f32>(atomicLoad(&absorb_scratch[P.capacity * ABS_WORDS + {}u + i]));\n}}\n",
-            super::buffers::absorb_words::near_bits(n)
-        ),
+/// absorption scratch at `buffers::absorb_words::bundles_at` (written by
+/// `GpuBackend::write_bundles`); else 1. What absorption asks by, and eq. 2's reaction
+/// pulls with.
+fn bundle_at(c: SceneConsts, scratch: Scratch) -> String {
+    let near = super::buffers::absorb_words::near_bits(c.bundle_points);
+    let at = format!("select(0u, P.capacity * ABS_WORDS + {near}u, P.absorbs != 0u) + i");
+    let word = match scratch {
+        Scratch::Atomic => format!("atomicLoad(&absorb_scratch[{at}])"),
+        Scratch::Plain => format!("absorb_scratch[{at}]"),
+        Scratch::None => String::new(),
+    };
+    match (c.bundle_points, scratch) {
+        (0, _) | (_, Scratch::None) => "fn bundle_at(i: u32) -> f32 {\n    return 1.0;\n}\n".into(),
+        _ => format!("fn bundle_at(i: u32) -> f32 {{\n    return bitcast<f32>({word});\n}}\n"),
     }
 }
 
@@ -192,7 +208,7 @@ fn adhesion(c: SceneConsts) -> String {
         (false, true) => ("", REACTION64),
         (false, false) => ("", REACTION32),
     };
-    let bundles = bundle_at(c, true);
+    let bundles = bundle_at(c, Scratch::Atomic);
     format!("{GRID}\n{GRID_MARKS}\n{bundles}{ABSORB}\n{layout}\n{reaction}\n{PAIR}\n{ADHESION}")
 }
 
@@ -203,7 +219,7 @@ pub fn reactions_source(c: SceneConsts) -> String {
     format!(
         "{}@group(1) @binding(0) var<storage, read> points: array<Point>;\n{REST_SEGMENTS}{GRID}\n{GRID_MARKS}\n{SCAN}\n{COUNTING_SCAN}\n{}{ABSORB}\n{WET_LAYOUT}\n{PAIR}\n{REACTIONS}",
         prelude(c),
-        bundle_at(c, false)
+        bundle_at(c, Scratch::Plain)
     )
 }
 
@@ -262,7 +278,7 @@ pub fn held_source(c: SceneConsts, points: u32) -> String {
         "{}const HELD_POINTS: u32 = {points}u;\nconst HELD_BUNDLES: bool = {};\n{SCAN}\n{HELD}\n{GRID}\n{GRID_MARKS}\n{REST_SEGMENTS}{}{ABSORB}\n{EXPLICIT_POINT}",
         prelude(c),
         c.bundle_points > 0,
-        bundle_at(c, true),
+        bundle_at(c, Scratch::Atomic),
     )
 }
 
@@ -275,7 +291,7 @@ pub fn bridges_source(c: SceneConsts, buckets: u32, points: u32) -> String {
          {SCAN}\n{COUNTING_SCAN}\n{REST_SEGMENTS}{}{ABSORB}\n{BRIDGES}",
         prelude(c),
         buckets / super::buffers::SCAN_BLOCK,
-        bundle_at(c, false),
+        bundle_at(c, Scratch::None),
     )
 }
 

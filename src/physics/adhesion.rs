@@ -174,13 +174,16 @@ impl Strength<'_> {
 /// particle within `r_max`, and appends each touched particle's reaction (minus the sum over
 /// lanes) to `reactions`. One particle against eight hair points is one SIMD pass. With held
 /// water (`wet`), each particle pulls with `s` scaled by the water it holds, and the lanes it
-/// reaches ask it for water (docs/WET_MODEL.md §2).
+/// reaches ask it for water (docs/WET_MODEL.md §2). In a guide groom each lane's reaction and
+/// stiffness are its `bundle`'s: a guide pulls the particle back with the hair of every
+/// strand it stands for (`physics/bundles.rs`), its own point with its own.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub fn gather_run_lanes(
     x: &L3,
     mask: &Lane,
     weight: &Lane,
+    bundle: Option<&Lane>,
     run: Run,
     first_slot: u32,
     reactions: &mut Vec<Reaction>,
@@ -233,6 +236,12 @@ pub fn gather_run_lanes(
             acc.y[l] += ry[l];
             acc.z[l] += rz[l];
         }
+        if let Some(b) = bundle {
+            for l in 0..W {
+                (rx[l], ry[l], rz[l]) = (rx[l] * b[l], ry[l] * b[l], rz[l] * b[l]);
+                stiff[l] *= b[l];
+            }
+        }
         reactions.push(Reaction {
             slot,
             f: [-hsum(&rx), -hsum(&ry), -hsum(&rz)],
@@ -250,6 +259,7 @@ pub fn gather_runs_lanes(
     x: &L3,
     mask: &Lane,
     weight: &Lane,
+    bundle: Option<&Lane>,
     runs: &[(u32, u32)],
     sorted: [&[f32]; 3],
     reactions: &mut Vec<Reaction>,
@@ -271,6 +281,7 @@ pub fn gather_runs_lanes(
             x,
             mask,
             weight,
+            bundle,
             run,
             a,
             reactions,
@@ -293,6 +304,7 @@ pub fn gather_row_lanes(
     x: &L3,
     mask: &Lane,
     weight: &Lane,
+    bundle: Option<&Lane>,
     inv_mass: &Lane,
     limit: &PullLimit,
     runs: &[(u32, u32)],
@@ -310,7 +322,7 @@ pub fn gather_row_lanes(
         limit.row_weights(x, weight, inv_mass, runs, sorted, strength)
     };
     gather_runs_lanes(
-        x, mask, &limited, runs, sorted, reactions, acc, near, r_min, r_max, s, wet,
+        x, mask, &limited, bundle, runs, sorted, reactions, acc, near, r_min, r_max, s, wet,
     );
 }
 

@@ -77,6 +77,7 @@ pub unsafe fn gather_row_lanes(
     x: &L3,
     mask: &Lane,
     weight: &Lane,
+    bundle: Option<&Lane>,
     inv_mass: &Lane,
     limit: &PullLimit,
     runs: &[(u32, u32)],
@@ -99,6 +100,8 @@ pub unsafe fn gather_row_lanes(
     let mut limited = false;
     let (mut ax, mut ay, mut az) = (load(&acc.x), load(&acc.y), load(&acc.z));
     let mut marks = load(near);
+    // A guide groom's bundles: what the particle's reaction and stiffness are scaled by.
+    let bundle = bundle.map(load);
     let zero = _mm256_setzero_ps();
     let r2 = _mm256_set1_ps(r_max * r_max);
     let min2 = _mm256_set1_ps(MIN_DISTANCE * MIN_DISTANCE);
@@ -213,11 +216,19 @@ pub unsafe fn gather_row_lanes(
             ax = _mm256_add_ps(ax, fx);
             ay = _mm256_add_ps(ay, fy);
             az = _mm256_add_ps(az, fz);
-            // The forces' lane sums negated, and the stiffness's.
-            let sums = _mm_xor_ps(
-                hsum4(fx, fy, fz, _mm256_mul_ps(_mm256_and_ps(stiff, keep), share)),
-                _mm_setr_ps(-0.0, -0.0, -0.0, 0.0),
-            );
+            // The forces' lane sums negated, and the stiffness's; each lane's times its bundle
+            // in a guide groom.
+            let stiff = _mm256_mul_ps(_mm256_and_ps(stiff, keep), share);
+            let (rx, ry, rz, rs) = match bundle {
+                None => (fx, fy, fz, stiff),
+                Some(b) => (
+                    _mm256_mul_ps(fx, b),
+                    _mm256_mul_ps(fy, b),
+                    _mm256_mul_ps(fz, b),
+                    _mm256_mul_ps(stiff, b),
+                ),
+            };
+            let sums = _mm_xor_ps(hsum4(rx, ry, rz, rs), _mm_setr_ps(-0.0, -0.0, -0.0, 0.0));
             let mut r = [0.0f32; 4];
             // SAFETY: `r` holds 4 f32.
             unsafe { _mm_storeu_ps(r.as_mut_ptr(), sums) };
@@ -259,6 +270,7 @@ mod tests {
         x: &L3,
         mask: &Lane,
         weight: &Lane,
+        bundle: Option<&Lane>,
         inv_mass: &Lane,
         limit: &PullLimit,
         q: &[Vec<f32>; 3],
@@ -288,6 +300,7 @@ mod tests {
             &L3,
             &Lane,
             &Lane,
+            Option<&Lane>,
             &Lane,
             &PullLimit,
             &[(u32, u32)],
@@ -311,6 +324,7 @@ mod tests {
                 x,
                 mask,
                 weight,
+                bundle,
                 inv_mass,
                 limit,
                 &runs,
@@ -346,7 +360,7 @@ mod tests {
 
     /// The AVX2 gather gives the lane form's bits: particles inside r_min, in the shell, at
     /// r_max, beyond it and on a hair point; lanes masked out; pulls per point and per length;
-    /// dry and absorbing.
+    /// dry and absorbing; each point for itself and a guide groom's bundles.
     #[test]
     fn avx2_gives_the_lane_forms_bits() {
         assert!(
@@ -396,12 +410,15 @@ mod tests {
             // pinned (0), so that the stability limit holds some lanes and not others.
             let inv_mass: Lane = std::array::from_fn(|l| [1.0e3, 1.0e5, 0.0, 3.0e4][(l + case) % 4]);
             let h = 1.0 / (60.0 * (1 + case % 8) as f32);
+            // A guide groom's bundles in one case of four (padding lanes keep 1).
+            let bundles: Lane = std::array::from_fn(|l| 1.0 + 39.0 * rng.next_f32() * mask[l]);
+            let bundle = (case % 4 == 1).then_some(&bundles);
             for wet in [None, Some((&mass[..], &(water, capacity)))] {
                 let heaviest = (0..W).map(|l| weight[l] * inv_mass[l]).fold(0.0, f32::max);
                 let limit = PullLimit::new(h, 0.002, 0.008, wet.is_none().then_some(0.008), heaviest);
                 let (a, b) = (
-                    gather(false, &x, &mask, &weight, &inv_mass, &limit, &q, wet),
-                    gather(true, &x, &mask, &weight, &inv_mass, &limit, &q, wet),
+                    gather(false, &x, &mask, &weight, bundle, &inv_mass, &limit, &q, wet),
+                    gather(true, &x, &mask, &weight, bundle, &inv_mass, &limit, &q, wet),
                 );
                 (reactions, demands) = (reactions + a.0.len(), demands + a.3.len());
                 assert_eq!(bits(&a), bits(&b), "case {case}, wet {}", wet.is_some());

@@ -108,8 +108,8 @@ impl GuideState {
         Ok((st, guide_groom))
     }
 
-    /// Gives the backend each guide's bundle (held water only; a backend without it ignores
-    /// them).
+    /// Gives the backend each guide's bundle: what its water, and its pull on a drop, stand
+    /// for (docs/GUIDES.md "Water").
     pub(super) fn start(&self, engine: &mut dyn Engine) -> Result<()> {
         engine.set_bundles(&self.bundle, None)
     }
@@ -121,8 +121,9 @@ impl GuideState {
         let bundle = bundles(&self.data.follow, &self.strand_mass, &self.host_of);
         let mut water = engine.held_water()?;
         if water.is_empty() {
+            // No held water to move: the drops' pulls still follow the new bundles.
             self.bundle = bundle;
-            return Ok(());
+            return engine.set_bundles(&self.bundle, None);
         }
         let (spans, host_of) = (&self.data.spans, &self.host_of);
         if self.active > was {

@@ -47,10 +47,9 @@ pub(super) struct HeldGpu {
     /// The dry masses and each strand's first point (what [`HeldGpu::set_bundles`] reads).
     mass: Vec<f32>,
     strand_first: Vec<u32>,
-    /// A guide groom's bundle per point (empty otherwise): the dry masses' buffer holds each
-    /// point's quantum, and the water's absorption scratch each bundle
-    /// ([`HeldGpu::write_bundles`]).
-    bundle: Vec<f32>,
+    /// A guide groom's (`consts.bundle_points`): the dry masses' buffer holds each point's
+    /// quantum after the masses.
+    bundles: bool,
     /// The ledger block (`buffers::held_ledger`).
     ledger: wgpu::Buffer,
     /// Soaking's per-point targets, quanta.
@@ -151,7 +150,7 @@ impl HeldGpu {
             dry_mass,
             mass: mass.to_vec(),
             strand_first: strand_first.to_vec(),
-            bundle: if bundles { vec![1.0; n as usize] } else { Vec::new() },
+            bundles,
             ledger: b::buffer(d, "held_ledger", hl::WORDS as u64 * 4, STORAGE),
             soak_target: b::buffer(d, "held_soak_target", n * 4, STORAGE),
             // Without flow, drip reads no step-start velocity: a placeholder of one (a binding
@@ -425,30 +424,14 @@ impl HeldGpu {
         let n = self.mass.len();
         let (mut limits, quantum) = point_limits(&self.mass, &self.strand_first, bundle, &self.cfg);
         q.write_buffer(&self.capacity_buf, 0, bytemuck::cast_slice(&limits));
-        // Only a guide groom's buffers hold the quanta and bundles (`HeldGpu::new`).
-        if !self.bundle.is_empty() {
+        // Only a guide groom's buffers hold the quanta (`HeldGpu::new`).
+        if self.bundles {
             q.write_buffer(&self.dry_mass, n as u64 * 4, bytemuck::cast_slice(&quantum));
-            for (s, w) in self.strand_first.windows(2).enumerate() {
-                let k = bundle.get(s).copied().unwrap_or(1.0);
-                self.bundle[w[0] as usize..w[1] as usize].fill(k);
-            }
         }
         self.hold = limits.split_off(n);
         if let Some(w) = water {
             q.write_buffer(&self.water, 0, bytemuck::cast_slice(w));
         }
-    }
-
-    /// Writes each point's bundle after the near bits of the water's absorption scratch
-    /// `absorb`, made for `capacity` particles (`absorb.wgsl` `bundle_at`; a guide groom's
-    /// only).
-    pub(super) fn write_bundles(&self, q: &wgpu::Queue, absorb: &wgpu::Buffer, capacity: u32) {
-        if self.bundle.is_empty() {
-            return;
-        }
-        let n = self.mass.len() as u32;
-        let at = capacity as u64 * b::absorb_words::WORDS as u64 + b::absorb_words::near_bits(n) as u64;
-        q.write_buffer(absorb, at * 4, bytemuck::cast_slice(&self.bundle));
     }
 
     /// The buffer of each point's water, quanta.
@@ -583,18 +566,43 @@ impl GpuBackend {
         })())
     }
 
-    /// [`crate::engine::Engine::set_bundles`] (held water only; else nothing).
+    /// [`crate::engine::Engine::set_bundles`]: each point's bundle, for eq. 2's reaction and
+    /// absorption (into the water's absorption scratch, once there is water), and with held
+    /// water the limits and quanta.
     pub fn set_bundles(&mut self, bundle: &[f32], water: Option<&[u32]>) -> Result<()> {
         self.dev.check()?;
+        // Only a guide groom's simulation has room for them (`consts.bundle_points`).
+        if self.consts.bundle_points > 0 {
+            self.bundle = vec![1.0; self.points as usize];
+            for (s, w) in self.strand_first.windows(2).enumerate() {
+                let k = bundle.get(s).copied().unwrap_or(1.0);
+                self.bundle[w[0] as usize..w[1] as usize].fill(k);
+            }
+            if let Some(w) = &self.water {
+                self.write_bundles(&w.absorb);
+            }
+        }
         if let Some(h) = &mut self.held {
             h.set_bundles(&self.dev.queue, bundle, water);
-            // The absorption scratch holds the bundles where there is one (`create_water`).
-            if let (Some(w), true) = (&self.water, self.params.held_water.absorbs()) {
-                h.write_bundles(&self.dev.queue, &w.absorb, self.params.water.capacity);
-            }
             self.vertices_current = false;
         }
         self.dev.check()
+    }
+
+    /// Writes each point's bundle where `absorb.wgsl` `bundle_at` reads it in the water's
+    /// absorption scratch `absorb` (`buffers::absorb_words::bundles_at`; a guide groom's only).
+    pub(super) fn write_bundles(&self, absorb: &wgpu::Buffer) {
+        if self.bundle.is_empty() {
+            return;
+        }
+        let at = b::absorb_words::bundles_at(
+            self.params.held_water.absorbs(),
+            self.params.water.capacity,
+            self.points,
+        );
+        self.dev
+            .queue
+            .write_buffer(absorb, at as u64 * 4, bytemuck::cast_slice(&self.bundle));
     }
 
     /// Each point's held water, quanta (one blocking read; empty without held water).

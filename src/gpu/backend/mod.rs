@@ -103,6 +103,9 @@ pub struct GpuBackend {
     /// limit's bound, `physics/pull_limit.rs`).
     pull_weight_max: f32,
     strand_first: Vec<u32>,
+    /// A guide groom's bundle per point (`physics/bundles.rs`; empty otherwise), written into
+    /// the water's absorption scratch ([`GpuBackend::write_bundles`]).
+    bundle: Vec<f32>,
     rest_local: Vec<Vec3>,
     bend: bool,
     n_sub: usize,
@@ -291,7 +294,7 @@ impl GpuBackend {
             roots: params.skinned_roots,
             atomic64: dev.atomic64,
             gathered: super::device::gathers_reactions(),
-            bundle_points: if guides && params.held_water.enabled { points } else { 0 },
+            bundle_points: if guides { points } else { 0 },
         };
         let n_sub = params.substeps as usize;
         let align = dev.limits.min_uniform_buffer_offset_alignment as u64;
@@ -441,6 +444,7 @@ impl GpuBackend {
             active_strands: strands,
             pull_weight_max: crate::plan::water::pull_weight_max(params, groom),
             strand_first: groom.strand_first.clone(),
+            bundle: Vec::new(),
             rest_local: pos.to_vec(),
             bend,
             n_sub,

@@ -202,22 +202,14 @@ impl GpuBackend {
         let dispatch = b::buffer(d, "grid_dispatch", 16, STORAGE | wgpu::BufferUsages::INDIRECT);
         // Particles added in one frame; the whole capacity at most.
         let incoming = b::buffer(d, "water_incoming", cap * 32, STORAGE);
-        // Absorption's per-particle scratch (a placeholder of 16 bytes without absorption).
-        // In a guide groom each point's bundle follows the bits (what absorption asks by).
-        let absorb_bytes = if self.params.held_water.absorbs() {
-            let bundle_words = if self.consts.bundle_points > 0 {
-                self.points as u64
-            } else {
-                0
-            };
-            (cap * b::absorb_words::WORDS as u64 + b::absorb_words::near_bits(self.points) as u64 + bundle_words) * 4
-        } else {
-            16
-        };
-        let absorb = b::buffer(d, "water_absorb", absorb_bytes, STORAGE);
-        if let (Some(h), true) = (&self.held, self.params.held_water.absorbs()) {
-            h.write_bundles(&self.dev.queue, &absorb, cap as u32);
-        }
+        // Absorption's per-particle scratch, then in a guide groom each point's bundle (what
+        // absorption asks by, and eq. 2's reaction pulls with); a placeholder of 16 bytes
+        // without either.
+        let absorbs = self.params.held_water.absorbs();
+        let bundle_words = if self.consts.bundle_points > 0 { self.points } else { 0 };
+        let absorb_words = b::absorb_words::bundles_at(absorbs, cap as u32, self.points) + bundle_words;
+        let absorb = b::buffer(d, "water_absorb", (absorb_words as u64 * 4).max(16), STORAGE);
+        self.write_bundles(&absorb);
         let build_layout = pl::layout(
             d,
             "water build",

@@ -114,6 +114,9 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
     }
     // Its stability limit (physics/pull_limit.rs).
     share = limited_weight(i, x, span, share);
+    // In a guide groom the point stands for its bundle's strands: it pulls each particle
+    // back with their hair (the CPU's `bundle` lanes; 1 otherwise).
+    let bundle = bundle_at(i);
     for (var j = 0; j < span_cells(span); j++) {
         let c = span_cell(span, j);
         let run = cell_run(c);
@@ -136,7 +139,7 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
                     }
                 }
                 // How stiffly the point holds the particle, for its side of the stability limit.
-                let stiff = stiffness_units(d2, share);
+                let stiff = stiffness_units(d2, share * bundle);
                 if (stiff != 0u) {
                     add_stiffness(k, stiff);
                 }
@@ -149,11 +152,11 @@ fn adhesion(i: u32, x: vec3<f32>, sat: f32, near: ptr<function, f32>) -> vec3<f3
             // A non-finite pull has no fixed-point form: it is flagged, and the point's
             // force is made non-finite below, so the kernel reports it as before.
             bad = bad || non_finite(dot(g, g));
+            let r = g * bundle;
             for (var a = 0u; a < 3u; a++) {
-                let f = to_fixed(g[a]);
-                acc[a] = fixed_add(acc[a], f);
+                acc[a] = fixed_add(acc[a], to_fixed(g[a]));
                 if (!GATHERED) {
-                    add_reaction(k, a, fixed_neg(f));
+                    add_reaction(k, a, fixed_neg(to_fixed(r[a])));
                 }
             }
         }

@@ -142,12 +142,14 @@ fn react_gather(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
                     best = max(best, demand);
                 }
             }
-            stiffness += stiffness_units(d2, share);
+            // A guide groom's point pulls back with its bundle's hair (adhesion.wgsl).
+            let bundle = bundle_at(i);
+            stiffness += stiffness_units(d2, share * bundle);
             let pull = force_scale(d2, s) * share;
             if (pull == 0.0) {
                 continue;
             }
-            let g = pull * d;
+            let g = (pull * d) * bundle;
             for (var a = 0u; a < 3u; a++) {
                 acc[a] = fixed_add(acc[a], fixed_neg(to_fixed(g[a])));
             }
