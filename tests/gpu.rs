@@ -13,7 +13,7 @@ use wethair::physics::hash_grid::HashGrid;
 use wethair::physics::hash_marks::{self, mark_words};
 use wethair::plan::Pass;
 use wethair::scenes::{on_hair, Lcg};
-use wethair::{Backend, Error, Integrator, Readback, SimParams, Simulation};
+use wethair::{Backend, Error, Guides, Integrator, Readback, SimParams, Simulation};
 
 /// A GPU simulation, or None (with a note) when no adapter exists and none is required.
 fn gpu(groom: &Groom, params: SimParams) -> Option<Simulation> {
@@ -1738,9 +1738,15 @@ fn wet_hash() -> Option<u64> {
     let groom = paper_scene(1_000, 8).unwrap();
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut eat = |b: u32| h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
-    for held in [wethair::HeldWater::OFF, wethair::HeldWater::ON] {
+    // With every strand simulated, and with every 4th a guide, whose reactions are its
+    // bundle's (`physics/bundles.rs`).
+    let scenes = [wethair::HeldWater::OFF, wethair::HeldWater::ON]
+        .into_iter()
+        .flat_map(|held| [(held, Guides::ALL), (held, Guides::every_nth(4))]);
+    for (held, guides) in scenes {
         let mut params = SimParams {
             held_water: held,
+            guides: guides.clone(),
             ..SimParams::paper_scene_with_head()
         };
         params.water.domain_radius = 1.0e8;
@@ -1757,7 +1763,7 @@ fn wet_hash() -> Option<u64> {
             .iter()
             .filter(|p| p.length() > 1.0e5)
             .count();
-        assert_eq!(far, FAR_OUT.len(), "the far particles left ({held:?})");
+        assert_eq!(far, FAR_OUT.len(), "the far particles left ({held:?}, {guides:?})");
         let mut v = vec![0.0f32; g.vertex_count() * 7];
         g.write_vertices(&mut v).unwrap();
         v.iter().for_each(|x| eat(x.to_bits()));
@@ -1774,8 +1780,9 @@ fn wet_hash() -> Option<u64> {
 /// (lavapipe and NVIDIA do), two 32-bit words with a carry elsewhere
 /// (`WETHAIR_GPU_NO_ATOMIC64`), or the particles gathering their pairs from the points'
 /// records with no atomic add (`WETHAIR_GPU_REACTIONS=gather`), whose pairs must be exactly the
-/// ones the hair took, also for particles too far out for f32 to resolve their reach. A child
-/// process of this test binary runs the wet scenes under each alternative and prints its hash.
+/// ones the hair took, also for particles too far out for f32 to resolve their reach, and in a
+/// guide groom each times the point's bundle. A child process of this test binary runs the wet
+/// scenes under each alternative and prints its hash.
 #[test]
 fn all_reaction_forms_give_the_same_bits() {
     if std::env::var_os(FORM_CHILD).is_some() {
