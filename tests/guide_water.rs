@@ -3,7 +3,7 @@
 //! hangs as a fully simulated strand with the same water does, and a change of the simulated
 //! fraction moves the water with the hair, neither making nor losing a quantum and keeping
 //! the groom as wet as it was; and a guide pulls a water particle back with its bundle's hair
-//! (eq. 2's reaction), so that it holds the drops all its strands would hold.
+//! (eq. 2's reaction), as all the strands it stands for would.
 
 use crate::common::{backends, serial};
 use wethair::groom::paper_scene;
@@ -186,8 +186,8 @@ fn a_guide_draws_a_drop_in_for_its_bundle() {
 /// (its bundle is ten), the drops move as they do with all ten simulated (the reactions'
 /// sums rounded in another order; the paper's drops orbit through the hair chaotically, some
 /// flung out within a second, so the gap is read at a sixth of a second, before rounding has
-/// grown), each still on its strand. Pulled back by one strand's hair, as before, they were
-/// 4 mm apart by then.
+/// grown: under 0.1 mm; measured 5.9 µm on the CPU, 17 µm on the GPU), each still on its
+/// strand. Pulled back by one strand's hair, as before, they were 21 mm apart by then.
 #[test]
 fn a_guide_pulls_a_drop_with_its_bundle_s_hair() {
     let _serial = serial();
