@@ -214,7 +214,7 @@ impl Engine for CpuBackend {
             false => self.lay.strand_rows(bundle, 1.0),
         };
         if let Some(h) = &mut self.held {
-            h.set_bundles(&self.lay, bundle);
+            h.set_bundles(&self.lay, &self.bundle);
             if let Some(w) = water {
                 h.set_water_of_points(&self.lay, w);
             }

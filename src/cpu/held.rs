@@ -114,27 +114,20 @@ impl Held {
         held
     }
 
-    /// Sets how many strands' hair each strand of the layout stands for (`bundle`, in the
-    /// groom's strand order; empty: every strand for itself, as without guides): a point's
-    /// capacity and hold limit are its bundle's, so a guide holds its followers' water, and a
-    /// quantum adds `1 / bundle` of its mass to the strand's own inertia (docs/GUIDES.md
-    /// "Water"). The water held stays; the parameters follow at the next step. (What the
-    /// bundle changes beside held water, the backend keeps: `CpuBackend::bundle`.)
-    pub fn set_bundles(&mut self, lay: &Layout, bundle: &[f32]) {
+    /// Sets how many strands' hair each point stands for (`bundle`, per row as the backend
+    /// keeps it, `CpuBackend::bundle`; empty: every strand for itself, as without guides): a
+    /// point's capacity and hold limit are its bundle's, so a guide holds its followers' water,
+    /// and a quantum adds `1 / bundle` of its mass to the strand's own inertia (docs/GUIDES.md
+    /// "Water"). The water held stays; the parameters follow at the next step.
+    pub fn set_bundles(&mut self, lay: &Layout, bundle: &[Lane]) {
         let cfg = self.cfg;
-        self.quantum = match bundle.is_empty() {
-            true => Vec::new(),
-            false => {
-                let per_strand: Vec<f32> = bundle.iter().map(|&k| wet::quantum_per_strand(k)).collect();
-                lay.strand_rows(&per_strand, wet::quantum_per_strand(1.0))
-            }
-        };
+        self.quantum = bundle.iter().map(|b| b.map(wet::quantum_per_strand)).collect();
         for s in 0..lay.strands {
             let (b, l) = lay.lane_of(s);
             let first = lay.strand_first[s] as usize;
-            let k = bundle.get(s).copied().unwrap_or(1.0);
             for i in 0..lay.strand_points(s) {
                 let r = b * lay.rows + i;
+                let k = bundle.get(r).map_or(1.0, |row| row[l]);
                 (self.capacity[r][l], self.hold[r][l]) =
                     wet::bundle_limits(lay.mass[first + i], k, cfg.capacity_ratio, cfg.free_ratio);
             }

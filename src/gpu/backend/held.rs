@@ -44,9 +44,8 @@ pub(super) struct HeldGpu {
     /// Each point's dry mass, kg, then (with guides only) the water a quantum adds to each
     /// strand of it, kg (`wet::quantum_per_strand` of its bundle; `held.wgsl` `quantum_at`).
     dry_mass: wgpu::Buffer,
-    /// The dry masses and each strand's first point (what [`HeldGpu::set_bundles`] reads).
+    /// The dry masses (what [`HeldGpu::set_bundles`] reads).
     mass: Vec<f32>,
-    strand_first: Vec<u32>,
     /// A guide groom's (`consts.bundle_points`): the dry masses' buffer holds each point's
     /// quantum after the masses.
     bundles: bool,
@@ -83,15 +82,14 @@ pub(super) struct HeldGpu {
 
 impl HeldGpu {
     /// Buffers for `pts` (the dry point records) with dry masses `mass`, every point dry;
-    /// in a guide groom (`consts.bundle_points`; `strand_first` its strands) each strand may
-    /// stand for more than itself ([`HeldGpu::set_bundles`]).
+    /// in a guide groom (`consts.bundle_points`) each point may stand for more than its own
+    /// strand ([`HeldGpu::set_bundles`]).
     pub(super) fn new(
         d: &wgpu::Device,
         q: &wgpu::Queue,
         consts: SceneConsts,
         pts: &[PointGpu],
         mass: &[f32],
-        strand_first: &[u32],
         cfg: HeldWater,
     ) -> HeldGpu {
         let bundles = consts.bundle_points > 0;
@@ -99,7 +97,7 @@ impl HeldGpu {
         let points_wet = b::buffer(d, "points_wet", std::mem::size_of_val(pts) as u64, STORAGE);
         q.write_buffer(&points_wet, 0, bytemuck::cast_slice(pts));
         // Every strand for itself until the simulation gives the bundles.
-        let (mut limits, quantum) = point_limits(mass, strand_first, &[], &cfg);
+        let (mut limits, quantum) = point_limits(mass, &[], &cfg);
         let capacity_buf = b::buffer(d, "held_limits", 2 * n * 4, STORAGE);
         q.write_buffer(&capacity_buf, 0, bytemuck::cast_slice(&limits));
         let hold = limits.split_off(n as usize);
@@ -149,7 +147,6 @@ impl HeldGpu {
             hold,
             dry_mass,
             mass: mass.to_vec(),
-            strand_first: strand_first.to_vec(),
             bundles,
             ledger: b::buffer(d, "held_ledger", hl::WORDS as u64 * 4, STORAGE),
             soak_target: b::buffer(d, "held_soak_target", n * 4, STORAGE),
@@ -417,12 +414,12 @@ impl HeldGpu {
     }
 
     /// [`crate::cpu::held::Held::set_bundles`]: each point's capacity and hold limit are its
-    /// strand's bundle's (`bundle` per strand, in the groom's order), and a quantum adds
+    /// bundle's (`bundle` per point, in the groom's order; empty: 1), and a quantum adds
     /// `1 / bundle` of its mass to the strand; `water`, where given, replaces each point's.
     /// Only a guide groom's simulation (made with `bundles`) is given bundles.
     pub(super) fn set_bundles(&mut self, q: &wgpu::Queue, bundle: &[f32], water: Option<&[u32]>) {
         let n = self.mass.len();
-        let (mut limits, quantum) = point_limits(&self.mass, &self.strand_first, bundle, &self.cfg);
+        let (mut limits, quantum) = point_limits(&self.mass, bundle, &self.cfg);
         q.write_buffer(&self.capacity_buf, 0, bytemuck::cast_slice(&limits));
         // Only a guide groom's buffers hold the quanta (`HeldGpu::new`).
         if self.bundles {
@@ -484,18 +481,15 @@ impl HeldGpu {
 }
 
 /// Each point's capacity, then each point's hold limit (quanta), and each point's water per
-/// quantum and strand (kg), for dry masses `mass` on the strands of `strand_first`, each
-/// standing for `bundle` strands (empty: every one for itself; `wet::bundle_limits`,
-/// `wet::quantum_per_strand`).
-fn point_limits(mass: &[f32], strand_first: &[u32], bundle: &[f32], cfg: &HeldWater) -> (Vec<u32>, Vec<f32>) {
+/// quantum and strand (kg), for dry masses `mass`, point `i` standing for `bundle[i]` strands
+/// (empty: every one for itself; `wet::bundle_limits`, `wet::quantum_per_strand`).
+fn point_limits(mass: &[f32], bundle: &[f32], cfg: &HeldWater) -> (Vec<u32>, Vec<f32>) {
     let n = mass.len();
     let (mut limits, mut quantum) = (vec![0u32; 2 * n], vec![0.0f32; n]);
-    for (s, w) in strand_first.windows(2).enumerate() {
-        let k = bundle.get(s).copied().unwrap_or(1.0);
-        for i in w[0] as usize..w[1] as usize {
-            (limits[i], limits[n + i]) = wet::bundle_limits(mass[i], k, cfg.capacity_ratio, cfg.free_ratio);
-            quantum[i] = wet::quantum_per_strand(k);
-        }
+    for (i, &m) in mass.iter().enumerate() {
+        let k = bundle.get(i).copied().unwrap_or(1.0);
+        (limits[i], limits[n + i]) = wet::bundle_limits(m, k, cfg.capacity_ratio, cfg.free_ratio);
+        quantum[i] = wet::quantum_per_strand(k);
     }
     (limits, quantum)
 }
@@ -583,7 +577,7 @@ impl GpuBackend {
             }
         }
         if let Some(h) = &mut self.held {
-            h.set_bundles(&self.dev.queue, bundle, water);
+            h.set_bundles(&self.dev.queue, &self.bundle, water);
             self.vertices_current = false;
         }
         self.dev.check()

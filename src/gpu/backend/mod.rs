@@ -336,15 +336,7 @@ impl GpuBackend {
             ],
         );
         let held = params.held_water.enabled.then(|| {
-            let mut h = HeldGpu::new(
-                d,
-                &dev.queue,
-                consts,
-                &pts,
-                groom.masses(),
-                &groom.strand_first,
-                params.held_water,
-            );
+            let mut h = HeldGpu::new(d, &dev.queue, consts, &pts, groom.masses(), params.held_water);
             h.bind(d, &params_buf, &points_buf, &state);
             h
         });
