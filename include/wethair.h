@@ -707,6 +707,13 @@ typedef struct WetHairSimDesc {
   float water_pile_cell;
   // Unused; keep 0.
   uint32_t reserved11;
+  // Colliders on bones of their own (since 0.10.0; may be NULL, the default, and what a
+  // 368-byte layout (0.9.0) gets: every collider follows the head). Else `collider_count`
+  // column-major 4×4 matrices, 16 floats each: collider `i`'s frame to the world at the
+  // start, a rotation, a translation and a uniform scale. Each collider's points are then
+  // in its own frame, and `wethair_sim_set_collider_transform` moves the frame each step,
+  // as a skeleton moves a shoulder or a collar under long hair. Copied at create.
+  const float *collider_frames;
 } WetHairSimDesc;
 
 // What one `wethair_sim_advance` did (since 0.4.0). The host sets `struct_size` first.
@@ -1171,6 +1178,16 @@ WetHairResult wethair_sim_set_head_transform(struct WetHairSim *sim, const float
 // # Safety
 // `sim` is valid; `matrix` is NULL or points to 16 floats.
 WetHairResult wethair_sim_set_sdf_transform(struct WetHairSim *sim, uint32_t index, const float *matrix);
+
+// Sets where collider `index`'s own frame (of `WetHairSimDesc::collider_frames`) is at the
+// end of the next step: the frame to the world, a column-major 4×4 of a rotation, a
+// translation and a uniform scale (16 floats). It moves there over the step's substeps, as
+// the head does. A simulation whose colliders follow the head (no `collider_frames`) gets
+// `WETHAIR_ERROR_UNSUPPORTED`.
+//
+// # Safety
+// `sim` is valid; `matrix` is NULL or points to 16 floats.
+WetHairResult wethair_sim_set_collider_transform(struct WetHairSim *sim, uint32_t index, const float *matrix);
 
 // Simulates the first `fraction` of the guides, (0, 1], from the next step on (a simulation
 // made with `WetHairSimDesc::guides`; others get `WETHAIR_ERROR_UNSUPPORTED`), as a host lowers

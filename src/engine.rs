@@ -147,6 +147,10 @@ pub trait Engine: std::fmt::Debug + Send {
     /// `SimParams::sdfs`) over the next step's substeps, as the head moves. Only called when
     /// the scene has SDFs.
     fn place_sdfs(&mut self, from: &[Affine3A], to: &[Affine3A]) -> Result<()>;
+    /// Moves the analytic colliders' own frames from `from` to `to` (one per collider,
+    /// `SimParams::collider_frames`) over the next step's substeps, as the head moves. Only
+    /// called when the scene has collider frames.
+    fn place_colliders(&mut self, from: &[Affine3A], to: &[Affine3A]) -> Result<()>;
     /// Moves the skinned roots from `from` to `to` (one frame per host strand) over the next
     /// step's substeps, as the head moves. Only called when the scene has skinned roots.
     fn place_roots(&mut self, from: &[RootFrame], to: &[RootFrame]) -> Result<()>;

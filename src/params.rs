@@ -294,8 +294,15 @@ pub struct SimParams {
     pub threads: u32,
     /// Water particles.
     pub water: WaterParams,
-    /// Colliders in head space (follow the head transform).
+    /// Spheres and capsules: in head space, following the head transform, or, where
+    /// `collider_frames` is given, each in its own frame.
     pub colliders: Vec<Shape>,
+    /// Colliders on bones of their own (empty, the default: every collider follows the
+    /// head). Else one frame per collider, its frame to the world at the start (a rotation, a
+    /// translation and a uniform scale): the collider's points are in that frame, and
+    /// [`crate::Simulation::set_collider_transform`] moves it each step, as the host's
+    /// skeleton moves a shoulder or a collar under long hair.
+    pub collider_frames: Vec<glam::Affine3A>,
     /// Signed distance field colliders, each placed by its own transform
     /// ([`crate::Simulation::set_sdf_transform`]); at most [`crate::physics::sdf::MAX_SDFS`].
     /// Shared, not copied, when parameters are cloned.
@@ -436,6 +443,7 @@ impl SimParams {
                 pile_cell: 0.0,
             },
             colliders: Vec::new(),
+            collider_frames: Vec::new(),
             sdfs: Vec::new(),
             skinned_roots: false,
             root_teleport_distance: crate::physics::roots::TELEPORT_DISTANCE,
@@ -556,6 +564,16 @@ impl SimParams {
             check_finite3(&format!("collider {i} point"), pts[0].to_array())?;
             check_finite3(&format!("collider {i} point"), pts[1].to_array())?;
             check_positive(&format!("collider {i} radius"), r)?;
+        }
+        if !self.collider_frames.is_empty() && self.collider_frames.len() != self.colliders.len() {
+            return Err(invalid!(
+                "{} collider frames for {} colliders: give one per collider, or none",
+                self.collider_frames.len(),
+                self.colliders.len()
+            ));
+        }
+        for (i, t) in self.collider_frames.iter().enumerate() {
+            crate::physics::frames::check_transform(t, &format!("collider {i}'s frame"))?;
         }
         if self.sdfs.len() > crate::physics::sdf::MAX_SDFS {
             return Err(Error::Capacity(format!(

@@ -6,6 +6,7 @@
 mod common;
 
 mod architecture;
+mod collider_frames;
 mod emit;
 mod estimate;
 mod extreme;

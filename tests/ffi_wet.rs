@@ -290,8 +290,9 @@ fn the_desc_grows_by_whole_fields_past_every_older_size() {
         assert!(at(std::ptr::addr_of!((*d).air_drag_length) as *const u8) >= 344);
         assert!(at(std::ptr::addr_of!((*d).water_adhesion_length) as *const u8) >= 344);
         assert!(at(std::ptr::addr_of!((*d).water_pile_cell) as *const u8) >= 360);
+        assert!(at(std::ptr::addr_of!((*d).collider_frames) as *const u8) >= 368);
     }
-    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 368, "no padding at the end");
+    assert_eq!(std::mem::size_of::<WetHairSimDesc>(), 376, "no padding at the end");
     assert_eq!(std::mem::size_of::<WetHairStats>(), 120);
 }
 

@@ -149,6 +149,16 @@ public:
 
     /// Where the head is at the end of the next step: column-major 4x4 affine matrix.
     void set_head_transform(const std::array<float, 16> &m) { detail::check(wethair_sim_set_head_transform(h_.get(), m.data())); }
+    /// Where SDF collider `index` is at the end of the next step: its grid frame to the world,
+    /// column-major 4x4 (rotation, translation, uniform scale).
+    void set_sdf_transform(uint32_t index, const std::array<float, 16> &m) {
+        detail::check(wethair_sim_set_sdf_transform(h_.get(), index, m.data()));
+    }
+    /// Where collider `index`'s own frame is at the end of the next step (a simulation made
+    /// with `collider_frames`): column-major 4x4 (rotation, translation, uniform scale).
+    void set_collider_transform(uint32_t index, const std::array<float, 16> &m) {
+        detail::check(wethair_sim_set_collider_transform(h_.get(), index, m.data()));
+    }
     /// Where every strand's root is at the end of the next step (a simulation made with
     /// `skinned_roots`): x y z positions (m, world) and x y z w unit quaternions, one per strand.
     void set_root_frames(const std::vector<float> &positions, const std::vector<float> &rotations) {

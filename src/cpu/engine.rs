@@ -72,6 +72,11 @@ impl Engine for CpuBackend {
         Ok(())
     }
 
+    fn place_colliders(&mut self, from: &[Affine3A], to: &[Affine3A]) -> Result<()> {
+        self.collider_frames.set(from, to);
+        Ok(())
+    }
+
     fn place_roots(&mut self, from: &[RootFrame], to: &[RootFrame]) -> Result<()> {
         CpuBackend::place_roots(self, from, to);
         Ok(())

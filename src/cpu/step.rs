@@ -16,7 +16,7 @@ use super::water::Water;
 use crate::error::{Error, Result};
 use crate::params::{Integrator, SimParams};
 use crate::physics::bdf2::{Bdf2Blend, Bdf2Clock, Bdf2Row};
-use crate::physics::collide::{Colliders, Placed};
+use crate::physics::collide::{ColliderFrames, Colliders, Placed};
 use crate::physics::head::head_between;
 use crate::physics::integrate::blown_up;
 use crate::physics::lanes::{Lane, L3, W};
@@ -63,7 +63,10 @@ pub struct CpuBackend {
     workers: Vec<Worker>,
     pub(super) pool: Option<super::pool::Pool>,
     heads: Vec<Affine3A>,
+    /// The analytic colliders placed for each substep (`n_sub` × colliders), from the head or
+    /// from their own frames.
     placed: Vec<Placed>,
+    pub(super) collider_frames: ColliderFrames,
     /// The SDF colliders' transforms at the start and end of the next step, and each
     /// substep's placement (`n_sub` × SDFs; empty without SDFs).
     sdf_from: Vec<Affine3A>,
@@ -169,6 +172,7 @@ impl CpuBackend {
             pool,
             heads: vec![*head; n_sub],
             placed: vec![Placed::default(); n_sub * params.colliders.len()],
+            collider_frames: ColliderFrames::new(&params.collider_frames),
             sdf_from: params.sdfs.iter().map(|s| s.transform).collect(),
             sdf_to: params.sdfs.iter().map(|s| s.transform).collect(),
             placed_sdfs: Vec::new(),
@@ -406,11 +410,8 @@ impl CpuBackend {
         }
         let nc = self.params.colliders.len();
         crate::physics::head::substep_heads_into(from, to, &mut self.heads);
-        for s in 0..n_sub {
-            for (c, shape) in self.params.colliders.iter().enumerate() {
-                self.placed[s * nc + c] = shape.place(&self.heads[s]);
-            }
-        }
+        self.collider_frames
+            .place_substeps(&self.params.colliders, &self.heads, &mut self.placed);
         self.placed_sdfs.clear();
         for s in 0..n_sub {
             let a = (s + 1) as f32 / n_sub as f32;

@@ -82,6 +82,31 @@ pub unsafe extern "C" fn wethair_sim_set_sdf_transform(
     })
 }
 
+/// Sets where collider `index`'s own frame (of `WetHairSimDesc::collider_frames`) is at the
+/// end of the next step: the frame to the world, a column-major 4×4 of a rotation, a
+/// translation and a uniform scale (16 floats). It moves there over the step's substeps, as
+/// the head does. A simulation whose colliders follow the head (no `collider_frames`) gets
+/// `WETHAIR_ERROR_UNSUPPORTED`.
+///
+/// # Safety
+/// `sim` is valid; `matrix` is NULL or points to 16 floats.
+#[no_mangle]
+pub unsafe extern "C" fn wethair_sim_set_collider_transform(
+    sim: *mut WetHairSim,
+    index: u32,
+    matrix: *const f32,
+) -> WetHairResult {
+    boundary!({
+        let s = nonnull_mut!(sim, "sim");
+        if matrix.is_null() {
+            return Err(super::boundary::null("matrix"));
+        }
+        let m: [f32; 16] = std::ptr::read_unaligned(matrix as *const [f32; 16]);
+        s.0.set_collider_transform(index as usize, Mat4::from_cols_array(&m))?;
+        Ok(())
+    })
+}
+
 /// Simulates the first `fraction` of the guides, (0, 1], from the next step on (a simulation
 /// made with `WetHairSimDesc::guides`; others get `WETHAIR_ERROR_UNSUPPORTED`), as a host lowers
 /// detail with distance: the output blends from the old guides to the new over

@@ -56,6 +56,7 @@ sized!(
     // 0.7.0: WetHairSimDesc grew to 344 (held_water_flow_length)
     // 0.8.0: WetHairSimDesc grew to 360 (air_drag_length, water_adhesion_length)
     // 0.9.0: WetHairSimDesc grew to 368 (water_pile_cell)
+    // 0.10.0: WetHairSimDesc grew to 376 (collider_frames)
     WetHairAdvance = 16,
 );
 

@@ -4,7 +4,8 @@ use super::boundary::Fail;
 use super::enums::read_enum;
 use crate::params::{MaterialParams, SimParams, SpringModel, SpringParams, VertexAttributes, WaterParams};
 use crate::physics::collide::Shape;
-use crate::physics::sdf::{transform_from_mat4, Sdf, MAX_SDFS, MAX_SDF_CELLS};
+use crate::physics::frames::transform_from_mat4;
+use crate::physics::sdf::{Sdf, MAX_SDFS, MAX_SDF_CELLS};
 use glam::Vec3;
 
 /// Collider shape (`WetHairCollider::shape`).
@@ -293,6 +294,13 @@ pub struct WetHairSimDesc {
     pub water_pile_cell: f32,
     /// Unused; keep 0.
     pub reserved11: u32,
+    /// Colliders on bones of their own (since 0.10.0; may be NULL, the default, and what a
+    /// 368-byte layout (0.9.0) gets: every collider follows the head). Else `collider_count`
+    /// column-major 4×4 matrices, 16 floats each: collider `i`'s frame to the world at the
+    /// start, a rotation, a translation and a uniform scale. Each collider's points are then
+    /// in its own frame, and `wethair_sim_set_collider_transform` moves the frame each step,
+    /// as a skeleton moves a shoulder or a collar under long hair. Copied at create.
+    pub collider_frames: *const f32,
 }
 
 /// Which strands are guides (`WetHairGuides::choice`).
@@ -763,7 +771,28 @@ impl WetHairSimDesc {
             reserved10: 0,
             water_pile_cell: w.pile_cell,
             reserved11: 0,
+            collider_frames: std::ptr::null(),
         }
+    }
+
+    /// The `n` colliders' own frames (none where `collider_frames` is NULL), each checked as
+    /// a frame ([`crate::physics::frames::transform_from_mat4`]).
+    fn collider_frame_params(&self, n: usize) -> Result<Vec<glam::Affine3A>, Fail> {
+        if self.collider_frames.is_null() || n == 0 {
+            return Ok(Vec::new());
+        }
+        let first = self.collider_frames as *const [f32; 16];
+        let mut out = Vec::with_capacity(n);
+        for i in 0..n {
+            // SAFETY: the host's array holds `collider_count` matrices of 16 floats (the
+            // documented contract); read unaligned, as every matrix the host passes.
+            let m = unsafe { std::ptr::read_unaligned(first.add(i)) };
+            out.push(transform_from_mat4(
+                glam::Mat4::from_cols_array(&m),
+                &format!("collider {i}'s frame"),
+            )?);
+        }
+        Ok(out)
     }
 
     /// The SDF colliders, their arrays copied (counts and pointers checked here, values by
@@ -852,6 +881,7 @@ impl WetHairSimDesc {
                 },
             });
         }
+        let collider_frames = self.collider_frame_params(n)?;
         let sdfs = self.sdf_params()?;
         let w = &self.water;
         Ok(SimParams {
@@ -891,6 +921,7 @@ impl WetHairSimDesc {
                 pile_cell: self.water_pile_cell,
             },
             colliders,
+            collider_frames,
             sdfs,
             friction: self.friction,
             attributes: VertexAttributes(self.vertex_attributes),

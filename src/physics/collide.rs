@@ -1,6 +1,8 @@
 //! Sphere and capsule colliders. A point found inside is moved to the surface, loses the
 //! velocity component into the surface, and its tangential velocity is scaled by
-//! `1 - friction`. Colliders are given in head space and follow the head transform.
+//! `1 - friction`. Colliders are given in head space and follow the head transform, or, in a
+//! scene with collider frames (`SimParams::collider_frames`), each in its own frame (a bone's)
+//! that the host moves every step ([`ColliderFrames`]).
 
 use super::lanes::{Lane, L3, W};
 use glam::{Affine3A, Vec3};
@@ -59,6 +61,56 @@ impl Shape {
             ab,
             inv_len2: if l2 > 0.0 { 1.0 / l2 } else { 0.0 },
             radius: r * scale,
+        }
+    }
+}
+
+/// Where the analytic colliders are over a step, for both backends: each on the head, or, in a
+/// scene with collider frames, each on its own frame moved from `from` to `to` over the step's
+/// substeps as the head moves (`head::head_between`, the same fractions). Empty: they follow
+/// the head (no frame is kept, no interpolation runs).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ColliderFrames {
+    from: Vec<Affine3A>,
+    to: Vec<Affine3A>,
+}
+
+impl ColliderFrames {
+    /// The colliders' frames at rest at `start` (one per collider; empty: on the head).
+    pub fn new(start: &[Affine3A]) -> Self {
+        ColliderFrames {
+            from: start.to_vec(),
+            to: start.to_vec(),
+        }
+    }
+
+    /// The next step moves each collider's frame from `from` to `to` (as many as at `new`;
+    /// copied, no allocation).
+    pub fn set(&mut self, from: &[Affine3A], to: &[Affine3A]) {
+        self.from.copy_from_slice(from);
+        self.to.copy_from_slice(to);
+    }
+
+    /// Collider `c` (`shape`) placed at the end of the substep `a` of the way through the step,
+    /// where the head is at `head`.
+    #[inline]
+    pub fn place(&self, c: usize, shape: &Shape, head: &Affine3A, a: f32) -> Placed {
+        match (self.from.get(c), self.to.get(c)) {
+            (Some(f), Some(t)) => shape.place(&super::head::head_between(f, t, a)),
+            _ => shape.place(head),
+        }
+    }
+
+    /// Places every collider of `shapes` for each of the step's substeps into `out`
+    /// (`heads.len()` substeps of `shapes.len()`, substep after substep), the head at
+    /// `heads[s]` at the end of substep `s`.
+    pub fn place_substeps(&self, shapes: &[Shape], heads: &[Affine3A], out: &mut [Placed]) {
+        let (n, nc) = (heads.len(), shapes.len());
+        for (s, head) in heads.iter().enumerate() {
+            let a = (s + 1) as f32 / n as f32;
+            for (c, shape) in shapes.iter().enumerate() {
+                out[s * nc + c] = self.place(c, shape, head, a);
+            }
         }
     }
 }

@@ -15,6 +15,7 @@ pub mod follow;
 pub mod follow_lanes;
 pub mod follow_roots;
 pub mod followers;
+pub mod frames;
 pub mod grid;
 pub mod hash_grid;
 pub mod hash_marks;

@@ -154,8 +154,12 @@ impl Shadow {
 
     /// Places the SDF colliders as the simulation's next step does.
     pub(super) fn place_sdfs(&mut self, to: &[Affine3A]) {
-        self.sim.sdf_target.clear();
-        self.sim.sdf_target.extend_from_slice(to);
+        self.sim.sdf_frames.set_all(to);
+    }
+
+    /// Places the colliders' own frames as the simulation's next step does.
+    pub(super) fn place_colliders(&mut self, to: &[Affine3A]) {
+        self.sim.collider_frames.set_all(to);
     }
 
     /// Keeps the shadow's positions before each step, for [`Shadow::estimate_behind`].

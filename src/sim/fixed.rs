@@ -123,10 +123,11 @@ impl Simulation {
         })
     }
 
-    /// Keeps where the SDFs and skinned roots are as the start of this frame's fixed steps
+    /// Keeps where the SDFs, the colliders' own frames and skinned roots are as the start of this frame's fixed steps
     /// (copies into reused buffers: no allocation once they have grown).
     fn mark_frame_start(&mut self) {
-        self.sdf_start.clone_from(&self.sdf_last);
+        self.sdf_frames.mark_start();
+        self.collider_frames.mark_start();
         self.mark_roots_start();
     }
 

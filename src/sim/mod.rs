@@ -4,6 +4,7 @@ mod auto;
 mod budget;
 mod estimate;
 mod fixed;
+mod frames;
 mod guides;
 mod roots;
 
@@ -120,13 +121,10 @@ pub struct Simulation {
     host: HostPoints,
     head: Affine3A,
     head_prev: Affine3A,
-    /// The SDF colliders' transforms as last set, where the last step left them, and the
-    /// next step's (reused; all empty without SDFs).
-    sdf_target: Vec<Affine3A>,
-    sdf_last: Vec<Affine3A>,
-    sdf_next: Vec<Affine3A>,
-    /// Where the SDFs were when the frame of fixed steps began (reused).
-    sdf_start: Vec<Affine3A>,
+    /// The SDF colliders' frames (empty without SDFs).
+    sdf_frames: frames::MovingFrames,
+    /// The analytic colliders' own frames (empty where they follow the head).
+    collider_frames: frames::MovingFrames,
     /// Skinned roots' frames (scenes with them only).
     roots: Option<roots::RootTargets>,
     last_step_ms: f32,
@@ -222,7 +220,8 @@ impl Simulation {
             _ => false,
         };
         let substeps = params.substeps;
-        let sdf_start: Vec<Affine3A> = params.sdfs.iter().map(|s| s.transform).collect();
+        let sdf_frames = frames::MovingFrames::new(params.sdfs.iter().map(|s| s.transform).collect());
+        let collider_frames = frames::MovingFrames::new(params.collider_frames.clone());
         let engine_integrator = engine.integrator();
         Ok(Simulation {
             params,
@@ -231,10 +230,8 @@ impl Simulation {
             host,
             head,
             head_prev: head,
-            sdf_target: sdf_start.clone(),
-            sdf_last: sdf_start,
-            sdf_next: Vec::new(),
-            sdf_start: Vec::new(),
+            sdf_frames,
+            collider_frames,
             roots,
             last_step_ms: 0.0,
             max_speed: 0.0,
@@ -350,11 +347,33 @@ impl Simulation {
     /// where the last step left it over the step's substeps, as the head does.
     pub fn set_sdf_transform(&mut self, index: usize, m: Mat4) -> Result<()> {
         self.check_device()?;
-        let n = self.sdf_target.len();
+        let n = self.sdf_frames.len();
         if index >= n {
             return Err(invalid!("SDF index {index}: the simulation has {n} SDF colliders"));
         }
-        self.sdf_target[index] = crate::physics::sdf::transform_from_mat4(m, &format!("SDF {index}"))?;
+        let t = crate::physics::frames::transform_from_mat4(m, &format!("SDF {index}"))?;
+        self.sdf_frames.set(index, t);
+        Ok(())
+    }
+
+    /// Sets where collider `index`'s own frame (a bone's) is at the end of the next step: the
+    /// frame to the world, a rotation, a translation and a uniform scale, column-major. It
+    /// moves there from where the last step left it over the step's substeps, as the head
+    /// does. Only for simulations made with [`SimParams::collider_frames`]; where colliders
+    /// follow the head, [`Error::Unsupported`].
+    pub fn set_collider_transform(&mut self, index: usize, m: Mat4) -> Result<()> {
+        self.check_device()?;
+        if self.collider_frames.is_empty() {
+            return Err(Error::Unsupported(
+                "the colliders follow the head: give SimParams::collider_frames (WetHairSimDesc::collider_frames) to move them on frames of their own".into(),
+            ));
+        }
+        let n = self.collider_frames.len();
+        if index >= n {
+            return Err(invalid!("collider index {index}: the simulation has {n} colliders"));
+        }
+        let t = crate::physics::frames::transform_from_mat4(m, &format!("collider {index}'s frame"))?;
+        self.collider_frames.set(index, t);
         Ok(())
     }
 
@@ -417,24 +436,22 @@ impl Simulation {
     /// [`Simulation::mark_frame_start`]).
     fn step_to(&mut self, dt: f32, to: Affine3A, frame: Option<f32>) -> Result<()> {
         let t0 = Instant::now();
-        if !self.sdf_target.is_empty() {
-            let mut next = std::mem::take(&mut self.sdf_next);
-            next.clear();
-            match frame {
-                None => next.extend_from_slice(&self.sdf_target),
-                Some(a) => next.extend(
-                    self.sdf_start
-                        .iter()
-                        .zip(&self.sdf_target)
-                        .map(|(f, t)| crate::physics::head::head_between(f, t, a)),
-                ),
-            }
-            let r = self.engine.place_sdfs(&self.sdf_last, &next);
+        if !self.sdf_frames.is_empty() {
+            let (from, next) = self.sdf_frames.next_step(frame);
+            let r = self.engine.place_sdfs(from, next);
             if let Some(sh) = &mut self.shadow {
-                sh.place_sdfs(&next);
+                sh.place_sdfs(next);
             }
-            self.sdf_last.clone_from(&next);
-            self.sdf_next = next;
+            self.sdf_frames.stepped();
+            r?;
+        }
+        if !self.collider_frames.is_empty() {
+            let (from, next) = self.collider_frames.next_step(frame);
+            let r = self.engine.place_colliders(from, next);
+            if let Some(sh) = &mut self.shadow {
+                sh.place_colliders(next);
+            }
+            self.collider_frames.stepped();
             r?;
         }
         self.place_roots(frame)?;
@@ -539,6 +556,9 @@ impl Simulation {
             if let Some(r) = &self.roots {
                 sh.set_root_targets(r);
             }
+            // The shadow's frames are where the host last set them too, unswept.
+            sh.place_sdfs(self.sdf_frames.targets());
+            sh.place_colliders(self.collider_frames.targets());
             sh.reset(self.head);
         }
         if let Some(b) = &mut self.budget {
@@ -555,7 +575,8 @@ impl Simulation {
         self.last_integrator = self.engine.integrator();
         self.reset_fixed();
         self.head_prev = self.head;
-        self.sdf_last.clone_from(&self.sdf_target);
+        self.sdf_frames.reset();
+        self.collider_frames.reset();
         self.failed = None;
         self.steps = 0;
         self.time = 0.0;

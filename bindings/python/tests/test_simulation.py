@@ -162,6 +162,31 @@ def test_head_transform_and_root_frames_in_numpys_convention(paper):
             sim.set_root_frames(target[:-1], quats[:-1])  # one short
 
 
+def test_a_capsule_on_its_own_frame_lifts_the_hair(paper):
+    """``collider_frames`` puts a collider in a frame of its own (a bone) that
+    ``set_collider_transform`` moves (4 x 4, translation in the last column): a bar raised
+    into the hanging hair leaves no free point inside it and holds hair on it. Colliders on the
+    head refuse a frame; a frame per collider is required."""
+    bar = wethair.capsule((-0.25, 0.0, 0.0), (0.25, 0.0, 0.0), 0.03)
+    m = np.eye(4)
+    m[2, 3] = -0.4
+    with wethair.Simulation(paper, backend="cpu", colliders=[bar], collider_frames=[m]) as sim:
+        for f in range(1, 91):
+            m[2, 3] = -0.4 + 0.35 * min(1.0, f / 60)
+            sim.set_collider_transform(0, m)
+            sim.step(DT)
+        free = sim.strands()[:, 1:].reshape(-1, 3)
+        over = np.maximum(np.abs(free[:, 0]) - 0.25, 0.0)
+        d = np.sqrt(over**2 + free[:, 1] ** 2 + (free[:, 2] + 0.05) ** 2)
+        assert d.min() > 0.03 - 1e-5
+        assert (d < 0.032).sum() > 20
+    with wethair.Simulation(paper, backend="cpu", colliders=[bar]) as sim:
+        with pytest.raises(wethair.UnsupportedError):
+            sim.set_collider_transform(0, np.eye(4))
+    with pytest.raises(wethair.InvalidArgumentError):
+        wethair.Simulation(paper, backend="cpu", colliders=[bar], collider_frames=[])
+
+
 def test_a_real_groom_loads_in_metres_and_settles(root):
     """The TressFX ponytail (centimetres, y up in the file) through the load desc's keywords."""
     with wethair.Groom.load(root / "tests/data/ponytail_back.tfx", scale=0.01, up_axis="y_to_z") as g:

@@ -198,6 +198,12 @@ namespace WetHair
         /// CPU backend only for now.</summary>
         public float water_pile_cell;
         public uint reserved11;
+        /// <summary>Since 0.10.0: colliders on bones of their own (IntPtr.Zero, the default:
+        /// every collider follows the head). Else collider_count column-major 4x4 matrices,
+        /// 16 floats each: each collider's frame to the world at the start (rotation,
+        /// translation, uniform scale); its points are in that frame, and
+        /// wethair_sim_set_collider_transform moves it each step.</summary>
+        public IntPtr collider_frames;
     }
 
     /// <summary>Which strands are guides (WetHairGuideChoice).</summary>
@@ -406,6 +412,7 @@ namespace WetHair
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_clear_water(SimulationHandle sim);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_step(SimulationHandle sim, float dt);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_sdf_transform(SimulationHandle sim, uint index, float* matrix);
+        [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_collider_transform(SimulationHandle sim, uint index, float* matrix);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_guide_fraction(SimulationHandle sim, float fraction);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_set_root_frames(SimulationHandle sim, float* positions, float* rotations, uint count);
         [DllImport(Lib, CallingConvention = CallingConvention.Cdecl)] public static extern Result wethair_sim_advance(SimulationHandle sim, float frameTime, WetHairAdvance* result);

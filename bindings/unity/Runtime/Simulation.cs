@@ -87,21 +87,28 @@ namespace WetHair
         }
 
         /// <summary>Creates a simulation of <paramref name="groom"/> (copied) with
-        /// <paramref name="desc"/> and optional colliders (head space). With
+        /// <paramref name="desc"/> and optional colliders (head space, or, with
+        /// <paramref name="colliderFrames"/>, 16 column-major floats per collider, each in its
+        /// own frame: SetColliderTransform moves them). With
         /// <paramref name="onUnityDevice"/>, through the Unity plugin: on Unity's own VkDevice
         /// when the plugin intercepted its creation, else as usual (UnityStatus says which).</summary>
-        public Simulation(Groom groom, WetHairSimDesc desc, WetHairCollider[] colliders = null, bool onUnityDevice = false)
+        public Simulation(Groom groom, WetHairSimDesc desc, WetHairCollider[] colliders = null, bool onUnityDevice = false, float[] colliderFrames = null)
         {
             if (groom == null) throw new ArgumentNullException(nameof(groom));
+            int n = colliders == null ? 0 : colliders.Length;
+            if (colliderFrames != null && colliderFrames.Length != 16 * n)
+                throw new ArgumentException("16 floats per collider expected", nameof(colliderFrames));
             bool added = false;
             groom.Handle.DangerousAddRef(ref added);
             try
             {
                 fixed (WetHairCollider* c = colliders)
+                fixed (float* frames = colliderFrames)
                 {
                     desc.groom = groom.Handle.DangerousGetHandle();
                     desc.colliders = (IntPtr)c;
-                    desc.collider_count = colliders == null ? 0u : (uint)colliders.Length;
+                    desc.collider_count = (uint)n;
+                    desc.collider_frames = (IntPtr)frames;
                     WetHairException.Check(onUnityDevice
                         ? Native.wethair_unity_sim_create(&desc, out handle)
                         : Native.wethair_sim_create(&desc, out handle));
@@ -122,6 +129,14 @@ namespace WetHair
         {
             if (columnMajor4x4 == null || columnMajor4x4.Length != 16) throw new ArgumentException("16 floats expected", nameof(columnMajor4x4));
             fixed (float* m = columnMajor4x4) WetHairException.Check(Native.wethair_sim_set_head_transform(handle, m));
+        }
+
+        /// <summary>Where collider <paramref name="index"/>'s own frame is at the end of the
+        /// next step (a simulation made with colliderFrames): 16 floats, column-major.</summary>
+        public void SetColliderTransform(uint index, float[] columnMajor4x4)
+        {
+            if (columnMajor4x4 == null || columnMajor4x4.Length != 16) throw new ArgumentException("16 floats expected", nameof(columnMajor4x4));
+            fixed (float* m = columnMajor4x4) WetHairException.Check(Native.wethair_sim_set_collider_transform(handle, index, m));
         }
 
         /// <summary>Where every strand's root is at the end of the next step (a simulation made

@@ -115,6 +115,53 @@ static class Drive
                 Console.WriteLine("fixed steps: 2 steps and a 0.4 blend at 50 Hz, 120 steps a second at 144 Hz");
             }
         }
+        // Colliders on bones (0.10.0): a sphere in its own frame, moved each step; an index
+        // past the colliders throws InvalidArgument, and a simulation whose colliders follow
+        // the head throws Unsupported.
+        using (Groom gb = Groom.PaperScene(100, 6))
+        {
+            var desc = Simulation.GroomDesc();
+            desc.backend = (uint)Backend.Cpu;
+            var ball = new WetHairCollider { shape = (uint)ColliderShape.Sphere, radius = 0.04f };
+            var frame = new float[16];
+            frame[0] = frame[5] = frame[10] = frame[15] = 1.0f;
+            frame[12] = 0.3f;
+            using (var sim = new Simulation(gb, desc, new[] { ball }, false, frame))
+            {
+                for (int f = 0; f < 10; f++)
+                {
+                    frame[12] = 0.3f - 0.02f * f;
+                    sim.SetColliderTransform(0, frame);
+                    sim.Step(1.0f / 60.0f);
+                }
+                var verts = new float[sim.VertexFloats];
+                sim.ReadVertices(verts);
+                foreach (float v in verts)
+                    if (float.IsNaN(v) || float.IsInfinity(v)) return Fail("non-finite vertex with a moving collider");
+                try
+                {
+                    sim.SetColliderTransform(1, frame);
+                    return Fail("collider 1 of 1 was taken");
+                }
+                catch (WetHairException e)
+                {
+                    if (e.Code != Result.InvalidArgument) return Fail("code " + e.Code);
+                }
+            }
+            using (var sim = new Simulation(gb, desc, new[] { ball }))
+            {
+                try
+                {
+                    sim.SetColliderTransform(0, frame);
+                    return Fail("a head collider took a frame");
+                }
+                catch (WetHairException e)
+                {
+                    if (e.Code != Result.Unsupported) return Fail("code " + e.Code);
+                    Console.WriteLine("collider frames: moved for 10 steps; refusals threw: " + e.Message);
+                }
+            }
+        }
         // Skinned roots (0.4.0): frames for every strand are taken; a count that is not the
         // strand count is refused with InvalidArgument.
         using (Groom gr = Groom.PaperScene(10, 6))

@@ -106,8 +106,8 @@ impl GpuBackend {
             .write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&rec));
     }
 
-    /// Uploads each substep's head transform and placed colliders (from `self.heads`, through
-    /// `self.sub_bytes`: no allocation per step).
+    /// Uploads each substep's head transform and placed colliders (from `self.heads` and the
+    /// colliders' own frames, through `self.sub_bytes`: no allocation per step).
     pub(super) fn write_substeps(&mut self, h: f32) {
         let nc = self.params.colliders.len();
         let bytes = &mut self.sub_bytes;
@@ -117,6 +117,7 @@ impl GpuBackend {
         } else {
             (Bdf2Blend::euler(h), Bdf2Blend::euler(h))
         };
+        let n_sub = self.heads.len();
         for (s, head) in self.heads.iter().enumerate() {
             let at = s * self.sub_stride as usize;
             let m = glam::Mat4::from(*head).to_cols_array();
@@ -127,7 +128,9 @@ impl GpuBackend {
             let head_end = at + SUBSTEP_HEAD_BYTES as usize;
             bytes[at + 64..head_end].copy_from_slice(bytemuck::cast_slice(&b));
             for (c, shape) in self.params.colliders.iter().enumerate() {
-                let pl: Placed = shape.place(head);
+                let pl: Placed = self
+                    .collider_frames
+                    .place(c, shape, head, (s + 1) as f32 / n_sub as f32);
                 let rec = ColliderGpu {
                     a: pl.a.extend(pl.radius).to_array(),
                     ab: pl.ab.extend(pl.inv_len2).to_array(),

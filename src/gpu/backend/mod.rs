@@ -169,6 +169,8 @@ pub struct GpuBackend {
     /// Head transform per substep, and their upload bytes (reused every step).
     heads: Vec<Affine3A>,
     sub_bytes: Vec<u8>,
+    /// The analytic colliders' own frames (empty where they follow the head).
+    pub(super) collider_frames: crate::physics::collide::ColliderFrames,
     /// Whether the encoder being filled writes the vertex buffer (the host's ready signal).
     wrote_vertices: bool,
     /// Last, so that every buffer and pipeline above is released before the device.
@@ -479,6 +481,7 @@ impl GpuBackend {
             stamps: None,
             heads: vec![*head; n_sub],
             sub_bytes: vec![0; sub_stride as usize * n_sub],
+            collider_frames: crate::physics::collide::ColliderFrames::new(&params.collider_frames),
             wrote_vertices: false,
         };
         // The vertex output reads its layout (stride, attribute offsets) from the step

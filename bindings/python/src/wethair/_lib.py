@@ -36,6 +36,7 @@ _PROTOTYPES = {
     "wethair_sim_destroy": (None, [vp]),
     "wethair_sim_set_head_transform": (R, [vp, f32p]),
     "wethair_sim_set_sdf_transform": (R, [vp, C.c_uint32, f32p]),
+    "wethair_sim_set_collider_transform": (R, [vp, C.c_uint32, f32p]),
     "wethair_sim_set_guide_fraction": (R, [vp, C.c_float]),
     "wethair_sim_set_root_frames": (R, [vp, f32p, f32p, C.c_uint32]),
     "wethair_sim_add_water": (R, [vp, f32p, f32p, C.c_uint32]),

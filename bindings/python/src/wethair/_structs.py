@@ -177,6 +177,7 @@ class WetHairSimDesc(C.Structure):
         ("reserved10", u32),
         ("water_pile_cell", f32),
         ("reserved11", u32),
+        ("collider_frames", C.POINTER(f32)),
     ]
 
 

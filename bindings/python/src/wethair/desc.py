@@ -26,7 +26,7 @@ _ENUM_FIELDS = {
     "readback": Readback,
 }
 # Set by Simulation from its own arguments, never by keyword.
-_POINTER_FIELDS = {"groom", "colliders", "collider_count", "sdfs", "sdf_count", "struct_size"}
+_POINTER_FIELDS = {"groom", "colliders", "collider_count", "collider_frames", "sdfs", "sdf_count", "struct_size"}
 
 
 def sim_desc(preset: str = "current", **fields: Any) -> S.WetHairSimDesc:

@@ -22,12 +22,12 @@ WATER_QUANTUM_KG = 1e-12
 
 
 def sphere(center: Sequence[float], radius: float) -> S.WetHairCollider:
-    """A sphere collider (head space, m)."""
+    """A sphere collider (head space, or its own frame with ``collider_frames``; m)."""
     return S.WetHairCollider(ColliderShape.SPHERE, tuple(center), (0.0, 0.0, 0.0), radius)
 
 
 def capsule(a: Sequence[float], b: Sequence[float], radius: float) -> S.WetHairCollider:
-    """A capsule collider from ``a`` to ``b`` (head space, m)."""
+    """A capsule collider from ``a`` to ``b`` (head space, or its own frame; m)."""
     return S.WetHairCollider(ColliderShape.CAPSULE, tuple(a), tuple(b), radius)
 
 
@@ -116,8 +116,10 @@ class Simulation(Handle):
 
     ``params`` are ``WetHairSimDesc`` fields by name over the ``preset``'s defaults (see
     ``wethair.sim_desc``): ``Simulation(groom, backend="cpu", substeps=8,
-    held_water={"enabled": True})``. Colliders (``sphere``, ``capsule``), SDFs (``Sdf``) and
-    a ``GIVEN`` guide list are copied at creation. Use as a context manager, or ``close()``."""
+    held_water={"enabled": True})``. Colliders (``sphere``, ``capsule``), their own frames
+    (``collider_frames``: one 4 x 4 matrix per collider, moved by ``set_collider_transform``;
+    none: they follow the head), SDFs (``Sdf``) and a ``GIVEN`` guide list are copied at
+    creation. Use as a context manager, or ``close()``."""
 
     _destroy = staticmethod(lib.wethair_sim_destroy)
     _what = "simulation"
@@ -128,6 +130,7 @@ class Simulation(Handle):
         *,
         preset: str = "current",
         colliders: Sequence[S.WetHairCollider] = (),
+        collider_frames: Optional[Sequence[Any]] = None,
         sdfs: Sequence[Sdf] = (),
         guide_strands: Optional[Sequence[int]] = None,
         **params: Any,
@@ -139,6 +142,16 @@ class Simulation(Handle):
         if colliders:
             d.colliders, d.collider_count = C.cast(cols, C.POINTER(S.WetHairCollider)), len(colliders)
         keep = []  # arrays the desc points into, alive until the call returns
+        if collider_frames is not None:
+            if len(collider_frames) != len(colliders):
+                raise InvalidArgumentError(
+                    Result.ERROR_INVALID_ARGUMENT,
+                    f"collider_frames: one 4 x 4 matrix per collider, got {len(collider_frames)} for {len(colliders)}",
+                )
+            if colliders:
+                frames = np.concatenate([_matrix(m, f"collider_frames[{i}]").ravel() for i, m in enumerate(collider_frames)])
+                keep.append(frames)
+                d.collider_frames = ptr(frames, C.c_float)
         if sdfs:
             arr = (S.WetHairSdf * len(sdfs))()
             for i, s in enumerate(sdfs):
@@ -197,6 +210,11 @@ class Simulation(Handle):
 
     def set_sdf_transform(self, index: int, matrix) -> None:
         check(lib.wethair_sim_set_sdf_transform(self.handle, index, ptr(_matrix(matrix, "matrix"), C.c_float)))
+
+    def set_collider_transform(self, index: int, matrix) -> None:
+        """Collider ``index``'s own frame (4 x 4) at the end of the next step (a simulation made
+        with ``collider_frames``)."""
+        check(lib.wethair_sim_set_collider_transform(self.handle, index, ptr(_matrix(matrix, "matrix"), C.c_float)))
 
     def set_root_frames(self, positions, rotations) -> None:
         """Every root's position ``(strands, 3)`` and unit quaternion ``(strands, 4)``, x y z w."""
