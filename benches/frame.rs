@@ -8,7 +8,7 @@
 //!
 //! Run: `cargo bench --bench frame` (full, about a minute), or `-- --quick` (fewer frames).
 //! Name sections to run only those: `-- --quick wet copy` (sections: `frames`, `integrators`,
-//! `wet`, `particles`, `copy`, `estimate`, `auto`). `-- wet --gpu` adds the GPU backend's rows
+//! `wet`, `particles`, `copy`, `estimate`, `auto`, `colliders`). `-- wet --gpu` adds the GPU backend's rows
 //! to the wet model's table (left out by default: slow on a software adapter).
 //!
 //! `particles` (run only when named: `-- --quick particles`, about seven minutes here) times the
@@ -121,7 +121,16 @@ fn timed_frames(sim: &mut Simulation, warmup: usize, frames: usize) -> Timed {
 }
 
 fn section(name: &str) -> bool {
-    const SECTIONS: [&str; 7] = ["frames", "integrators", "wet", "particles", "copy", "estimate", "auto"];
+    const SECTIONS: [&str; 8] = [
+        "frames",
+        "integrators",
+        "wet",
+        "particles",
+        "copy",
+        "estimate",
+        "auto",
+        "colliders",
+    ];
     // Run unless named: every section but `particles` (a quarter of an hour here).
     const BY_NAME_ONLY: [&str; 1] = ["particles"];
     let named: Vec<String> = std::env::args().filter(|a| SECTIONS.contains(&a.as_str())).collect();
@@ -152,6 +161,80 @@ fn main() {
     }
     if section("auto") {
         auto_cost(cores, frames);
+    }
+    if section("colliders") {
+        collider_frames_cost(cores, frames);
+    }
+}
+
+/// Colliders on their own frames against the same colliders on the head: the paper scene
+/// (10,000 x 6, dry) under a turning head with a head sphere and 15 capsules around it (a
+/// collar, shoulders), each placed every substep; on frames, the host moves every frame to the
+/// head's transform each frame, so both runs collide alike and the difference is the frames'
+/// own cost. Frames interleaved.
+fn collider_frames_cost(cores: u32, frames: usize) {
+    use glam::{Affine3A, Mat4, Quat, Vec3};
+    let groom = paper_scene(10_000, 6).expect("groom");
+    let mut shapes = vec![wethair::Shape::Sphere {
+        center: Vec3::ZERO,
+        radius: 0.1,
+    }];
+    for k in 0..15 {
+        let a = k as f32 * std::f32::consts::TAU / 15.0;
+        let (s, c) = a.sin_cos();
+        shapes.push(wethair::Shape::Capsule {
+            a: Vec3::new(0.12 * c, 0.12 * s, -0.08),
+            b: Vec3::new(0.2 * c, 0.2 * s, -0.12),
+            radius: 0.025,
+        });
+    }
+    let runs: [(&str, Vec<wethair::Shape>, bool); 3] = [
+        ("head sphere only", shapes[..1].to_vec(), false),
+        ("16 colliders on the head", shapes.clone(), false),
+        ("16 colliders on their own frames", shapes.clone(), true),
+    ];
+    let mut sims: Vec<Simulation> = runs
+        .iter()
+        .map(|(_, colliders, on_frames)| {
+            let p = SimParams {
+                threads: cores,
+                backend: wethair::Backend::CPU,
+                collider_frames: if *on_frames {
+                    vec![Affine3A::IDENTITY; colliders.len()]
+                } else {
+                    Vec::new()
+                },
+                colliders: colliders.clone(),
+                ..SimParams::paper()
+            };
+            Simulation::new(&groom, p).expect("sim")
+        })
+        .collect();
+    let mut times = vec![Vec::with_capacity(frames); runs.len()];
+    for f in 0..10 + frames {
+        let t = f as f32 / 60.0;
+        let head = Mat4::from_rotation_translation(Quat::from_rotation_z(0.6 * (2.0 * t).sin()), Vec3::ZERO);
+        for (k, sim) in sims.iter_mut().enumerate() {
+            let t0 = Instant::now();
+            sim.set_head_transform(head).expect("head");
+            if runs[k].2 {
+                for c in 0..runs[k].1.len() {
+                    sim.set_collider_transform(c, head).expect("frame");
+                }
+            }
+            sim.step(1.0 / 60.0).expect("step");
+            if f >= 10 {
+                times[k].push(t0.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+    }
+    println!();
+    println!("Colliders on frames, paper scene 10000x6 dry, turning head, {cores} threads, median of {frames} frames (interleaved):");
+    println!();
+    println!("| colliders | ms/frame |");
+    println!("|---|---|");
+    for (k, (name, _, _)) in runs.iter().enumerate() {
+        println!("| {name} | {:.3} |", median(std::mem::take(&mut times[k])));
     }
 }
 

@@ -66,6 +66,7 @@ pub struct CpuBackend {
     /// The analytic colliders placed for each substep (`n_sub` × colliders), from the head or
     /// from their own frames.
     placed: Vec<Placed>,
+    /// The colliders' own frames over the next step (empty where they follow the head).
     pub(super) collider_frames: ColliderFrames,
     /// The SDF colliders' transforms at the start and end of the next step, and each
     /// substep's placement (`n_sub` × SDFs; empty without SDFs).

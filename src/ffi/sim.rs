@@ -41,6 +41,19 @@ pub unsafe extern "C" fn wethair_sim_destroy(sim: *mut WetHairSim) {
     }
 }
 
+/// The column-major 4×4 a host passes as `matrix` (16 floats, read unaligned), or the NULL
+/// pointer error. What it may hold is checked by the call it is for.
+///
+/// # Safety
+/// `matrix` is NULL or points to 16 floats.
+unsafe fn matrix_arg(matrix: *const f32) -> Result<Mat4, Fail> {
+    if matrix.is_null() {
+        return Err(super::boundary::null("matrix"));
+    }
+    let m: [f32; 16] = std::ptr::read_unaligned(matrix as *const [f32; 16]);
+    Ok(Mat4::from_cols_array(&m))
+}
+
 /// Sets the head transform reached at the end of the next step: a column-major 4×4 affine
 /// matrix without reflection (16 floats). Pinned points and colliders follow it.
 ///
@@ -50,11 +63,8 @@ pub unsafe extern "C" fn wethair_sim_destroy(sim: *mut WetHairSim) {
 pub unsafe extern "C" fn wethair_sim_set_head_transform(sim: *mut WetHairSim, matrix: *const f32) -> WetHairResult {
     boundary!({
         let s = nonnull_mut!(sim, "sim");
-        if matrix.is_null() {
-            return Err(super::boundary::null("matrix"));
-        }
-        let m: [f32; 16] = std::ptr::read_unaligned(matrix as *const [f32; 16]);
-        s.0.set_head_transform(Mat4::from_cols_array(&m))?;
+        let m = matrix_arg(matrix)?;
+        s.0.set_head_transform(m)?;
         Ok(())
     })
 }
@@ -73,11 +83,8 @@ pub unsafe extern "C" fn wethair_sim_set_sdf_transform(
 ) -> WetHairResult {
     boundary!({
         let s = nonnull_mut!(sim, "sim");
-        if matrix.is_null() {
-            return Err(super::boundary::null("matrix"));
-        }
-        let m: [f32; 16] = std::ptr::read_unaligned(matrix as *const [f32; 16]);
-        s.0.set_sdf_transform(index as usize, Mat4::from_cols_array(&m))?;
+        let m = matrix_arg(matrix)?;
+        s.0.set_sdf_transform(index as usize, m)?;
         Ok(())
     })
 }
@@ -98,11 +105,8 @@ pub unsafe extern "C" fn wethair_sim_set_collider_transform(
 ) -> WetHairResult {
     boundary!({
         let s = nonnull_mut!(sim, "sim");
-        if matrix.is_null() {
-            return Err(super::boundary::null("matrix"));
-        }
-        let m: [f32; 16] = std::ptr::read_unaligned(matrix as *const [f32; 16]);
-        s.0.set_collider_transform(index as usize, Mat4::from_cols_array(&m))?;
+        let m = matrix_arg(matrix)?;
+        s.0.set_collider_transform(index as usize, m)?;
         Ok(())
     })
 }

@@ -4,6 +4,7 @@
 //! scene with collider frames (`SimParams::collider_frames`), each in its own frame (a bone's)
 //! that the host moves every step ([`ColliderFrames`]).
 
+use super::head::HeadPath;
 use super::lanes::{Lane, L3, W};
 use glam::{Affine3A, Vec3};
 
@@ -67,37 +68,38 @@ impl Shape {
 
 /// Where the analytic colliders are over a step, for both backends: each on the head, or, in a
 /// scene with collider frames, each on its own frame moved from `from` to `to` over the step's
-/// substeps as the head moves (`head::head_between`, the same fractions). Empty: they follow
+/// substeps as the head moves ([`HeadPath`], the same fractions and bits). Empty: they follow
 /// the head (no frame is kept, no interpolation runs).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ColliderFrames {
-    from: Vec<Affine3A>,
-    to: Vec<Affine3A>,
+    /// Each collider's path over the next step (taken apart once a step, not each substep).
+    paths: Vec<HeadPath>,
 }
 
 impl ColliderFrames {
     /// The colliders' frames at rest at `start` (one per collider; empty: on the head).
     pub fn new(start: &[Affine3A]) -> Self {
         ColliderFrames {
-            from: start.to_vec(),
-            to: start.to_vec(),
+            paths: start.iter().map(|t| HeadPath::new(t, t)).collect(),
         }
     }
 
     /// The next step moves each collider's frame from `from` to `to` (as many as at `new`;
-    /// copied, no allocation).
+    /// no allocation).
     pub fn set(&mut self, from: &[Affine3A], to: &[Affine3A]) {
-        self.from.copy_from_slice(from);
-        self.to.copy_from_slice(to);
+        debug_assert!(from.len() == self.paths.len() && to.len() == self.paths.len());
+        for ((p, f), t) in self.paths.iter_mut().zip(from).zip(to) {
+            *p = HeadPath::new(f, t);
+        }
     }
 
     /// Collider `c` (`shape`) placed at the end of the substep `a` of the way through the step,
     /// where the head is at `head`.
     #[inline]
     pub fn place(&self, c: usize, shape: &Shape, head: &Affine3A, a: f32) -> Placed {
-        match (self.from.get(c), self.to.get(c)) {
-            (Some(f), Some(t)) => shape.place(&super::head::head_between(f, t, a)),
-            _ => shape.place(head),
+        match self.paths.get(c) {
+            Some(p) => shape.place(&p.at(a)),
+            None => shape.place(head),
         }
     }
 

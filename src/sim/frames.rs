@@ -55,10 +55,27 @@ impl MovingFrames {
         self.target.copy_from_slice(to);
     }
 
+    /// Hands the next step's start and end to `place` (the engine's, and the shadow's), then
+    /// makes that end the next step's start, whatever `place` returns (its result is passed
+    /// on). Nothing runs where there is no frame.
+    pub(super) fn step_with(
+        &mut self,
+        frame: Option<f32>,
+        place: impl FnOnce(&[Affine3A], &[Affine3A]) -> crate::error::Result<()>,
+    ) -> crate::error::Result<()> {
+        if self.is_empty() {
+            return Ok(());
+        }
+        let (from, to) = self.next_step(frame);
+        let r = place(from, to);
+        self.stepped();
+        r
+    }
+
     /// The next step's start and end: the targets, or `a` of the way to them from where the
     /// frame of fixed steps began (`frame`). [`MovingFrames::stepped`] makes the end the next
     /// start.
-    pub(super) fn next_step(&mut self, frame: Option<f32>) -> (&[Affine3A], &[Affine3A]) {
+    fn next_step(&mut self, frame: Option<f32>) -> (&[Affine3A], &[Affine3A]) {
         self.next.clear();
         match frame {
             None => self.next.extend_from_slice(&self.target),
@@ -70,7 +87,7 @@ impl MovingFrames {
     }
 
     /// The step that [`MovingFrames::next_step`] gave ran: its end is the next one's start.
-    pub(super) fn stepped(&mut self) {
+    fn stepped(&mut self) {
         self.last.clone_from(&self.next);
     }
 

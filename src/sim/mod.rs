@@ -436,24 +436,19 @@ impl Simulation {
     /// [`Simulation::mark_frame_start`]).
     fn step_to(&mut self, dt: f32, to: Affine3A, frame: Option<f32>) -> Result<()> {
         let t0 = Instant::now();
-        if !self.sdf_frames.is_empty() {
-            let (from, next) = self.sdf_frames.next_step(frame);
-            let r = self.engine.place_sdfs(from, next);
-            if let Some(sh) = &mut self.shadow {
-                sh.place_sdfs(next);
+        let (engine, shadow) = (&mut self.engine, &mut self.shadow);
+        self.sdf_frames.step_with(frame, |from, to| {
+            if let Some(sh) = shadow {
+                sh.place_sdfs(to);
             }
-            self.sdf_frames.stepped();
-            r?;
-        }
-        if !self.collider_frames.is_empty() {
-            let (from, next) = self.collider_frames.next_step(frame);
-            let r = self.engine.place_colliders(from, next);
-            if let Some(sh) = &mut self.shadow {
-                sh.place_colliders(next);
+            engine.place_sdfs(from, to)
+        })?;
+        self.collider_frames.step_with(frame, |from, to| {
+            if let Some(sh) = shadow {
+                sh.place_colliders(to);
             }
-            self.collider_frames.stepped();
-            r?;
-        }
+            engine.place_colliders(from, to)
+        })?;
         self.place_roots(frame)?;
         if let Some(b) = &self.budget {
             let n = b.before(self.engine.integrator(), self.substeps, dt);
