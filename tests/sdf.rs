@@ -270,7 +270,17 @@ fn the_gpu_pushes_as_the_cpu_does() {
         )
     };
     let run = |g: &Groom, backend: Backend| {
-        let mut s = scene_with(g, backend, vec![], vec![field.clone()], 2);
+        // Without friction: the turning sphere's surface moves across the hair, and friction
+        // would drag the hair along it, turning a 1e-7 m nudge into 0.7 mm (measured); the
+        // push and the surface's normal velocity are what this compares point by point.
+        let p = SimParams {
+            backend,
+            threads: 2,
+            sdfs: vec![Arc::new(field.clone())],
+            friction: 0.0,
+            ..SimParams::paper()
+        };
+        let mut s = Simulation::new(g, p).unwrap();
         s.set_sdf_transform(0, place(0)).unwrap();
         s.reset().unwrap();
         for f in 0..60 {
@@ -280,13 +290,15 @@ fn the_gpu_pushes_as_the_cpu_does() {
         s.positions()
     };
     let c = run(&groom, Backend::CPU);
-    // Points sliding on the sphere with friction turn a 1e-7 m nudge into 1e-5 m, in 60
-    // frames as in 90: sensitive, not chaotic.
+    // Points struck by the moving sphere take its surface's velocity into them, and leave it
+    // faster than a still surface would let them: a 1e-7 m nudge grows to 1.1e-4 m in 60
+    // frames (measured, 2026-12-03; 1e-5 m when the surface answered as still). Sensitive,
+    // not chaotic.
     let floor = (1..=3)
         .map(|seed| max_diff(&run(&nudged_groom(&groom, seed), Backend::CPU), &c))
         .fold(0.0, f32::max);
     assert!(
-        floor < 5e-5,
+        floor < 5e-4,
         "the scene amplifies a 1e-7 m nudge to {floor} m: not a pointwise case"
     );
     let pushed = c.iter().map(|p| p.y).fold(0.0, f32::max);
@@ -295,7 +307,7 @@ fn the_gpu_pushes_as_the_cpu_does() {
         let g = run(&groom, Backend::GPU);
         let gap = max_diff(&g, &c);
         // Measured: lavapipe 0 (its arithmetic is the CPU's), an H100 3.6e-8 m.
-        eprintln!("SDF parity: GPU {gap:e} m from the CPU, nudged CPU {floor:e} m");
+        eprintln!("SDF parity: GPU {gap:e} m from the CPU, nudged CPU {floor:e} m, pushed {pushed} m");
         assert!(gap < (4.0 * floor).max(1e-5), "GPU hair {gap} m from the CPU's");
     }
 }

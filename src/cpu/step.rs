@@ -411,14 +411,15 @@ impl CpuBackend {
         }
         let nc = self.params.colliders.len();
         crate::physics::head::substep_heads_into(from, to, &mut self.heads);
+        let inv_h = 1.0 / h;
         self.collider_frames
-            .place_substeps(&self.params.colliders, &self.heads, &mut self.placed);
+            .place_substeps(&self.params.colliders, from, &self.heads, inv_h, &mut self.placed);
         self.placed_sdfs.clear();
         for s in 0..n_sub {
-            let a = (s + 1) as f32 / n_sub as f32;
             for (k, sdf) in self.params.sdfs.iter().enumerate() {
-                let t = head_between(&self.sdf_from[k], &self.sdf_to[k], a);
-                self.placed_sdfs.push(PlacedSdf::new(sdf, &t));
+                let path = |a: usize| head_between(&self.sdf_from[k], &self.sdf_to[k], a as f32 / n_sub as f32);
+                self.placed_sdfs
+                    .push(PlacedSdf::moving(sdf, &path(s), &path(s + 1), inv_h));
             }
         }
         for w in &mut self.workers {

@@ -140,6 +140,13 @@ gpu_record! {
         pub origin: [f32; 4],
         /// Samples along x, y, z; w where the grid's samples start in the values buffer.
         pub dims: [u32; 4],
+        /// The surface's velocity field (`PlacedSdf::velocity`), row x (xyz; w the
+        /// translation): a point fixed to the grid at `p` moves at `(dot(vx.xyz, p) + vx.w, …)`.
+        pub vx: [f32; 4],
+        /// Row y.
+        pub vy: [f32; 4],
+        /// Row z.
+        pub vz: [f32; 4],
     }
 }
 
@@ -348,6 +355,11 @@ gpu_record! {
         pub a: [f32; 4],
         /// Axis (xyz) and 1 / |axis|² (w).
         pub ab: [f32; 4],
+        /// Velocity of the axis start over the substep, m/s (xyz; w unused).
+        pub va: [f32; 4],
+        /// Rate of change of the axis, 1/s (xyz; w unused): the axis point at `t` moves at
+        /// `va + vab t`.
+        pub vab: [f32; 4],
     }
 }
 

@@ -1,8 +1,10 @@
 //! Sphere and capsule colliders. A point found inside is moved to the surface, loses the
 //! velocity component into the surface, and its tangential velocity is scaled by
-//! `1 - friction`. Colliders are given in head space and follow the head transform, or, in a
-//! scene with collider frames (`SimParams::collider_frames`), each in its own frame (a bone's)
-//! that the host moves every step ([`ColliderFrames`]).
+//! `1 - friction`, both relative to the surface where it moves (`Placed::va`, `vab`: a collider
+//! moving with the head or a bone carries what rests on it). Colliders are given in head space
+//! and follow the head transform, or, in a scene with collider frames
+//! (`SimParams::collider_frames`), each in its own frame (a bone's) that the host moves every
+//! step ([`ColliderFrames`]).
 
 use super::head::HeadPath;
 use super::lanes::{Lane, L3, W};
@@ -33,7 +35,8 @@ pub enum Shape {
     },
 }
 
-/// A collider placed in world space for one substep: a capsule (a sphere has `a == b`).
+/// A collider placed in world space for one substep: a capsule (a sphere has `a == b`), and
+/// how fast it moves there.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Placed {
     /// Axis start.
@@ -44,6 +47,25 @@ pub struct Placed {
     pub inv_len2: f32,
     /// Radius in world units.
     pub radius: f32,
+    /// Velocity of the axis start over the substep, m/s (0 where it stands still).
+    pub va: Vec3,
+    /// Rate of change of `ab` over the substep, 1/s: the axis point at `t` moves at
+    /// `va + vab t`.
+    pub vab: Vec3,
+}
+
+impl Placed {
+    /// This placement moving from `prev` (the same shape at the substep's start) over a
+    /// substep of `1 / inv_h` s: its axis's velocities. Where the two are equal they are 0
+    /// exactly, and a still collider answers as a static one, bit for bit.
+    #[inline]
+    pub fn moving_from(self, prev: &Placed, inv_h: f32) -> Placed {
+        Placed {
+            va: (self.a - prev.a) * inv_h,
+            vab: (self.ab - prev.ab) * inv_h,
+            ..self
+        }
+    }
 }
 
 impl Shape {
@@ -62,6 +84,8 @@ impl Shape {
             ab,
             inv_len2: if l2 > 0.0 { 1.0 / l2 } else { 0.0 },
             radius: r * scale,
+            va: Vec3::ZERO,
+            vab: Vec3::ZERO,
         }
     }
 }
@@ -93,25 +117,34 @@ impl ColliderFrames {
         }
     }
 
-    /// Collider `c` (`shape`) placed at the end of the substep `a` of the way through the step,
-    /// where the head is at `head`.
+    /// Collider `c` (`shape`) placed at the end of substep `s` of `n` (of `1 / inv_h` s),
+    /// moving from where it was at the substep's start: the head at `heads[0]` then, at
+    /// `heads[1]` at its end.
     #[inline]
-    pub fn place(&self, c: usize, shape: &Shape, head: &Affine3A, a: f32) -> Placed {
-        match self.paths.get(c) {
-            Some(p) => shape.place(&p.at(a)),
-            None => shape.place(head),
-        }
+    pub fn place(&self, c: usize, shape: &Shape, heads: [&Affine3A; 2], s: usize, n: usize, inv_h: f32) -> Placed {
+        let (t0, t1) = match self.paths.get(c) {
+            Some(p) => (p.at(s as f32 / n as f32), p.at((s + 1) as f32 / n as f32)),
+            None => (*heads[0], *heads[1]),
+        };
+        shape.place(&t1).moving_from(&shape.place(&t0), inv_h)
     }
 
-    /// Places every collider of `shapes` for each of the step's substeps into `out`
-    /// (`heads.len()` substeps of `shapes.len()`, substep after substep), the head at
-    /// `heads[s]` at the end of substep `s`.
-    pub fn place_substeps(&self, shapes: &[Shape], heads: &[Affine3A], out: &mut [Placed]) {
+    /// Places every collider of `shapes` for each of the step's substeps of `1 / inv_h` s into
+    /// `out` (`heads.len()` substeps of `shapes.len()`, substep after substep): the head at
+    /// `from` at the step's start and at `heads[s]` at the end of substep `s`.
+    pub fn place_substeps(
+        &self,
+        shapes: &[Shape],
+        from: &Affine3A,
+        heads: &[Affine3A],
+        inv_h: f32,
+        out: &mut [Placed],
+    ) {
         let (n, nc) = (heads.len(), shapes.len());
-        for (s, head) in heads.iter().enumerate() {
-            let a = (s + 1) as f32 / n as f32;
+        for s in 0..n {
+            let start = if s == 0 { from } else { &heads[s - 1] };
             for (c, shape) in shapes.iter().enumerate() {
-                out[s * nc + c] = self.place(c, shape, head, a);
+                out[s * nc + c] = self.place(c, shape, [start, &heads[s]], s, n, inv_h);
             }
         }
     }
@@ -149,7 +182,10 @@ pub fn collide_row(x: &mut L3, v: &mut L3, inv_mass: &Lane, c: &Placed, friction
         } else {
             (dx * inv, dy * inv, dz * inv)
         };
-        let (vx, vy, vz) = (v.x[l], v.y[l], v.z[l]);
+        // The surface's velocity where the point touches it (the axis point's), and the
+        // point's velocity relative to it, which the response takes (`respond_moving`).
+        let (cx, cy, cz) = (c.va.x + c.vab.x * t, c.va.y + c.vab.y * t, c.va.z + c.vab.z * t);
+        let (vx, vy, vz) = (v.x[l] - cx, v.y[l] - cy, v.z[l] - cz);
         let vn = vx * nx + vy * ny + vz * nz;
         let into = vn.min(0.0);
         let (tx, ty, tz) = (vx - nx * vn, vy - ny * vn, vz - nz * vn);
@@ -157,9 +193,21 @@ pub fn collide_row(x: &mut L3, v: &mut L3, inv_mass: &Lane, c: &Placed, friction
         x.x[l] = if inside { ax + nx * c.radius } else { x.x[l] };
         x.y[l] = if inside { ay + ny * c.radius } else { x.y[l] };
         x.z[l] = if inside { az + nz * c.radius } else { x.z[l] };
-        v.x[l] = if inside { vx - nx * into - tx * friction } else { vx };
-        v.y[l] = if inside { vy - ny * into - ty * friction } else { vy };
-        v.z[l] = if inside { vz - nz * into - tz * friction } else { vz };
+        v.x[l] = if inside {
+            cx + (vx - nx * into - tx * friction)
+        } else {
+            v.x[l]
+        };
+        v.y[l] = if inside {
+            cy + (vy - ny * into - ty * friction)
+        } else {
+            v.y[l]
+        };
+        v.z[l] = if inside {
+            cz + (vz - nz * into - tz * friction)
+        } else {
+            v.z[l]
+        };
     }
 }
 
@@ -210,26 +258,36 @@ impl Colliders<'_> {
 /// Pushes one point (a water particle) out of a placed collider.
 #[inline(always)]
 pub fn collide_point(x: &mut Vec3, v: &mut Vec3, c: &Placed, friction: f32) {
-    let (inside, q, n) = closest(c, *x);
+    let (inside, q, n, t) = closest(c, *x);
     if inside {
         *x = q;
-        *v = respond(*v, n, friction);
+        *v = respond_moving(*v, c.va + c.vab * t, n, friction);
     }
 }
 
-/// Whether `p` is inside, the surface point to move it to, and the outward normal.
+/// Whether `p` is inside, the surface point to move it to, the outward normal, and where
+/// along the axis it is (0..=1).
 #[inline(always)]
-fn closest(c: &Placed, p: Vec3) -> (bool, Vec3, Vec3) {
+fn closest(c: &Placed, p: Vec3) -> (bool, Vec3, Vec3, f32) {
     let t = ((p - c.a).dot(c.ab) * c.inv_len2).clamp(0.0, 1.0);
     let axis = c.a + c.ab * t;
     let d = p - axis;
     let d2 = d.length_squared();
     if d2 >= c.radius * c.radius {
-        return (false, p, Vec3::ZERO);
+        return (false, p, Vec3::ZERO, t);
     }
     // A point exactly on the axis has no direction out: push it along +z (up), a fixed choice.
     let n = if d2 > ON_AXIS_D2 { d / d2.sqrt() } else { Vec3::Z };
-    (true, axis + n * c.radius, n)
+    (true, axis + n * c.radius, n, t)
+}
+
+/// [`respond`] against a surface moving at `surface` m/s: the velocity relative to it loses
+/// its part into the surface and the friction's share of the rest, so a point resting on a
+/// moving shoulder is carried along, and one struck is pushed at least at the surface's speed.
+/// A still surface (`surface` 0) answers as `respond` does.
+#[inline(always)]
+pub(crate) fn respond_moving(v: Vec3, surface: Vec3, n: Vec3, friction: f32) -> Vec3 {
+    surface + respond(v - surface, n, friction)
 }
 
 /// Removes the velocity into the surface and applies friction to the rest.

@@ -5,7 +5,7 @@
 //! part into the surface removed, the tangential part scaled by `1 - friction`). Outside the
 //! grid's box nothing collides.
 
-use super::collide::respond;
+use super::collide::respond_moving;
 pub use super::frames::{check_transform, transform_from_mat4, UNIFORM_SCALE_TOLERANCE};
 use super::lanes::{Lane, L3, W};
 use crate::error::{invalid, Error, Result};
@@ -147,6 +147,9 @@ pub struct PlacedSdf {
     pub lo: Vec3,
     /// Upper corner.
     pub hi: Vec3,
+    /// The surface's velocity field over the substep, m/s: a point fixed in the grid's frame
+    /// at world `p` moves at `velocity.transform_point3(p)` (zero for a still field).
+    pub velocity: Affine3A,
 }
 
 impl PlacedSdf {
@@ -171,12 +174,29 @@ impl PlacedSdf {
             scale: t.matrix3.determinant().cbrt(),
             lo,
             hi,
+            velocity: Affine3A::ZERO,
         }
+    }
+
+    /// `sdf` placed by `t` at the end of a substep of `1 / inv_h` s that began with it placed
+    /// by `prev`: the velocity of each point fixed to the grid is where it is now less where it
+    /// was, over the substep (`p - prev(t⁻¹(p))`, an affine field). A still field (`prev == t`)
+    /// gets none, so it answers as a static one, bit for bit.
+    pub fn moving(sdf: &Sdf, prev: &Affine3A, t: &Affine3A, inv_h: f32) -> PlacedSdf {
+        let mut at = PlacedSdf::new(sdf, t);
+        if prev != t {
+            let back = *prev * at.to_grid;
+            at.velocity = Affine3A::from_mat3_translation(
+                (glam::Mat3::IDENTITY - glam::Mat3::from(back.matrix3)) * inv_h,
+                -Vec3::from(back.translation) * inv_h,
+            );
+        }
+        at
     }
 }
 
 /// Pushes one point out of a placed SDF: moved along the gradient by the (trilinear) depth,
-/// its velocity answered as at an analytic collider.
+/// its velocity answered as at an analytic collider, relative to the surface's where it moves.
 #[inline]
 pub fn collide_sdf_point(x: &mut Vec3, v: &mut Vec3, sdf: &Sdf, at: &PlacedSdf, friction: f32) {
     if !(x.cmpge(at.lo).all() && x.cmple(at.hi).all()) {
@@ -194,7 +214,7 @@ pub fn collide_sdf_point(x: &mut Vec3, v: &mut Vec3, sdf: &Sdf, at: &PlacedSdf, 
     let len = g.length();
     let depth = if len > 1e-6 { -d / len } else { -d };
     *x += n * (depth * at.scale);
-    *v = respond(*v, n, friction);
+    *v = respond_moving(*v, at.velocity.transform_point3(*x), n, friction);
 }
 
 /// Pushes the free lanes of one row (inverse mass > 0) out of a placed SDF. The placed box is

@@ -108,7 +108,7 @@ impl GpuBackend {
 
     /// Uploads each substep's head transform and placed colliders (from `self.heads` and the
     /// colliders' own frames, through `self.sub_bytes`: no allocation per step).
-    pub(super) fn write_substeps(&mut self, h: f32) {
+    pub(super) fn write_substeps(&mut self, h: f32, from: &Affine3A) {
         let nc = self.params.colliders.len();
         let bytes = &mut self.sub_bytes;
         // BDF2's blends for the first substep and the others, as the CPU picks them.
@@ -128,12 +128,13 @@ impl GpuBackend {
             let head_end = at + SUBSTEP_HEAD_BYTES as usize;
             bytes[at + 64..head_end].copy_from_slice(bytemuck::cast_slice(&b));
             for (c, shape) in self.params.colliders.iter().enumerate() {
-                let pl: Placed = self
-                    .collider_frames
-                    .place(c, shape, head, (s + 1) as f32 / n_sub as f32);
+                let start = if s == 0 { from } else { &self.heads[s - 1] };
+                let pl: Placed = self.collider_frames.place(c, shape, [start, head], s, n_sub, 1.0 / h);
                 let rec = ColliderGpu {
                     a: pl.a.extend(pl.radius).to_array(),
                     ab: pl.ab.extend(pl.inv_len2).to_array(),
+                    va: pl.va.extend(0.0).to_array(),
+                    vab: pl.vab.extend(0.0).to_array(),
                 };
                 let o = head_end + COLLIDER_BYTES * c;
                 bytes[o..o + COLLIDER_BYTES].copy_from_slice(bytemuck::bytes_of(&rec));
@@ -149,12 +150,12 @@ impl GpuBackend {
         self.dev.check()?;
         let h = dt / self.n_sub as f32;
         crate::physics::head::substep_heads_into(from, to, &mut self.heads);
-        self.write_substeps(h);
+        self.write_substeps(h, from);
         if let Some(r) = &mut self.roots {
             r.write_substeps(&self.dev.queue, self.n_sub);
         }
         if let Some(sd) = &mut self.sdf {
-            sd.write_substeps(&self.dev.queue, self.n_sub);
+            sd.write_substeps(&self.dev.queue, self.n_sub, 1.0 / h);
             if let (Some(w), None) = (&self.water, &sd.water_bg) {
                 sd.water_bg = Some(sd.water_groups(&self.dev.device, &self.params_buf, &w.particles, &w.grid));
             }

@@ -143,16 +143,16 @@ impl SdfColliders {
     }
 
     /// Uploads each of `n_sub` substeps' placements (the transforms interpolated as the CPU
-    /// interpolates them).
-    pub(super) fn write_substeps(&mut self, q: &wgpu::Queue, n_sub: usize) {
+    /// interpolates them, moving over substeps of `1 / inv_h` s).
+    pub(super) fn write_substeps(&mut self, q: &wgpu::Queue, n_sub: usize, inv_h: f32) {
         let rec = std::mem::size_of::<SdfGpu>();
         self.bytes.clear();
         self.bytes.resize(self.stride as usize * n_sub, 0);
         for s in 0..n_sub {
-            let a = (s + 1) as f32 / n_sub as f32;
             for (k, g) in self.grids.iter().enumerate() {
-                let t = head_between(&self.from[k], &self.to[k], a);
-                let r = record(g, &PlacedSdf::new(g, &t), self.starts[k]);
+                let path = |a: usize| head_between(&self.from[k], &self.to[k], a as f32 / n_sub as f32);
+                let at = PlacedSdf::moving(g, &path(s), &path(s + 1), inv_h);
+                let r = record(g, &at, self.starts[k]);
                 let at = s * self.stride as usize + k * rec;
                 self.bytes[at..at + rec].copy_from_slice(bytemuck::bytes_of(&r));
             }
@@ -221,5 +221,8 @@ fn record(g: &Sdf, at: &PlacedSdf, start: u32) -> SdfGpu {
         hi: at.hi.extend(g.cell).to_array(),
         origin: g.origin.extend(0.0).to_array(),
         dims: [g.dims[0], g.dims[1], g.dims[2], start],
+        vx: r4(row(&at.velocity.matrix3, 0), at.velocity.translation.x),
+        vy: r4(row(&at.velocity.matrix3, 1), at.velocity.translation.y),
+        vz: r4(row(&at.velocity.matrix3, 2), at.velocity.translation.z),
     }
 }

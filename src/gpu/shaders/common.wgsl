@@ -45,12 +45,14 @@ fn collide(x: ptr<function, vec3<f32>>, v: ptr<function, vec3<f32>>, c: Collider
     if (d2 > ON_AXIS_D2) {
         n = d * (1.0 / sqrt(d2));
     }
-    let vv = *v;
+    // Relative to the surface where it moves (collide.rs `respond_moving`).
+    let vc = c.va.xyz + c.vab.xyz * t;
+    let vv = *v - vc;
     let vn = dot(vv, n);
     let into = min(vn, 0.0);
     let tang = vv - n * vn;
     *x = axis + n * c.a.w;
-    *v = vv - n * into - tang * friction;
+    *v = vc + (vv - n * into - tang * friction);
 }
 
 // The high word to add to a 64-bit fixed-point sum kept as two u32 words, after `v.x` was

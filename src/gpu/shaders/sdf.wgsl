@@ -62,10 +62,13 @@ fn collide_sdf(x: ptr<function, vec3<f32>>, v: ptr<function, vec3<f32>>, s: Sdf,
     if (len > 1e-6) {
         depth = -r.x / len;
     }
-    *x = p + n * (depth * s.lo.w);
-    let vv = *v;
+    let out = p + n * (depth * s.lo.w);
+    *x = out;
+    // Relative to the surface where it moves (collide.rs `respond_moving`).
+    let vc = vec3<f32>(dot(s.vx.xyz, out) + s.vx.w, dot(s.vy.xyz, out) + s.vy.w, dot(s.vz.xyz, out) + s.vz.w);
+    let vv = *v - vc;
     let vn = dot(vv, n);
     let into = min(vn, 0.0);
     let tang = vv - n * vn;
-    *v = vv - n * into - tang * friction;
+    *v = vc + (vv - n * into - tang * friction);
 }
