@@ -3,8 +3,10 @@
 //! for bit (steps, fixed steps inside a frame, a reset, the error estimate's shadow, water, both
 //! backends, 1 and 2 threads); a capsule raised and turned on its own frame under still hanging
 //! hair lifts the hair and catches falling water, with no free point or particle left inside it
-//! after any step, on both backends; bad frames are refused by name and a refused call changes
-//! nothing; C hosts reach all of it, and a 0.9.0 host gets colliders on the head.
+//! after any step, on both backends; a capsule and an SDF slab that slide carry the drops
+//! resting on them (colliders answer relative to their own motion); bad frames are refused by
+//! name and a refused call changes nothing; C hosts reach all of it, and a 0.9.0 host gets
+//! colliders on the head.
 
 use crate::common::{backends, serial};
 use glam::{Affine3A, Mat4, Quat, Vec3};
